@@ -1,0 +1,10 @@
+#include "commands.hpp"
+
+namespace fird::app {
+
+void register_commands(CLI::App& app, const GlobalOptions& global, std::function<int()>& run) {
+    register_info(app, global, run);
+    register_gui(app, global, run);
+}
+
+} // namespace fird::app

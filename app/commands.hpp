@@ -1,0 +1,22 @@
+// Subcommand registration: each subcommand's options and the function it runs.
+#pragma once
+
+#include <functional>
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+namespace fird::app {
+
+struct GlobalOptions {
+    std::string device_name;
+    bool validation = false;
+};
+
+// Adds every subcommand to `app`; the parsed one sets `run`.
+void register_commands(CLI::App& app, const GlobalOptions& global, std::function<int()>& run);
+
+void register_info(CLI::App& app, const GlobalOptions& global, std::function<int()>& run);
+void register_gui(CLI::App& app, const GlobalOptions& global, std::function<int()>& run);
+
+} // namespace fird::app

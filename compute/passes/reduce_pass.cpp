@@ -1,0 +1,86 @@
+#include "reduce_pass.hpp"
+
+#include <vector>
+
+#include "fird_shared.h"
+#include "reduce_sum_comp.h"
+
+namespace fird {
+
+namespace {
+constexpr std::uint32_t kSpan = gpu::kReduceWorkgroupSize * gpu::kReduceItemsPerThread;
+std::uint32_t groups_for(std::uint32_t count) { return (count + kSpan - 1) / kSpan; }
+} // namespace
+
+ReducePass::ReducePass(const vk::Context& ctx)
+    : pipeline_(ctx, fird_spv_reduce_sum_comp,
+                {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+                 VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+                sizeof(gpu::ReducePush), "fird.reduce_sum") {}
+
+// Storage-buffer offsets must respect minStorageBufferOffsetAlignment (<= 256 by spec).
+static VkDeviceSize align_offset(VkDeviceSize bytes) { return (bytes + 255) / 256 * 256; }
+
+VkDeviceSize ReducePass::scratch_bytes(std::uint64_t count) {
+    // Partial sums of every level but the last, laid end to end at aligned offsets.
+    VkDeviceSize total = 0;
+    for (std::uint64_t n = count; n > 1;) {
+        n = (n + kSpan - 1) / kSpan;
+        if (n > 1) total = align_offset(total + n * sizeof(float));
+    }
+    return total + sizeof(float);
+}
+
+void ReducePass::record(VkCommandBuffer cb, const vk::Buffer& a, const vk::Buffer* b,
+                        std::uint32_t count, const vk::Buffer& scratch,
+                        const vk::Buffer& result) const {
+    // Level 0 reads a (and b); later levels read the previous level's partials, placed
+    // one after another in scratch (offsets keep every level's binding distinct).
+    const vk::Buffer* input = &a;
+    VkDeviceSize input_offset = 0;
+    VkDeviceSize scratch_offset = 0;
+    std::uint32_t n = count;
+    std::uint32_t mode = b ? gpu::kReduceSquaredDifference : gpu::kReduceSum;
+    do {
+        const std::uint32_t groups = groups_for(n);
+        const bool last = groups <= 1;
+        vk::Binding in = vk::storage(*input);
+        in.buffer.offset = input_offset;
+        vk::Binding other = vk::storage(b ? *b : *input);
+        other.buffer.offset = b ? 0 : input_offset;
+        vk::Binding out = vk::storage(last ? result : scratch);
+        out.buffer.offset = last ? 0 : scratch_offset;
+        const vk::Binding bindings[] = {in, other, out};
+        const gpu::ReducePush push{.count = n, .mode = mode};
+        pipeline_.dispatch(cb, bindings, &push, groups > 0 ? groups : 1);
+        vk::barrier_all(cb);
+        input = &scratch;
+        input_offset = scratch_offset;
+        scratch_offset = align_offset(scratch_offset + groups * sizeof(float));
+        n = groups;
+        mode = gpu::kReduceSum;
+        b = nullptr;
+        if (last) break;
+    } while (true);
+}
+
+double ReducePass::run(const vk::Context& ctx, const vk::Buffer& a, const vk::Buffer* b,
+                       std::uint32_t count) const {
+    vk::Buffer scratch(ctx, scratch_bytes(count), vk::kStorageUsage, vk::MemoryUse::Device,
+                       "fird.reduce.scratch");
+    vk::Buffer result(ctx, sizeof(float), vk::kStorageUsage, vk::MemoryUse::Readback,
+                      "fird.reduce.result");
+    ctx.submit_and_wait([&](VkCommandBuffer cb) { record(cb, a, b, count, scratch, result); });
+    return result.download_as<float>(ctx, 1)[0];
+}
+
+double ReducePass::sum(const vk::Context& ctx, const vk::Buffer& a, std::uint32_t count) const {
+    return run(ctx, a, nullptr, count);
+}
+
+double ReducePass::sum_squared_difference(const vk::Context& ctx, const vk::Buffer& a,
+                                          const vk::Buffer& b, std::uint32_t count) const {
+    return run(ctx, a, &b, count);
+}
+
+} // namespace fird

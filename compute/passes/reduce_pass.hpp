@@ -1,0 +1,35 @@
+// Device reduction: the sum of a float buffer, or the sum of squared differences of
+// two (the l2 distance's radicand), without reading the inputs back.
+#pragma once
+
+#include <cstdint>
+
+#include "vk/buffer.hpp"
+#include "vk/compute_pipeline.hpp"
+
+namespace fird {
+
+class ReducePass {
+  public:
+    explicit ReducePass(const vk::Context& ctx);
+
+    // Scratch bytes needed to reduce `count` values.
+    static VkDeviceSize scratch_bytes(std::uint64_t count);
+
+    // Records the passes; the result lands in result[0]. `b` may be null for a plain sum.
+    // scratch must hold scratch_bytes(count); result may alias nothing else.
+    void record(VkCommandBuffer cb, const vk::Buffer& a, const vk::Buffer* b, std::uint32_t count,
+                const vk::Buffer& scratch, const vk::Buffer& result) const;
+
+    // Convenience: allocate scratch, run, read back.
+    double sum(const vk::Context& ctx, const vk::Buffer& a, std::uint32_t count) const;
+    double sum_squared_difference(const vk::Context& ctx, const vk::Buffer& a,
+                                  const vk::Buffer& b, std::uint32_t count) const;
+
+  private:
+    double run(const vk::Context& ctx, const vk::Buffer& a, const vk::Buffer* b,
+               std::uint32_t count) const;
+    vk::ComputePipeline pipeline_;
+};
+
+} // namespace fird

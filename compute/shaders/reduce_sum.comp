@@ -1,0 +1,39 @@
+#version 450
+// One level of a tree reduction: each workgroup sums kReduceWorkgroupSize *
+// kReduceItemsPerThread inputs into one partial sum. The host repeats the pass on the
+// partials until one value is left (the paper's "reduction shader", §4.4).
+#extension GL_GOOGLE_include_directive : require
+#include "fird_shared.h"
+
+layout(local_size_x = FIRD_REDUCE_WORKGROUP_SIZE) in;
+layout(std430, binding = kReduceBindingA) readonly buffer A { float a[]; };
+layout(std430, binding = kReduceBindingB) readonly buffer B { float b[]; };
+layout(std430, binding = kReduceBindingPartial) writeonly buffer Partial { float partial[]; };
+layout(push_constant) uniform Push { ReducePush pc; };
+
+shared float sums[kReduceWorkgroupSize];
+
+void main() {
+    const uint span = kReduceWorkgroupSize * kReduceItemsPerThread;
+    const uint base = gl_WorkGroupID.x * span + gl_LocalInvocationID.x;
+    float s = 0.0;
+    for (uint k = 0u; k < kReduceItemsPerThread; ++k) {
+        const uint i = base + k * kReduceWorkgroupSize;
+        if (i < pc.count) {
+            if (pc.mode == kReduceSquaredDifference) {
+                const float d = a[i] - b[i];
+                s += d * d;
+            } else {
+                s += a[i];
+            }
+        }
+    }
+    sums[gl_LocalInvocationID.x] = s;
+    barrier();
+    for (uint stride = kReduceWorkgroupSize / 2u; stride > 0u; stride >>= 1u) {
+        if (gl_LocalInvocationID.x < stride)
+            sums[gl_LocalInvocationID.x] += sums[gl_LocalInvocationID.x + stride];
+        barrier();
+    }
+    if (gl_LocalInvocationID.x == 0u) partial[gl_WorkGroupID.x] = sums[0];
+}

@@ -1,0 +1,64 @@
+// Buffers with their own memory; upload and readback through the shared queue.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <string_view>
+#include <vector>
+
+#include "context.hpp"
+#include "owned.hpp"
+
+namespace fird::vk {
+
+enum class MemoryUse {
+    Device,   // device-local; filled by upload() through a staging buffer if not mappable
+    Upload,   // host-visible, written by the CPU
+    Readback, // host-visible (cached where possible), read by the CPU
+};
+
+class Buffer {
+  public:
+    Buffer() = default;
+    // Sizes of 0 are rounded up to 4 bytes so empty inputs still bind a valid buffer.
+    Buffer(const Context& ctx, VkDeviceSize size_bytes, VkBufferUsageFlags usage, MemoryUse use,
+           std::string_view name);
+    ~Buffer();
+    Buffer(Buffer&&) noexcept;
+    Buffer& operator=(Buffer&&) noexcept;
+
+    VkBuffer get() const { return buffer_.get(); }
+    VkDeviceSize size() const { return size_; }
+    bool mapped() const { return mapped_ != nullptr; }
+    void* data() const { return mapped_; }
+
+    // Copies bytes in or out; uses a temporary staging buffer when not host-visible.
+    void upload(const Context& ctx, std::span<const std::byte> bytes, VkDeviceSize offset = 0);
+    void download(const Context& ctx, std::span<std::byte> bytes, VkDeviceSize offset = 0) const;
+
+    template <typename T> void upload(const Context& ctx, std::span<const T> values) {
+        upload(ctx, std::as_bytes(values));
+    }
+    template <typename T> std::vector<T> download_as(const Context& ctx, std::size_t count) const {
+        std::vector<T> out(count);
+        download(ctx, std::as_writable_bytes(std::span(out)));
+        return out;
+    }
+
+  private:
+    Owned<VkBuffer> buffer_;
+    Owned<VkDeviceMemory> memory_;
+    VkDeviceSize size_ = 0;
+    void* mapped_ = nullptr;
+};
+
+// Buffer usage for storage buffers that are also copied to and from.
+inline constexpr VkBufferUsageFlags kStorageUsage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
+                                                    VK_BUFFER_USAGE_TRANSFER_SRC_BIT |
+                                                    VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+
+// A full memory barrier between compute/transfer/graphics work on the one queue.
+void barrier_all(VkCommandBuffer cb);
+
+} // namespace fird::vk

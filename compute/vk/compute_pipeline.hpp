@@ -1,0 +1,55 @@
+// A compute pipeline from embedded SPIR-V whose bindings are pushed per dispatch
+// (VK_KHR_push_descriptor), so each pass owns its bindings without descriptor pools.
+#pragma once
+
+#include <cstdint>
+#include <initializer_list>
+#include <span>
+#include <string_view>
+#include <vector>
+
+#include "buffer.hpp"
+#include "context.hpp"
+#include "image.hpp"
+#include "owned.hpp"
+
+namespace fird::vk {
+
+// One binding's resource: a storage buffer (whole) or a storage image (GENERAL layout).
+struct Binding {
+    VkDescriptorType type;
+    VkDescriptorBufferInfo buffer{};
+    VkDescriptorImageInfo image{};
+};
+inline Binding storage(const Buffer& b) {
+    return {.type = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+            .buffer = {.buffer = b.get(), .offset = 0, .range = VK_WHOLE_SIZE}};
+}
+inline Binding storage(const Image& i) {
+    return {.type = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,
+            .image = {.imageView = i.view(), .imageLayout = VK_IMAGE_LAYOUT_GENERAL}};
+}
+
+class ComputePipeline {
+  public:
+    ComputePipeline() = default;
+    // binding_types[i] is the descriptor type at binding i of set 0.
+    ComputePipeline(const Context& ctx, std::span<const std::uint32_t> spirv,
+                    std::initializer_list<VkDescriptorType> binding_types,
+                    std::uint32_t push_constant_bytes, std::string_view name);
+
+    // Binds the pipeline, pushes bindings 0..n-1 and the push constants, dispatches.
+    void dispatch(VkCommandBuffer cb, std::span<const Binding> bindings, const void* push,
+                  std::uint32_t groups_x, std::uint32_t groups_y = 1,
+                  std::uint32_t groups_z = 1) const;
+
+  private:
+    Owned<VkDescriptorSetLayout> set_layout_;
+    Owned<VkPipelineLayout> layout_;
+    Owned<VkPipeline> pipeline_;
+    std::vector<VkDescriptorType> types_;
+    std::uint32_t push_bytes_ = 0;
+    PFN_vkCmdPushDescriptorSetKHR push_descriptor_set_ = nullptr;
+};
+
+} // namespace fird::vk

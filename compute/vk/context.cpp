@@ -1,0 +1,455 @@
+#include "context.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <cstdio>
+#include <cstring>
+
+#include <fmt/format.h>
+
+#include "check.hpp"
+
+namespace fird::vk {
+
+namespace {
+
+constexpr const char* kValidationLayer = "VK_LAYER_KHRONOS_validation";
+// Push descriptors let each compute pass own its bindings without descriptor pools.
+constexpr const char* kRequiredDeviceExtensions[] = {VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME};
+
+std::string lower(std::string s) {
+    std::transform(s.begin(), s.end(), s.begin(),
+                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    return s;
+}
+
+const char* type_name(VkPhysicalDeviceType t) {
+    switch (t) {
+    case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU:
+        return "discrete";
+    case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU:
+        return "integrated";
+    case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU:
+        return "virtual";
+    case VK_PHYSICAL_DEVICE_TYPE_CPU:
+        return "cpu";
+    default:
+        return "other";
+    }
+}
+
+int type_rank(VkPhysicalDeviceType t) {
+    switch (t) {
+    case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU:
+        return 4;
+    case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU:
+        return 3;
+    case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU:
+        return 2;
+    case VK_PHYSICAL_DEVICE_TYPE_CPU:
+        return 1;
+    default:
+        return 0;
+    }
+}
+
+bool has_layer(const char* name) {
+    std::uint32_t n = 0;
+    FIRD_VK_CHECK(vkEnumerateInstanceLayerProperties(&n, nullptr));
+    std::vector<VkLayerProperties> layers(n);
+    FIRD_VK_CHECK(vkEnumerateInstanceLayerProperties(&n, layers.data()));
+    return std::any_of(layers.begin(), layers.end(),
+                       [&](const VkLayerProperties& l) { return std::strcmp(l.layerName, name) == 0; });
+}
+
+bool has_instance_extension(const char* name) {
+    std::uint32_t n = 0;
+    FIRD_VK_CHECK(vkEnumerateInstanceExtensionProperties(nullptr, &n, nullptr));
+    std::vector<VkExtensionProperties> exts(n);
+    FIRD_VK_CHECK(vkEnumerateInstanceExtensionProperties(nullptr, &n, exts.data()));
+    return std::any_of(exts.begin(), exts.end(), [&](const VkExtensionProperties& e) {
+        return std::strcmp(e.extensionName, name) == 0;
+    });
+}
+
+std::vector<std::string> device_extensions(VkPhysicalDevice pd) {
+    std::uint32_t n = 0;
+    FIRD_VK_CHECK(vkEnumerateDeviceExtensionProperties(pd, nullptr, &n, nullptr));
+    std::vector<VkExtensionProperties> exts(n);
+    FIRD_VK_CHECK(vkEnumerateDeviceExtensionProperties(pd, nullptr, &n, exts.data()));
+    std::vector<std::string> names;
+    for (const auto& e : exts) names.emplace_back(e.extensionName);
+    return names;
+}
+
+// A queue family that does both graphics and compute: the view and the compute
+// pipeline share one device and one queue, so no ownership transfers are needed.
+std::int64_t universal_queue_family(VkPhysicalDevice pd) {
+    std::uint32_t n = 0;
+    vkGetPhysicalDeviceQueueFamilyProperties(pd, &n, nullptr);
+    std::vector<VkQueueFamilyProperties> families(n);
+    vkGetPhysicalDeviceQueueFamilyProperties(pd, &n, families.data());
+    for (std::uint32_t i = 0; i < n; ++i) {
+        const auto want = VK_QUEUE_GRAPHICS_BIT | VK_QUEUE_COMPUTE_BIT;
+        if ((families[i].queueFlags & want) == want) return i;
+    }
+    return -1;
+}
+
+DeviceSummary summarize(VkPhysicalDevice pd, const std::vector<std::string>& extra_extensions) {
+    VkPhysicalDeviceDriverProperties driver{.sType =
+                                                VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DRIVER_PROPERTIES};
+    VkPhysicalDeviceProperties2 props{.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2,
+                                      .pNext = &driver};
+    vkGetPhysicalDeviceProperties2(pd, &props);
+    DeviceSummary s{.name = props.properties.deviceName,
+                    .type = type_name(props.properties.deviceType),
+                    .driver_name = driver.driverName,
+                    .driver_info = driver.driverInfo,
+                    .api_version = props.properties.apiVersion};
+    if (props.properties.apiVersion < VK_API_VERSION_1_3) {
+        s.unusable_reason = "Vulkan 1.3 is required";
+    } else if (universal_queue_family(pd) < 0) {
+        s.unusable_reason = "no queue family with both graphics and compute";
+    } else {
+        const auto exts = device_extensions(pd);
+        std::vector<std::string> wanted(std::begin(kRequiredDeviceExtensions),
+                                        std::end(kRequiredDeviceExtensions));
+        wanted.insert(wanted.end(), extra_extensions.begin(), extra_extensions.end());
+        for (const auto& w : wanted)
+            if (std::find(exts.begin(), exts.end(), w) == exts.end()) {
+                s.unusable_reason = "missing device extension " + w;
+                break;
+            }
+    }
+    s.usable = s.unusable_reason.empty();
+    return s;
+}
+
+VkBool32 VKAPI_PTR on_debug_message(VkDebugUtilsMessageSeverityFlagBitsEXT severity,
+                                    VkDebugUtilsMessageTypeFlagsEXT,
+                                    const VkDebugUtilsMessengerCallbackDataEXT* data, void* user) {
+    if (severity & VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT) {
+        static_cast<std::atomic<std::uint64_t>*>(user)->fetch_add(1);
+        std::fprintf(stderr, "vulkan validation error: %s\n", data->pMessage);
+    } else if (severity & VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT) {
+        std::fprintf(stderr, "vulkan validation warning: %s\n", data->pMessage);
+    }
+    return VK_FALSE;
+}
+
+VkInstance create_instance(const ContextOptions& options, bool& validation, bool& debug_utils) {
+    validation = options.validation && has_layer(kValidationLayer);
+    debug_utils = has_instance_extension(VK_EXT_DEBUG_UTILS_EXTENSION_NAME);
+    std::vector<const char*> extensions;
+    if (debug_utils) extensions.push_back(VK_EXT_DEBUG_UTILS_EXTENSION_NAME);
+    for (const auto& e : options.instance_extensions) extensions.push_back(e.c_str());
+    std::vector<const char*> layers;
+    if (validation) layers.push_back(kValidationLayer);
+
+    const VkApplicationInfo app{.sType = VK_STRUCTURE_TYPE_APPLICATION_INFO,
+                                .pApplicationName = "fird",
+                                .applicationVersion = VK_MAKE_VERSION(0, 1, 0),
+                                .pEngineName = "fird",
+                                .engineVersion = VK_MAKE_VERSION(0, 1, 0),
+                                .apiVersion = VK_API_VERSION_1_3};
+    const VkInstanceCreateInfo info{.sType = VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO,
+                                    .pApplicationInfo = &app,
+                                    .enabledLayerCount = static_cast<std::uint32_t>(layers.size()),
+                                    .ppEnabledLayerNames = layers.data(),
+                                    .enabledExtensionCount =
+                                        static_cast<std::uint32_t>(extensions.size()),
+                                    .ppEnabledExtensionNames = extensions.data()};
+    VkInstance instance = VK_NULL_HANDLE;
+    const VkResult r = vkCreateInstance(&info, nullptr, &instance);
+    if (r == VK_ERROR_INCOMPATIBLE_DRIVER || r == VK_ERROR_INITIALIZATION_FAILED)
+        throw NoDeviceError("no Vulkan driver found (install mesa-vulkan-drivers for lavapipe)");
+    FIRD_VK_CHECK(r);
+    return instance;
+}
+
+std::vector<VkPhysicalDevice> physical_devices(VkInstance instance) {
+    std::uint32_t n = 0;
+    FIRD_VK_CHECK(vkEnumeratePhysicalDevices(instance, &n, nullptr));
+    std::vector<VkPhysicalDevice> devices(n);
+    FIRD_VK_CHECK(vkEnumeratePhysicalDevices(instance, &n, devices.data()));
+    return devices;
+}
+
+DeviceLimits query_limits(VkPhysicalDevice pd, std::uint32_t queue_family, bool atomic_float_ext) {
+    VkPhysicalDeviceSubgroupProperties subgroup{
+        .sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SUBGROUP_PROPERTIES};
+    VkPhysicalDeviceMaintenance3Properties maint3{
+        .sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_MAINTENANCE_3_PROPERTIES, .pNext = &subgroup};
+    VkPhysicalDeviceProperties2 props{.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2,
+                                      .pNext = &maint3};
+    vkGetPhysicalDeviceProperties2(pd, &props);
+    const auto& l = props.properties.limits;
+    DeviceLimits out;
+    for (int i = 0; i < 3; ++i) {
+        out.max_workgroup_size[i] = l.maxComputeWorkGroupSize[i];
+        out.max_workgroup_count[i] = l.maxComputeWorkGroupCount[i];
+    }
+    out.max_workgroup_invocations = l.maxComputeWorkGroupInvocations;
+    out.max_storage_buffer_range = l.maxStorageBufferRange;
+    out.max_memory_allocation_size = maint3.maxMemoryAllocationSize;
+    out.subgroup_size = subgroup.subgroupSize;
+    out.max_image_dimension_2d = l.maxImageDimension2D;
+    out.timestamp_period_ns = l.timestampPeriod;
+
+    std::uint32_t n = 0;
+    vkGetPhysicalDeviceQueueFamilyProperties(pd, &n, nullptr);
+    std::vector<VkQueueFamilyProperties> families(n);
+    vkGetPhysicalDeviceQueueFamilyProperties(pd, &n, families.data());
+    out.timestamps = families[queue_family].timestampValidBits > 0 && l.timestampPeriod > 0.0f;
+
+    if (atomic_float_ext) {
+        VkPhysicalDeviceShaderAtomicFloatFeaturesEXT af{
+            .sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SHADER_ATOMIC_FLOAT_FEATURES_EXT};
+        VkPhysicalDeviceFeatures2 f{.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2,
+                                    .pNext = &af};
+        vkGetPhysicalDeviceFeatures2(pd, &f);
+        out.float32_atomic_add = af.shaderBufferFloat32AtomicAdd == VK_TRUE;
+    }
+    VkPhysicalDeviceMemoryProperties mem;
+    vkGetPhysicalDeviceMemoryProperties(pd, &mem);
+    for (std::uint32_t i = 0; i < mem.memoryHeapCount; ++i)
+        if (mem.memoryHeaps[i].flags & VK_MEMORY_HEAP_DEVICE_LOCAL_BIT)
+            out.device_local_heap_bytes =
+                std::max<std::uint64_t>(out.device_local_heap_bytes, mem.memoryHeaps[i].size);
+    return out;
+}
+
+} // namespace
+
+struct Context::State {
+    VkInstance instance = VK_NULL_HANDLE;
+    VkDebugUtilsMessengerEXT messenger = VK_NULL_HANDLE;
+    VkPhysicalDevice physical = VK_NULL_HANDLE;
+    VkDevice device = VK_NULL_HANDLE;
+    VkQueue queue = VK_NULL_HANDLE;
+    std::uint32_t queue_family = 0;
+    DeviceSummary summary;
+    DeviceLimits limits;
+    std::vector<DeviceSummary> devices;
+    bool validation = false;
+    bool debug_utils = false;
+    std::atomic<std::uint64_t> validation_errors{0};
+    VkPhysicalDeviceMemoryProperties memory{};
+    Owned<VkCommandPool> command_pool;
+    PFN_vkSetDebugUtilsObjectNameEXT set_object_name = nullptr;
+
+    ~State() {
+        command_pool.reset();
+        if (device) vkDestroyDevice(device, nullptr);
+        if (messenger) {
+            auto destroy_messenger = reinterpret_cast<PFN_vkDestroyDebugUtilsMessengerEXT>(
+                vkGetInstanceProcAddr(instance, "vkDestroyDebugUtilsMessengerEXT"));
+            if (destroy_messenger) destroy_messenger(instance, messenger, nullptr);
+        }
+        if (instance) vkDestroyInstance(instance, nullptr);
+    }
+};
+
+Context::Context(std::unique_ptr<State> state) : state_(std::move(state)) {}
+Context::~Context() = default;
+Context::Context(Context&&) noexcept = default;
+Context& Context::operator=(Context&&) noexcept = default;
+
+Context Context::create(const ContextOptions& options) {
+    auto s = std::make_unique<State>();
+    s->instance = create_instance(options, s->validation, s->debug_utils);
+
+    if (s->debug_utils) {
+        s->set_object_name = reinterpret_cast<PFN_vkSetDebugUtilsObjectNameEXT>(
+            vkGetInstanceProcAddr(s->instance, "vkSetDebugUtilsObjectNameEXT"));
+        if (s->validation) {
+            auto create_messenger = reinterpret_cast<PFN_vkCreateDebugUtilsMessengerEXT>(
+                vkGetInstanceProcAddr(s->instance, "vkCreateDebugUtilsMessengerEXT"));
+            const VkDebugUtilsMessengerCreateInfoEXT info{
+                .sType = VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT,
+                .messageSeverity = VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT |
+                                   VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT,
+                .messageType = VK_DEBUG_UTILS_MESSAGE_TYPE_GENERAL_BIT_EXT |
+                               VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT,
+                .pfnUserCallback = on_debug_message,
+                .pUserData = &s->validation_errors};
+            FIRD_VK_CHECK(create_messenger(s->instance, &info, nullptr, &s->messenger));
+        }
+    }
+
+    const auto devices = physical_devices(s->instance);
+    if (devices.empty())
+        throw NoDeviceError("no Vulkan device found (install mesa-vulkan-drivers for lavapipe)");
+    int best = -1;
+    int best_rank = -1;
+    const std::string wanted = lower(options.device_name);
+    for (std::size_t i = 0; i < devices.size(); ++i) {
+        s->devices.push_back(summarize(devices[i], options.device_extensions));
+        const auto& d = s->devices.back();
+        if (!wanted.empty()) {
+            if (lower(d.name).find(wanted) == std::string::npos) continue;
+            if (!d.usable)
+                throw NoDeviceError(fmt::format("device '{}' cannot be used: {}", d.name,
+                                                d.unusable_reason));
+            best = static_cast<int>(i);
+            break;
+        }
+        VkPhysicalDeviceProperties p;
+        vkGetPhysicalDeviceProperties(devices[i], &p);
+        if (d.usable && type_rank(p.deviceType) > best_rank) {
+            best = static_cast<int>(i);
+            best_rank = type_rank(p.deviceType);
+        }
+    }
+    if (best < 0) {
+        std::string names;
+        for (const auto& d : s->devices)
+            names += fmt::format("{}'{}'{}", names.empty() ? "" : ", ", d.name,
+                                 d.usable ? "" : " (" + d.unusable_reason + ")");
+        if (!wanted.empty())
+            throw NoDeviceError(
+                fmt::format("no Vulkan device matches --device '{}'; found {}", options.device_name, names));
+        throw NoDeviceError(fmt::format("no usable Vulkan device; found {}", names));
+    }
+    s->physical = devices[static_cast<std::size_t>(best)];
+    s->summary = s->devices[static_cast<std::size_t>(best)];
+    s->queue_family = static_cast<std::uint32_t>(universal_queue_family(s->physical));
+    vkGetPhysicalDeviceMemoryProperties(s->physical, &s->memory);
+
+    const auto available = device_extensions(s->physical);
+    const auto has = [&](const char* e) {
+        return std::find(available.begin(), available.end(), e) != available.end();
+    };
+    std::vector<const char*> extensions(std::begin(kRequiredDeviceExtensions),
+                                        std::end(kRequiredDeviceExtensions));
+    for (const auto& e : options.device_extensions) extensions.push_back(e.c_str());
+    const bool atomic_float = has(VK_EXT_SHADER_ATOMIC_FLOAT_EXTENSION_NAME);
+    s->limits = query_limits(s->physical, s->queue_family, atomic_float);
+
+    VkPhysicalDeviceVulkan13Features f13{.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES,
+                                         .synchronization2 = VK_TRUE,
+                                         .dynamicRendering = VK_TRUE,
+                                         // glslang emits LocalSizeId for SPIR-V 1.6; maintenance4
+                                         // (required of every 1.3 device) makes that valid.
+                                         .maintenance4 = VK_TRUE};
+    VkPhysicalDeviceVulkan12Features f12{.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES,
+                                         .pNext = &f13,
+                                         .hostQueryReset = VK_TRUE,
+                                         .timelineSemaphore = VK_TRUE};
+    VkPhysicalDeviceFeatures2 features{.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2,
+                                       .pNext = &f12};
+    const float priority = 1.0f;
+    const VkDeviceQueueCreateInfo queue_info{.sType = VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO,
+                                             .queueFamilyIndex = s->queue_family,
+                                             .queueCount = 1,
+                                             .pQueuePriorities = &priority};
+    const VkDeviceCreateInfo device_info{
+        .sType = VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO,
+        .pNext = &features,
+        .queueCreateInfoCount = 1,
+        .pQueueCreateInfos = &queue_info,
+        .enabledExtensionCount = static_cast<std::uint32_t>(extensions.size()),
+        .ppEnabledExtensionNames = extensions.data()};
+    FIRD_VK_CHECK(vkCreateDevice(s->physical, &device_info, nullptr, &s->device));
+    vkGetDeviceQueue(s->device, s->queue_family, 0, &s->queue);
+
+    const VkCommandPoolCreateInfo pool_info{.sType = VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO,
+                                            .flags = VK_COMMAND_POOL_CREATE_TRANSIENT_BIT |
+                                                     VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT,
+                                            .queueFamilyIndex = s->queue_family};
+    VkCommandPool pool = VK_NULL_HANDLE;
+    FIRD_VK_CHECK(vkCreateCommandPool(s->device, &pool_info, nullptr, &pool));
+    s->command_pool = Owned<VkCommandPool>(s->device, pool);
+    Context ctx(std::move(s));
+    ctx.name(ctx.state_->command_pool.get(), VK_OBJECT_TYPE_COMMAND_POOL, "fird.command_pool");
+    ctx.name(ctx.state_->queue, VK_OBJECT_TYPE_QUEUE, "fird.queue");
+    return ctx;
+}
+
+VkInstance Context::instance() const { return state_->instance; }
+VkPhysicalDevice Context::physical_device() const { return state_->physical; }
+VkDevice Context::device() const { return state_->device; }
+VkQueue Context::queue() const { return state_->queue; }
+std::uint32_t Context::queue_family() const { return state_->queue_family; }
+const DeviceSummary& Context::summary() const { return state_->summary; }
+const DeviceLimits& Context::limits() const { return state_->limits; }
+const std::vector<DeviceSummary>& Context::all_devices() const { return state_->devices; }
+bool Context::validation_enabled() const { return state_->validation; }
+std::uint64_t Context::validation_errors() const { return state_->validation_errors.load(); }
+
+void Context::set_name(VkObjectType type, std::uint64_t handle, std::string_view text) const {
+    if (!state_->set_object_name || handle == 0) return;
+    const std::string name(text);
+    const VkDebugUtilsObjectNameInfoEXT info{.sType = VK_STRUCTURE_TYPE_DEBUG_UTILS_OBJECT_NAME_INFO_EXT,
+                                             .objectType = type,
+                                             .objectHandle = handle,
+                                             .pObjectName = name.c_str()};
+    FIRD_VK_CHECK(state_->set_object_name(state_->device, &info));
+}
+
+void Context::submit_and_wait(const std::function<void(VkCommandBuffer)>& record) const {
+    const VkCommandBufferAllocateInfo alloc{.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO,
+                                            .commandPool = state_->command_pool.get(),
+                                            .level = VK_COMMAND_BUFFER_LEVEL_PRIMARY,
+                                            .commandBufferCount = 1};
+    VkCommandBuffer cb = VK_NULL_HANDLE;
+    FIRD_VK_CHECK(vkAllocateCommandBuffers(state_->device, &alloc, &cb));
+    struct Free {
+        VkDevice d;
+        VkCommandPool p;
+        VkCommandBuffer c;
+        ~Free() { vkFreeCommandBuffers(d, p, 1, &c); }
+    } free_cb{state_->device, state_->command_pool.get(), cb};
+
+    const VkCommandBufferBeginInfo begin{.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO,
+                                         .flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT};
+    FIRD_VK_CHECK(vkBeginCommandBuffer(cb, &begin));
+    record(cb);
+    FIRD_VK_CHECK(vkEndCommandBuffer(cb));
+
+    const VkFenceCreateInfo fence_info{.sType = VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
+    VkFence fence_handle = VK_NULL_HANDLE;
+    FIRD_VK_CHECK(vkCreateFence(state_->device, &fence_info, nullptr, &fence_handle));
+    const Owned<VkFence> fence(state_->device, fence_handle);
+    const VkCommandBufferSubmitInfo cb_info{.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_SUBMIT_INFO,
+                                            .commandBuffer = cb};
+    const VkSubmitInfo2 submit{.sType = VK_STRUCTURE_TYPE_SUBMIT_INFO_2,
+                               .commandBufferInfoCount = 1,
+                               .pCommandBufferInfos = &cb_info};
+    FIRD_VK_CHECK(vkQueueSubmit2(state_->queue, 1, &submit, fence.get()));
+    // Bounded wait: a submission that runs this long has hung the device.
+    constexpr std::uint64_t kSubmitTimeoutNs = 600ull * 1000 * 1000 * 1000;
+    const VkResult waited = vkWaitForFences(state_->device, 1, &fence_handle, VK_TRUE, kSubmitTimeoutNs);
+    if (waited == VK_TIMEOUT)
+        throw VulkanError("vkWaitForFences: the device did not finish within 600 s", VK_TIMEOUT);
+    FIRD_VK_CHECK(waited);
+}
+
+std::uint32_t Context::find_memory_type(std::uint32_t type_bits, VkMemoryPropertyFlags required,
+                                        VkMemoryPropertyFlags preferred) const {
+    const auto& m = state_->memory;
+    for (const VkMemoryPropertyFlags want : {required | preferred, required})
+        for (std::uint32_t i = 0; i < m.memoryTypeCount; ++i)
+            if ((type_bits & (1u << i)) && (m.memoryTypes[i].propertyFlags & want) == want)
+                return i;
+    throw VulkanError("vkAllocateMemory: no memory type with the required properties",
+                      VK_ERROR_OUT_OF_DEVICE_MEMORY);
+}
+
+std::vector<DeviceSummary> enumerate_devices() {
+    bool validation = false;
+    bool debug_utils = false;
+    VkInstance instance = create_instance({}, validation, debug_utils);
+    std::vector<DeviceSummary> out;
+    try {
+        for (auto pd : physical_devices(instance)) out.push_back(summarize(pd, {}));
+    } catch (...) {
+        vkDestroyInstance(instance, nullptr);
+        throw;
+    }
+    vkDestroyInstance(instance, nullptr);
+    return out;
+}
+
+} // namespace fird::vk

@@ -1,0 +1,100 @@
+// The one Vulkan instance and logical device that compute, render and ui share.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <vulkan/vulkan.h>
+
+#include "owned.hpp"
+
+namespace fird::vk {
+
+struct ContextOptions {
+    // Enable VK_LAYER_KHRONOS_validation if installed; every validation error is
+    // counted (validation_errors()) so tests can fail on them.
+    bool validation = false;
+    // Choose the device whose name contains this text (case-insensitive); empty: best.
+    std::string device_name;
+    // Extra instance extensions (a window system's surface extensions, from ui).
+    std::vector<std::string> instance_extensions;
+    // Extra device extensions (VK_KHR_swapchain, from ui).
+    std::vector<std::string> device_extensions;
+};
+
+// What `fird info` reports, and what passes consult to size their work.
+struct DeviceSummary {
+    std::string name;
+    std::string type; // "discrete", "integrated", "virtual", "cpu", "other"
+    std::string driver_name;
+    std::string driver_info;
+    std::uint32_t api_version = 0;
+    bool usable = false; // Vulkan 1.3 with a graphics+compute queue and the extensions we need
+    std::string unusable_reason;
+};
+
+struct DeviceLimits {
+    std::uint32_t max_workgroup_size[3] = {};
+    std::uint32_t max_workgroup_invocations = 0;
+    std::uint32_t max_workgroup_count[3] = {};
+    std::uint64_t max_storage_buffer_range = 0;
+    std::uint64_t max_memory_allocation_size = 0;
+    std::uint64_t device_local_heap_bytes = 0;
+    std::uint32_t subgroup_size = 0;
+    bool float32_atomic_add = false; // VK_EXT_shader_atomic_float, buffer float add
+    bool timestamps = false;         // timestampComputeAndGraphics on our queue
+    float timestamp_period_ns = 0.0f;
+    std::uint32_t max_image_dimension_2d = 0;
+};
+
+class Context {
+  public:
+    static Context create(const ContextOptions& options);
+    ~Context();
+    Context(Context&&) noexcept;
+    Context& operator=(Context&&) noexcept;
+    Context(const Context&) = delete;
+    Context& operator=(const Context&) = delete;
+
+    VkInstance instance() const;
+    VkPhysicalDevice physical_device() const;
+    VkDevice device() const;
+    VkQueue queue() const;
+    std::uint32_t queue_family() const;
+    const DeviceSummary& summary() const;
+    const DeviceLimits& limits() const;
+    // Every device found, in enumeration order, and which one was chosen.
+    const std::vector<DeviceSummary>& all_devices() const;
+    bool validation_enabled() const;
+    // Validation-layer errors reported since creation.
+    std::uint64_t validation_errors() const;
+
+    // Attach a debug name, so validation messages say which buffer or pipeline.
+    void set_name(VkObjectType type, std::uint64_t handle, std::string_view name) const;
+    template <typename Handle>
+    void name(Handle handle, VkObjectType type, std::string_view text) const {
+        set_name(type, reinterpret_cast<std::uint64_t>(handle), text);
+    }
+
+    // Records commands into a one-time command buffer, submits it on the shared queue
+    // and waits on a fence. Throws VulkanError on device loss.
+    void submit_and_wait(const std::function<void(VkCommandBuffer)>& record) const;
+
+    std::uint32_t find_memory_type(std::uint32_t type_bits, VkMemoryPropertyFlags required,
+                                   VkMemoryPropertyFlags preferred) const;
+
+  private:
+    struct State;
+    explicit Context(std::unique_ptr<State> state);
+    std::unique_ptr<State> state_;
+};
+
+// Lists devices without creating a logical device (for `fird info` and errors).
+std::vector<DeviceSummary> enumerate_devices();
+
+} // namespace fird::vk

@@ -1,0 +1,18 @@
+#!/usr/bin/env bash
+# All the tests on a fresh Debian 12 machine: install, build, run the suite (with the
+# Vulkan validation layers on), then the same suite under AddressSanitizer and
+# UndefinedBehaviorSanitizer. `scripts/test.sh --no-sanitize` skips the second build.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+jobs="$(nproc)"
+
+scripts/setup.sh release
+(cd build/release && ctest --output-on-failure -j "$jobs")
+
+if [ "${1:-}" != "--no-sanitize" ]; then
+  scripts/setup.sh sanitize
+  # Leaks inside the Vulkan loader and Mesa are theirs; our own objects are RAII-owned.
+  export ASAN_OPTIONS="detect_leaks=0:abort_on_error=1"
+  export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
+  (cd build/sanitize && ctest --output-on-failure -j "$jobs")
+fi

@@ -1,0 +1,56 @@
+// Device selection and error reporting of the Vulkan core.
+#include <gtest/gtest.h>
+
+#include "vk/buffer.hpp"
+#include "vk/check.hpp"
+#include "vk/context.hpp"
+#include "vulkan_fixture.hpp"
+
+namespace fird::test {
+namespace {
+
+TEST(Context, UnknownDeviceNameIsAClearError) {
+    try {
+        (void)vk::Context::create({.device_name = "no-such-device-xyz"});
+        FAIL() << "expected NoDeviceError";
+    } catch (const vk::NoDeviceError& e) {
+        EXPECT_NE(std::string(e.what()).find("no-such-device-xyz"), std::string::npos) << e.what();
+    }
+}
+
+TEST(Context, ChoosesAUsableDeviceAndReportsLimits) {
+    const auto ctx = vk::Context::create({});
+    EXPECT_TRUE(ctx.summary().usable);
+    EXPECT_GE(ctx.limits().max_workgroup_invocations, 128u);
+    EXPECT_GE(ctx.limits().max_storage_buffer_range, 1u << 27);
+    EXPECT_GT(ctx.limits().subgroup_size, 0u);
+}
+
+TEST(Check, FailureNamesTheCallAndResult) {
+    try {
+        FIRD_VK_CHECK(VK_ERROR_OUT_OF_DEVICE_MEMORY);
+        FAIL();
+    } catch (const vk::VulkanError& e) {
+        const std::string what = e.what();
+        EXPECT_NE(what.find("VK_ERROR_OUT_OF_DEVICE_MEMORY"), std::string::npos) << what;
+        EXPECT_NE(what.find("out of device memory"), std::string::npos) << what;
+    }
+}
+
+TEST_F(VulkanTest, ImpossibleAllocationIsAnErrorNotACrash) {
+    // Far more than any device has: must come back as a VulkanError.
+    EXPECT_THROW(vk::Buffer(ctx(), VkDeviceSize(1) << 50, vk::kStorageUsage,
+                            vk::MemoryUse::Device, "test.too_big"),
+                 vk::VulkanError);
+}
+
+TEST_F(VulkanTest, UploadDownloadRoundTrip) {
+    std::vector<std::uint32_t> values(1000);
+    for (std::uint32_t i = 0; i < values.size(); ++i) values[i] = i * 2654435761u;
+    vk::Buffer b(ctx(), values.size() * 4, vk::kStorageUsage, vk::MemoryUse::Device, "test.rt");
+    b.upload(ctx(), std::span<const std::uint32_t>(values));
+    EXPECT_EQ(b.download_as<std::uint32_t>(ctx(), values.size()), values);
+}
+
+} // namespace
+} // namespace fird::test
