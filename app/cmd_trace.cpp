@@ -1,0 +1,70 @@
+// fird trace SCENE: one lighting evaluation (DESIGN.md §5).
+#include <cstdio>
+
+#include <fmt/format.h>
+
+#include "commands.hpp"
+#include "evaluation/evaluation.hpp"
+#include "io/scene_file.hpp"
+
+namespace fird::app {
+
+void register_trace(CLI::App& app, const GlobalOptions& global, std::function<int()>& run) {
+    auto* cmd = app.add_subcommand("trace", "One lighting evaluation of a scene");
+    struct Args {
+        std::string scene;
+        std::string backend = "cpu";
+        std::string sampler;
+        std::string out;
+        std::uint64_t rays = 0;
+        std::uint64_t seed = 0;
+        unsigned threads = 0;
+        bool json = false;
+    };
+    auto a = std::make_shared<Args>();
+    cmd->add_option("SCENE", a->scene, "Scene file (TOML)")->required();
+    cmd->add_option("--rays", a->rays, "Rays to emit (overrides [trace] rays)");
+    cmd->add_option("--seed", a->seed, "Seed (overrides [trace] seed)");
+    cmd->add_option("--backend", a->backend, "gpu (the fast path) or cpu (the exact reference)")
+        ->check(CLI::IsMember({"gpu", "cpu"}));
+    cmd->add_option("--sampler", a->sampler, "random or sobol (overrides [trace] sampler)")
+        ->check(CLI::IsMember({"random", "sobol"}));
+    cmd->add_option("--threads", a->threads, "CPU threads for the reference (0: all)");
+    cmd->add_flag("--json", a->json, "Print one JSON object");
+    cmd->add_option("--out", a->out, "Write farfield.npy and images to this directory");
+    cmd->callback([&global, &run, a, cmd] {
+        run = [&global, a, cmd] {
+            (void)global;
+            TraceOverrides o;
+            if (cmd->count("--rays")) o.rays = a->rays;
+            if (cmd->count("--seed")) o.seed = a->seed;
+            if (!a->sampler.empty())
+                o.sampler = a->sampler == "sobol" ? SamplerKind::Sobol : SamplerKind::Random;
+            const Scene scene = apply_overrides(load_scene(a->scene), o);
+            if (a->backend == "gpu")
+                throw std::runtime_error("--backend gpu: the fast path is not built yet; use --backend cpu");
+            const Evaluation e = evaluate_reference(scene, a->threads);
+            if (!a->out.empty()) write_evaluation_outputs(a->out, scene, e);
+            const auto j = evaluation_json(e);
+            if (a->json) {
+                std::printf("%s\n", j.dump(2).c_str());
+            } else {
+                std::printf("%s", fmt::format("{}: {} rays emitted, {} effective, {} reflected to "
+                                              "the far field ({:.2f} lm of {:.2f} lm)\n",
+                                              scene.name, e.tally.emitted,
+                                              e.tally.emitted - e.tally.discarded, e.tally.farfield,
+                                              j["energy_farfield_lm"].get<double>(),
+                                              j["energy_emitted_lm"].get<double>())
+                                      .c_str());
+                if (e.l2_lm) std::printf("l2 to the target: %.6g lm\n", *e.l2_lm);
+                std::printf("time: %.1f ms on %s\n", e.timings.total_ms, e.device.c_str());
+                if (!a->out.empty())
+                    std::printf("wrote %s/farfield.npy and %s/farfield.png\n", a->out.c_str(),
+                                a->out.c_str());
+            }
+            return 0;
+        };
+    });
+}
+
+} // namespace fird::app

@@ -1,0 +1,129 @@
+#include "evaluation.hpp"
+
+#include <chrono>
+#include <filesystem>
+#include <stdexcept>
+#include <thread>
+
+#include <fmt/format.h>
+
+#include "io/farfield_png.hpp"
+#include "io/npy.hpp"
+
+namespace fird {
+
+namespace {
+double ms_since(std::chrono::steady_clock::time_point t0) {
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+} // namespace
+
+Scene apply_overrides(Scene scene, const TraceOverrides& o) {
+    if (o.rays) {
+        if (*o.rays == 0) throw std::invalid_argument("--rays must be at least 1");
+        scene.trace.rays = *o.rays;
+    }
+    if (o.seed) {
+        scene.trace.seed = *o.seed;
+        if (scene.target.kind == TargetDesc::Kind::Reflector && scene.target.seed == *o.seed)
+            scene.target.seed = *o.seed + 1; // stay independent of the reflector's run
+    }
+    if (o.sampler) scene.trace.sampler = *o.sampler;
+    return scene;
+}
+
+Evaluation evaluate_reference(const Scene& scene, unsigned threads) {
+    if (scene.reflector.family == Family::Mesh)
+        throw std::invalid_argument(scene.path + ": [reflector] family = \"mesh\": the CPU "
+                                                 "reference traces analytic families only");
+    const auto t0 = std::chrono::steady_clock::now();
+    const TraceSettings& t = scene.trace;
+    ReferenceOptions options{.rays = t.rays,
+                             .seed = t.seed,
+                             .sampler = t.sampler,
+                             .max_bounces = t.max_bounces,
+                             .bounce_policy = t.bounce_policy,
+                             .farfield_w = t.farfield_w,
+                             .farfield_h = t.farfield_h,
+                             .threads = threads};
+    const Surface surface = Surface::make(scene.reflector, scene.holder);
+    ReferenceResult result = trace_reference(scene.source, surface, options);
+
+    Evaluation e;
+    e.backend = "cpu";
+    e.device = fmt::format("cpu reference (double precision, {} threads)", result.threads);
+    e.tally = result.tally;
+    e.energy_per_ray_lm = result.energy_per_ray_lm;
+    e.farfield = std::move(result.farfield);
+    e.timings.trace_ms = result.trace_ms; // the rayset is sampled inside the trace loop
+
+    if (scene.target.kind == TargetDesc::Kind::Reflector) {
+        const Surface target = Surface::make(target_reflector(scene), scene.holder);
+        options.seed = scene.target.seed;
+        e.target_farfield = trace_reference(scene.source, target, options).farfield;
+    } else if (scene.target.kind == TargetDesc::Kind::Photometric) {
+        throw std::invalid_argument(scene.path + ": [target] file: photometric targets are not "
+                                                 "supported yet");
+    }
+    if (e.target_farfield) {
+        const auto tc = std::chrono::steady_clock::now();
+        e.l2_lm = l2_distance(e.farfield, *e.target_farfield);
+        e.timings.compare_ms = ms_since(tc);
+    }
+    e.timings.total_ms = ms_since(t0);
+    return e;
+}
+
+nlohmann::json evaluation_json(const Evaluation& e) {
+    const RayTally& t = e.tally;
+    const double epr = e.energy_per_ray_lm;
+    nlohmann::json j = {
+        {"backend", e.backend},
+        {"device", e.device},
+        {"rays_emitted", t.emitted},
+        {"rays_effective", t.emitted - t.discarded},
+        {"rays_reflected", t.farfield},
+        {"rays_direct", t.direct},
+        {"rays_discarded", t.discarded},
+        {"rays_lost", t.lost},
+        {"rays_aborted", e.rays_aborted},
+        {"rays_by_reflections", t.by_reflections},
+        {"energy_emitted_lm", double(t.emitted) * epr},
+        {"energy_farfield_lm", double(t.farfield) * epr},
+        {"energy_direct_lm", double(t.direct) * epr},
+        {"energy_discarded_lm", double(t.discarded) * epr},
+        {"energy_lost_lm", double(t.lost) * epr},
+        {"timings_ms",
+         {{"rayset", e.timings.rayset_ms},
+          {"heightfield", e.timings.heightfield_ms},
+          {"trace", e.timings.trace_ms},
+          {"histogram", e.timings.histogram_ms},
+          {"compare", e.timings.compare_ms},
+          {"total", e.timings.total_ms}}}};
+    if (e.l2_lm) j["l2"] = *e.l2_lm;
+    return j;
+}
+
+void write_evaluation_outputs(const std::string& dir, const Scene& scene, const Evaluation& e) {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    fs::create_directories(dir, ec);
+    if (ec) throw std::runtime_error(fmt::format("{}: cannot create the output directory: {}", dir, ec.message()));
+    const auto path = [&](const char* name) { return (fs::path(dir) / name).string(); };
+    const FarField& f = e.farfield;
+    write_npy_f32(path("farfield.npy"), f.lm, f.height, f.width);
+    write_farfield_png(path("farfield.png"), f, {.title = scene.name + ": far field"});
+    if (e.target_farfield) {
+        const FarField& t = *e.target_farfield;
+        write_npy_f32(path("target.npy"), t.lm, t.height, t.width);
+        write_farfield_png(path("target.png"), t, {.title = scene.name + ": desired far field"});
+        FarField diff = f;
+        for (std::size_t i = 0; i < diff.lm.size(); ++i) diff.lm[i] -= t.lm[i];
+        write_farfield_png(path("difference.png"), diff,
+                           {.title = fmt::format("{}: obtained - desired, l2 = {:.4g} lm",
+                                                 scene.name, e.l2_lm.value_or(0.0)),
+                            .signed_values = true});
+    }
+}
+
+} // namespace fird

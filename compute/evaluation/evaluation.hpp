@@ -1,0 +1,59 @@
+// One lighting evaluation of a scene (DESIGN.md §5 `fird trace`): the reflector's far
+// field, the target's (traced with its own seed, or from a photometric file) and l2.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "farfield/farfield.hpp"
+#include "model/scene.hpp"
+#include "reference/reference_tracer.hpp"
+
+namespace fird {
+
+struct StageTimings {
+    double rayset_ms = 0.0;
+    double heightfield_ms = 0.0;
+    double trace_ms = 0.0;
+    double histogram_ms = 0.0;
+    double compare_ms = 0.0;
+    double total_ms = 0.0;
+};
+
+struct Evaluation {
+    std::string device;
+    std::string backend; // "cpu" or "gpu"
+    RayTally tally;
+    std::uint64_t rays_aborted = 0; // bounded device loops that ran out (counted as lost)
+    double energy_per_ray_lm = 0.0;
+    FarField farfield;
+    std::optional<FarField> target_farfield;
+    std::optional<double> l2_lm;
+    StageTimings timings;
+};
+
+// Scene values that the command line overrides.
+struct TraceOverrides {
+    std::optional<std::uint64_t> rays;
+    std::optional<std::uint64_t> seed;
+    std::optional<SamplerKind> sampler;
+    unsigned threads = 0;
+};
+
+// Applies the overrides (and keeps the target's seed independent of the new seed).
+Scene apply_overrides(Scene scene, const TraceOverrides& overrides);
+
+// The CPU reference backend: exact surface, double precision.
+Evaluation evaluate_reference(const Scene& scene, unsigned threads = 0);
+
+nlohmann::json evaluation_json(const Evaluation& evaluation);
+
+// farfield.npy (float32, (H, W), lumens), farfield.png, and with a target
+// target.npy / target.png / difference.png.
+void write_evaluation_outputs(const std::string& directory, const Scene& scene,
+                              const Evaluation& evaluation);
+
+} // namespace fird

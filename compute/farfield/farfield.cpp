@@ -1,0 +1,53 @@
+#include "farfield.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+
+namespace fird {
+
+double FarField::total_lm() const {
+    double s = 0.0;
+    for (double v : lm) s += v;
+    return s;
+}
+
+std::uint32_t farfield_cell(const glm::dvec3& d, std::uint32_t width, std::uint32_t height) {
+    constexpr double pi = std::numbers::pi;
+    const double phi = std::atan2(d.y, d.x);
+    const double theta = std::asin(std::clamp(d.z, -1.0, 1.0));
+    const auto col = std::clamp<std::int64_t>(
+        std::int64_t(std::floor((phi + pi) / (2.0 * pi) * width)), 0, width - 1);
+    const auto row = std::clamp<std::int64_t>(
+        std::int64_t(std::floor((pi / 2.0 - theta) / pi * height)), 0, height - 1);
+    return std::uint32_t(row * width + col);
+}
+
+FarField farfield_from_counts(const std::vector<std::uint64_t>& counts, std::uint32_t width,
+                              std::uint32_t height, double lm_per_ray) {
+    FarField f{width, height, std::vector<double>(counts.size())};
+    for (std::size_t i = 0; i < counts.size(); ++i) f.lm[i] = double(counts[i]) * lm_per_ray;
+    return f;
+}
+
+double l2_distance(const FarField& a, const FarField& b) {
+    if (a.width != b.width || a.height != b.height || a.lm.size() != b.lm.size())
+        throw std::invalid_argument("far fields of different grids cannot be compared");
+    double s = 0.0;
+    for (std::size_t i = 0; i < a.lm.size(); ++i) {
+        const double d = a.lm[i] - b.lm[i];
+        s += d * d;
+    }
+    return std::sqrt(s);
+}
+
+glm::dvec3 farfield_cell_direction(std::uint32_t column, std::uint32_t row, std::uint32_t width,
+                                   std::uint32_t height) {
+    constexpr double pi = std::numbers::pi;
+    const double phi = (column + 0.5) / width * 2.0 * pi - pi;
+    const double theta = pi / 2.0 - (row + 0.5) / height * pi;
+    return {std::cos(theta) * std::cos(phi), std::cos(theta) * std::sin(phi), std::sin(theta)};
+}
+
+} // namespace fird

@@ -1,0 +1,33 @@
+// The far-field histogram of DESIGN.md §2: lumens per (azimuth, altitude) cell, and the
+// l2 distance between two of them.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+namespace fird {
+
+struct FarField {
+    std::uint32_t width = 0;  // azimuth cells, phi in [-pi, pi)
+    std::uint32_t height = 0; // altitude cells, row 0 the zenith (+z)
+    std::vector<double> lm;   // row-major, height rows of width cells
+    double total_lm() const;
+};
+
+// Cell index (row * width + column) of a unit direction:
+// column = floor((phi + pi) / 2pi * W), row = floor((pi/2 - theta) / pi * H), clamped.
+std::uint32_t farfield_cell(const glm::dvec3& direction, std::uint32_t width, std::uint32_t height);
+
+FarField farfield_from_counts(const std::vector<std::uint64_t>& counts, std::uint32_t width,
+                              std::uint32_t height, double lm_per_ray);
+
+// sqrt(sum (a_i - b_i)^2) in lumens; throws std::invalid_argument when grids differ.
+double l2_distance(const FarField& a, const FarField& b);
+
+// The direction at the centre of a cell (for tests and conversions).
+glm::dvec3 farfield_cell_direction(std::uint32_t column, std::uint32_t row, std::uint32_t width,
+                                   std::uint32_t height);
+
+} // namespace fird

@@ -1,0 +1,63 @@
+#include "npy.hpp"
+
+#include <cstring>
+#include <fstream>
+#include <regex>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+namespace fird {
+
+void write_npy_f32(const std::string& path, const std::vector<double>& values, std::uint32_t rows,
+                   std::uint32_t cols) {
+    if (values.size() != std::size_t(rows) * cols)
+        throw std::invalid_argument("write_npy_f32: shape does not match the data");
+    std::string header =
+        fmt::format("{{'descr': '<f4', 'fortran_order': False, 'shape': ({}, {}), }}", rows, cols);
+    // Magic (6) + version (2) + length (2) + header + '\n' is a multiple of 64.
+    const std::size_t unpadded = 10 + header.size() + 1;
+    header.append((64 - unpadded % 64) % 64, ' ');
+    header.push_back('\n');
+    std::ofstream out(path, std::ios::binary);
+    if (!out) throw std::runtime_error(fmt::format("{}: cannot open for writing", path));
+    const std::uint16_t length = std::uint16_t(header.size());
+    out.write("\x93NUMPY\x01\x00", 8);
+    out.put(char(length & 0xff));
+    out.put(char(length >> 8));
+    out.write(header.data(), std::streamsize(header.size()));
+    std::vector<float> f(values.begin(), values.end());
+    out.write(reinterpret_cast<const char*>(f.data()), std::streamsize(f.size() * sizeof(float)));
+    if (!out) throw std::runtime_error(fmt::format("{}: write failed", path));
+}
+
+NpyArray read_npy_f32(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw std::runtime_error(fmt::format("{}: cannot open", path));
+    char magic[10];
+    in.read(magic, 10);
+    if (!in || std::memcmp(magic, "\x93NUMPY", 6) != 0 || magic[6] != 1)
+        throw std::runtime_error(fmt::format("{}: not a version 1 .npy file", path));
+    const std::size_t length = std::uint8_t(magic[8]) | (std::size_t(std::uint8_t(magic[9])) << 8);
+    std::string header(length, '\0');
+    in.read(header.data(), std::streamsize(length));
+    if (header.find("'<f4'") == std::string::npos || header.find("False") == std::string::npos)
+        throw std::runtime_error(fmt::format("{}: not a little-endian float32 C-order array", path));
+    std::smatch m;
+    if (!std::regex_search(header, m, std::regex(R"(\(([0-9, ]*)\))")))
+        throw std::runtime_error(fmt::format("{}: no shape in the header", path));
+    NpyArray a;
+    std::size_t count = 1;
+    const std::string dims = m[1];
+    const std::regex number("[0-9]+");
+    for (std::sregex_iterator it(dims.begin(), dims.end(), number), end; it != end; ++it) {
+        a.shape.push_back(std::stoull(it->str()));
+        count *= a.shape.back();
+    }
+    a.values.resize(count);
+    in.read(reinterpret_cast<char*>(a.values.data()), std::streamsize(count * sizeof(float)));
+    if (!in) throw std::runtime_error(fmt::format("{}: truncated data", path));
+    return a;
+}
+
+} // namespace fird

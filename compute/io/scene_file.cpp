@@ -1,0 +1,454 @@
+#include "scene_file.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include <fmt/format.h>
+#include <toml++/toml.h>
+
+#include "model/surface.hpp"
+#include "reference/reference_tracer.hpp"
+
+namespace fird {
+
+namespace {
+
+// Reads one TOML table, reporting errors as "file:line: [table] key: message".
+class TableReader {
+  public:
+    TableReader(const std::string& file, const toml::table& table, std::string name)
+        : file_(file), table_(table), name_(std::move(name)) {}
+
+    [[noreturn]] void fail(const toml::node* node, const std::string& key,
+                           const std::string& message) const {
+        const auto line = node ? node->source().begin.line : table_.source().begin.line;
+        throw SceneError(fmt::format("{}:{}: [{}] {}{}{}", file_, line, name_, key,
+                                     key.empty() ? "" : ": ", message));
+    }
+
+    void allow_only(const std::set<std::string>& allowed) const {
+        for (const auto& [k, v] : table_)
+            if (!allowed.count(std::string(k.str())))
+                fail(&v, std::string(k.str()), "unknown key");
+    }
+
+    const toml::node* find(const std::string& key) const { return table_.get(key); }
+    bool has(const std::string& key) const { return find(key) != nullptr; }
+
+    const toml::node& need(const std::string& key) const {
+        const toml::node* n = find(key);
+        if (!n) fail(nullptr, key, "required key is missing");
+        return *n;
+    }
+
+    double number(const std::string& key, const toml::node& n) const {
+        double v = 0.0;
+        if (auto i = n.as_integer())
+            v = double(i->get());
+        else if (auto f = n.as_floating_point())
+            v = f->get();
+        else
+            fail(&n, key, "must be a number");
+        if (!std::isfinite(v)) fail(&n, key, "must be finite");
+        return v;
+    }
+    double number(const std::string& key) const { return number(key, need(key)); }
+    double number_or(const std::string& key, double fallback) const {
+        return has(key) ? number(key) : fallback;
+    }
+    double positive(const std::string& key) const {
+        const double v = number(key);
+        if (!(v > 0.0)) fail(find(key), key, "must be > 0");
+        return v;
+    }
+
+    std::int64_t integer(const std::string& key, std::int64_t lo, std::int64_t hi) const {
+        const toml::node& n = need(key);
+        const auto i = n.as_integer();
+        if (!i) fail(&n, key, "must be an integer");
+        const std::int64_t v = i->get();
+        if (v < lo || v > hi) fail(&n, key, fmt::format("must be between {} and {}", lo, hi));
+        return v;
+    }
+
+    std::string text(const std::string& key) const {
+        const toml::node& n = need(key);
+        const auto s = n.as_string();
+        if (!s) fail(&n, key, "must be a string");
+        return s->get();
+    }
+    std::string choice(const std::string& key, const std::vector<std::string>& options,
+                       const std::string& fallback) const {
+        if (!has(key)) return fallback;
+        const std::string v = text(key);
+        if (std::find(options.begin(), options.end(), v) == options.end())
+            fail(find(key), key, fmt::format("must be one of: {}", fmt::join(options, ", ")));
+        return v;
+    }
+    bool boolean_or(const std::string& key, bool fallback) const {
+        if (!has(key)) return fallback;
+        const auto b = find(key)->as_boolean();
+        if (!b) fail(find(key), key, "must be true or false");
+        return b->get();
+    }
+
+    std::vector<double> numbers(const std::string& key, std::size_t count) const {
+        const toml::node& n = need(key);
+        const auto arr = n.as_array();
+        if (!arr || (count && arr->size() != count))
+            fail(&n, key, count ? fmt::format("must be an array of {} numbers", count)
+                                : "must be an array of numbers");
+        std::vector<double> out;
+        for (const auto& e : *arr) out.push_back(number(key, e));
+        return out;
+    }
+    glm::dvec3 vec3(const std::string& key) const {
+        const auto v = numbers(key, 3);
+        return {v[0], v[1], v[2]};
+    }
+    std::pair<std::uint32_t, std::uint32_t> size2(const std::string& key, std::uint32_t max) const {
+        const auto v = numbers(key, 2);
+        for (double d : v)
+            if (d != std::floor(d) || d < 1 || d > max)
+                fail(find(key), key, fmt::format("must be two whole numbers between 1 and {}", max));
+        return {std::uint32_t(v[0]), std::uint32_t(v[1])};
+    }
+
+    TableReader sub(const std::string& key) const {
+        const toml::node& n = need(key);
+        const auto t = n.as_table();
+        if (!t) fail(&n, key, "must be a table");
+        return {file_, *t, name_ + "." + key};
+    }
+    const toml::table& table() const { return table_; }
+    const std::string& file() const { return file_; }
+
+  private:
+    const std::string& file_;
+    const toml::table& table_;
+    std::string name_;
+};
+
+std::string resolve(const std::string& scene_path, const std::string& file) {
+    namespace fs = std::filesystem;
+    const fs::path p(file);
+    if (p.is_absolute()) return p.string();
+    return (fs::path(scene_path).parent_path() / p).lexically_normal().string();
+}
+
+SourceDesc read_source(const TableReader& t) {
+    SourceDesc s;
+    const std::string type = t.choice("type", {"cylinder", "sphere", "point"}, "");
+    if (type.empty()) t.need("type");
+    s.flux_lm = t.positive("flux_lm");
+    s.center_mm = t.vec3("center_mm");
+    if (type == "cylinder") {
+        t.allow_only({"type", "center_mm", "axis", "length_mm", "radius_mm", "emittance", "flux_lm"});
+        s.kind = SourceKind::Cylinder;
+        s.axis = t.vec3("axis");
+        s.length_mm = t.positive("length_mm");
+        s.radius_mm = t.positive("radius_mm");
+        t.choice("emittance", {"cosine"}, "cosine");
+    } else if (type == "sphere") {
+        t.allow_only({"type", "center_mm", "radius_mm", "emittance", "flux_lm"});
+        s.kind = SourceKind::Sphere;
+        s.radius_mm = t.positive("radius_mm");
+        t.choice("emittance", {"cosine"}, "cosine");
+    } else {
+        t.allow_only({"type", "center_mm", "axis", "emittance", "flux_lm"});
+        s.kind = SourceKind::Point;
+        s.emittance = t.choice("emittance", {"cosine", "isotropic"}, "isotropic") == "cosine"
+                          ? Emittance::Cosine
+                          : Emittance::Isotropic;
+        if (s.emittance == Emittance::Cosine) s.axis = t.vec3("axis");
+    }
+    if ((s.kind == SourceKind::Cylinder || s.emittance == Emittance::Cosine) &&
+        glm::dvec3(s.axis) == glm::dvec3(0.0))
+        t.fail(t.find("axis"), "axis", "must not be the zero vector");
+    return s;
+}
+
+Holder read_holder(const TableReader& t) {
+    t.allow_only({"min_mm", "max_mm"});
+    Holder h{t.vec3("min_mm"), t.vec3("max_mm")};
+    for (int k = 0; k < 3; ++k)
+        if (!(h.min_mm[k] < h.max_mm[k]))
+            t.fail(t.find("max_mm"), "max_mm",
+                   fmt::format("the holder box is empty: max_mm[{}] = {} is not greater than "
+                               "min_mm[{}] = {}",
+                               k, h.max_mm[k], k, h.min_mm[k]));
+    return h;
+}
+
+ReflectorDesc read_reflector(const TableReader& t, const std::string& scene_path) {
+    ReflectorDesc r;
+    const std::string family = t.text("family");
+    const auto f = family_from_name(family);
+    if (!f)
+        t.fail(t.find("family"), "family",
+               "must be one of: plane, paraboloid, cup, fluted_cup, bspline, mesh");
+    r.family = *f;
+    std::set<std::string> allowed = {"family", "optimize"};
+    std::vector<std::string> params = family_parameters(r.family);
+    if (r.family == Family::BSpline) {
+        allowed.insert({"grid", "heights_mm", "groups"});
+        const auto grid = t.size2("grid", 1024);
+        r.bspline.nx = int(grid.first);
+        r.bspline.ny = int(grid.second);
+        if (r.bspline.nx < 2 || r.bspline.ny < 2)
+            t.fail(t.find("grid"), "grid", "needs at least 2 x 2 control heights");
+        r.bspline.heights_mm = t.numbers("heights_mm", std::size_t(r.bspline.nx) * r.bspline.ny);
+        if (t.has("groups")) {
+            const TableReader groups = t.sub("groups");
+            for (const auto& [k, v] : groups.table()) {
+                const std::string name(k.str());
+                const TableReader g = groups.sub(name);
+                ControlGroup cg;
+                const std::string kind = g.choice("kind", {"point", "row", "column", "ring"}, "");
+                if (kind.empty()) g.need("kind");
+                if (kind == "point") {
+                    g.allow_only({"kind", "i", "j"});
+                    cg.kind = ControlGroup::Kind::Point;
+                    cg.i = int(g.integer("i", 0, r.bspline.nx - 1));
+                    cg.j = int(g.integer("j", 0, r.bspline.ny - 1));
+                } else {
+                    g.allow_only({"kind", "index"});
+                    cg.kind = kind == "row"      ? ControlGroup::Kind::Row
+                              : kind == "column" ? ControlGroup::Kind::Column
+                                                 : ControlGroup::Kind::Ring;
+                    const int limit = kind == "row"      ? r.bspline.ny - 1
+                                      : kind == "column" ? r.bspline.nx - 1
+                                                         : (std::min(r.bspline.nx, r.bspline.ny) - 1) / 2;
+                    cg.i = int(g.integer("index", 0, limit));
+                }
+                r.bspline.groups[name] = cg;
+                params.push_back(name);
+            }
+        }
+        // Group values are optional: without one, the group keeps heights_mm.
+        for (const auto& [name, group] : r.bspline.groups) {
+            allowed.insert(name);
+            if (t.has(name)) r.parameters[name] = t.number(name);
+        }
+    } else if (r.family == Family::Mesh) {
+        allowed.insert({"file", "unit_mm"});
+        r.mesh.file = t.text("file");
+        r.mesh.resolved_path = resolve(scene_path, r.mesh.file);
+        r.mesh.unit_mm = t.has("unit_mm") ? t.positive("unit_mm") : 1.0;
+    } else {
+        for (const auto& p : params) {
+            allowed.insert(p);
+            r.parameters[p] = t.number(p);
+        }
+    }
+    t.allow_only(allowed);
+    if (t.has("optimize")) {
+        const TableReader opt = t.sub("optimize");
+        for (const auto& [k, v] : opt.table()) {
+            const std::string name(k.str());
+            if (std::find(params.begin(), params.end(), name) == params.end())
+                opt.fail(&v, name, fmt::format("is not a parameter of the {} family", family));
+            const TableReader range = opt.sub(name);
+            range.allow_only({"min", "max", "step"});
+            ParameterRange pr{range.number("min"), range.number("max"), range.number("step")};
+            if (pr.min > pr.max) range.fail(range.find("max"), "max", "must not be below min");
+            if (!(pr.step > 0.0)) range.fail(range.find("step"), "step", "must be > 0");
+            r.optimize[name] = pr;
+        }
+    }
+    return r;
+}
+
+TraceSettings read_trace(const TableReader& t) {
+    t.allow_only({"rays", "seed", "max_bounces", "bounce_policy", "sampler", "hit_mode",
+                  "heightfield", "farfield"});
+    TraceSettings s;
+    s.rays = std::uint64_t(t.integer("rays", 1, 10'000'000'000));
+    s.seed = std::uint64_t(t.has("seed") ? t.integer("seed", 0, INT64_MAX) : 1);
+    s.max_bounces = std::uint32_t(t.integer("max_bounces", 1, 64));
+    s.bounce_policy = t.choice("bounce_policy", {"paper", "strict"}, "paper") == "strict"
+                          ? BouncePolicy::Strict
+                          : BouncePolicy::Paper;
+    s.sampler = t.choice("sampler", {"random", "sobol"}, "random") == "sobol" ? SamplerKind::Sobol
+                                                                             : SamplerKind::Random;
+    s.hit_mode = t.choice("hit_mode", {"paper", "refined"}, "refined") == "paper" ? HitMode::Paper
+                                                                                 : HitMode::Refined;
+    if (t.has("heightfield")) std::tie(s.heightfield_w, s.heightfield_h) = t.size2("heightfield", 16384);
+    if (t.has("farfield")) std::tie(s.farfield_w, s.farfield_h) = t.size2("farfield", 8192);
+    return s;
+}
+
+TargetDesc read_target(const TableReader& t, const ReflectorDesc& reflector,
+                       const TraceSettings& trace, const std::string& scene_path) {
+    t.allow_only({"parameters", "seed", "file", "absolute"});
+    TargetDesc d;
+    if (t.has("parameters") == t.has("file"))
+        t.fail(nullptr, "", "give either parameters (a target reflector) or file (IES / LDT)");
+    if (t.has("file")) {
+        d.kind = TargetDesc::Kind::Photometric;
+        d.file = t.text("file");
+        d.resolved_path = resolve(scene_path, d.file);
+        d.absolute = t.boolean_or("absolute", false);
+        if (t.has("seed")) t.fail(t.find("seed"), "seed", "only a target reflector has a seed");
+        return d;
+    }
+    d.kind = TargetDesc::Kind::Reflector;
+    const TableReader p = t.sub("parameters");
+    for (const auto& [k, v] : p.table()) {
+        const std::string name(k.str());
+        if (!reflector.parameters.count(name) && !reflector.bspline.groups.count(name))
+            p.fail(&v, name, "is not a parameter of the reflector");
+        d.parameters[name] = p.number(name);
+    }
+    d.seed = t.has("seed") ? std::uint64_t(t.integer("seed", 0, INT64_MAX)) : trace.seed + 1;
+    if (d.seed == trace.seed)
+        t.fail(t.find("seed"), "seed", "must differ from [trace] seed (an independent run)");
+    if (t.has("absolute")) t.fail(t.find("absolute"), "absolute", "only a photometric target has it");
+    return d;
+}
+
+} // namespace
+
+void validate_scene(const Scene& s) {
+    const auto fail = [&](const std::string& what) {
+        throw SceneError(fmt::format("{}: {}", s.path, what));
+    };
+    const Holder& h = s.holder;
+    if (s.source.center_mm.x < h.min_mm.x || s.source.center_mm.x > h.max_mm.x ||
+        s.source.center_mm.y < h.min_mm.y || s.source.center_mm.y > h.max_mm.y)
+        fail("[source] center_mm: the light source is outside the holder's xy footprint");
+    if (s.reflector.family == Family::Mesh) return; // checked when the mesh is loaded
+    const auto check = [&](const ReflectorDesc& r, const char* table) {
+        try {
+            check_reflector_clear_of_source(Surface::make(r, h), s.source);
+        } catch (const std::invalid_argument& e) {
+            fail(fmt::format("[{}] {}", table, e.what()));
+        }
+    };
+    check(s.reflector, "reflector");
+    if (s.target.kind == TargetDesc::Kind::Reflector) check(target_reflector(s), "target");
+}
+
+Scene parse_scene(const std::string& text, const std::string& path) {
+    toml::table root;
+    try {
+        root = toml::parse(text, path);
+    } catch (const toml::parse_error& e) {
+        throw SceneError(fmt::format("{}:{}: {}", path, e.source().begin.line, e.description()));
+    }
+    const TableReader top(path, root, "");
+    top.allow_only({"name", "source", "holder", "reflector", "trace", "target"});
+    Scene s;
+    s.path = path;
+    s.name = top.has("name") ? top.text("name") : std::filesystem::path(path).stem().string();
+    s.source = read_source(top.sub("source"));
+    s.holder = read_holder(top.sub("holder"));
+    s.reflector = read_reflector(top.sub("reflector"), path);
+    s.trace = read_trace(top.sub("trace"));
+    if (top.has("target")) s.target = read_target(top.sub("target"), s.reflector, s.trace, path);
+    validate_scene(s);
+    return s;
+}
+
+Scene load_scene(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw SceneError(fmt::format("{}: cannot open the scene file", path));
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return parse_scene(ss.str(), path);
+}
+
+namespace {
+toml::array vec(const glm::dvec3& v) { return toml::array{v.x, v.y, v.z}; }
+const char* source_type(SourceKind k) {
+    return k == SourceKind::Cylinder ? "cylinder" : k == SourceKind::Sphere ? "sphere" : "point";
+}
+const char* group_kind(ControlGroup::Kind k) {
+    switch (k) {
+    case ControlGroup::Kind::Point:
+        return "point";
+    case ControlGroup::Kind::Row:
+        return "row";
+    case ControlGroup::Kind::Column:
+        return "column";
+    case ControlGroup::Kind::Ring:
+        return "ring";
+    }
+    return "point";
+}
+} // namespace
+
+std::string scene_to_toml(const Scene& s) {
+    toml::table source{{"type", source_type(s.source.kind)},
+                       {"center_mm", vec(s.source.center_mm)},
+                       {"flux_lm", s.source.flux_lm}};
+    if (s.source.kind == SourceKind::Cylinder) {
+        source.insert("axis", vec(s.source.axis));
+        source.insert("length_mm", s.source.length_mm);
+    }
+    if (s.source.kind != SourceKind::Point) source.insert("radius_mm", s.source.radius_mm);
+    if (s.source.kind == SourceKind::Point) {
+        source.insert("emittance", s.source.emittance == Emittance::Cosine ? "cosine" : "isotropic");
+        if (s.source.emittance == Emittance::Cosine) source.insert("axis", vec(s.source.axis));
+    }
+    toml::table reflector{{"family", family_name(s.reflector.family)}};
+    for (const auto& [k, v] : s.reflector.parameters) reflector.insert(k, v);
+    if (s.reflector.family == Family::BSpline) {
+        reflector.insert("grid", toml::array{s.reflector.bspline.nx, s.reflector.bspline.ny});
+        toml::array heights;
+        for (double h : s.reflector.bspline.heights_mm) heights.push_back(h);
+        reflector.insert("heights_mm", heights);
+        toml::table groups;
+        for (const auto& [name, g] : s.reflector.bspline.groups) {
+            toml::table gt{{"kind", group_kind(g.kind)}};
+            if (g.kind == ControlGroup::Kind::Point) {
+                gt.insert("i", g.i);
+                gt.insert("j", g.j);
+            } else {
+                gt.insert("index", g.i);
+            }
+            groups.insert(name, gt);
+        }
+        reflector.insert("groups", groups);
+    }
+    if (s.reflector.family == Family::Mesh) {
+        reflector.insert("file", s.reflector.mesh.file);
+        reflector.insert("unit_mm", s.reflector.mesh.unit_mm);
+    }
+    if (!s.reflector.optimize.empty()) {
+        toml::table opt;
+        for (const auto& [k, r] : s.reflector.optimize)
+            opt.insert(k, toml::table{{"min", r.min}, {"max", r.max}, {"step", r.step}});
+        reflector.insert("optimize", opt);
+    }
+    const TraceSettings& t = s.trace;
+    toml::table trace{{"rays", std::int64_t(t.rays)},
+                      {"seed", std::int64_t(t.seed)},
+                      {"max_bounces", std::int64_t(t.max_bounces)},
+                      {"bounce_policy", t.bounce_policy == BouncePolicy::Strict ? "strict" : "paper"},
+                      {"sampler", t.sampler == SamplerKind::Sobol ? "sobol" : "random"},
+                      {"hit_mode", t.hit_mode == HitMode::Paper ? "paper" : "refined"},
+                      {"heightfield", toml::array{std::int64_t(t.heightfield_w), std::int64_t(t.heightfield_h)}},
+                      {"farfield", toml::array{std::int64_t(t.farfield_w), std::int64_t(t.farfield_h)}}};
+    toml::table root{{"name", s.name},
+                     {"source", source},
+                     {"holder", toml::table{{"min_mm", vec(s.holder.min_mm)}, {"max_mm", vec(s.holder.max_mm)}}},
+                     {"reflector", reflector},
+                     {"trace", trace}};
+    if (s.target.kind == TargetDesc::Kind::Reflector) {
+        toml::table params;
+        for (const auto& [k, v] : s.target.parameters) params.insert(k, v);
+        root.insert("target", toml::table{{"parameters", params}, {"seed", std::int64_t(s.target.seed)}});
+    } else if (s.target.kind == TargetDesc::Kind::Photometric) {
+        root.insert("target", toml::table{{"file", s.target.file}, {"absolute", s.target.absolute}});
+    }
+    std::ostringstream out;
+    out << root << "\n";
+    return out.str();
+}
+
+} // namespace fird

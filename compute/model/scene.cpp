@@ -1,0 +1,53 @@
+#include "scene.hpp"
+
+namespace fird {
+
+const char* family_name(Family f) {
+    switch (f) {
+    case Family::Plane:
+        return "plane";
+    case Family::Paraboloid:
+        return "paraboloid";
+    case Family::Cup:
+        return "cup";
+    case Family::FlutedCup:
+        return "fluted_cup";
+    case Family::BSpline:
+        return "bspline";
+    case Family::Mesh:
+        return "mesh";
+    }
+    return "?";
+}
+
+std::optional<Family> family_from_name(const std::string& name) {
+    for (Family f : {Family::Plane, Family::Paraboloid, Family::Cup, Family::FlutedCup,
+                     Family::BSpline, Family::Mesh})
+        if (name == family_name(f)) return f;
+    return std::nullopt;
+}
+
+std::vector<std::string> family_parameters(Family f) {
+    switch (f) {
+    case Family::Plane: // z = z0 + sx (x - cx) + sy (y - cy)
+        return {"z0", "sx", "sy", "cx", "cy"};
+    case Family::Paraboloid:
+        return {"fx", "fy", "z0", "cx", "cy"};
+    case Family::Cup:
+        return {"a", "b", "p", "h", "z0", "cx", "cy"};
+    case Family::FlutedCup:
+        return {"a", "p", "h", "w", "z0", "cx", "cy"};
+    case Family::BSpline:
+    case Family::Mesh:
+        return {};
+    }
+    return {};
+}
+
+ReflectorDesc target_reflector(const Scene& scene) {
+    ReflectorDesc r = scene.reflector;
+    for (const auto& [k, v] : scene.target.parameters) r.parameters[k] = v;
+    return r;
+}
+
+} // namespace fird

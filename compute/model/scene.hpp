@@ -1,0 +1,125 @@
+// The scene: plain data read from a scene file (DESIGN.md §5). Units: mm, lumens.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+namespace fird {
+
+enum class SourceKind { Cylinder, Sphere, Point };
+enum class Emittance { Cosine, Isotropic };
+
+struct SourceDesc {
+    SourceKind kind = SourceKind::Point;
+    glm::dvec3 center_mm{0.0};
+    glm::dvec3 axis{0.0, 0.0, 1.0}; // cylinder axis; point-source cosine axis
+    double length_mm = 0.0;         // cylinder
+    double radius_mm = 0.0;         // cylinder, sphere
+    Emittance emittance = Emittance::Cosine;
+    double flux_lm = 1100.0;
+    bool operator==(const SourceDesc&) const = default;
+};
+
+struct Holder {
+    glm::dvec3 min_mm{0.0};
+    glm::dvec3 max_mm{0.0};
+    bool operator==(const Holder&) const = default;
+};
+
+enum class Family { Plane, Paraboloid, Cup, FlutedCup, BSpline, Mesh };
+
+struct ParameterRange {
+    double min = 0.0;
+    double max = 0.0;
+    double step = 0.0;
+    bool operator==(const ParameterRange&) const = default;
+};
+
+// A B-spline parameter moves every control height of its group to its value.
+struct ControlGroup {
+    enum class Kind { Point, Row, Column, Ring } kind = Kind::Point;
+    int i = 0; // Point: column index; Row/Column/Ring: the index
+    int j = 0; // Point: row index
+    bool operator==(const ControlGroup&) const = default;
+};
+
+struct BSplineDesc {
+    int nx = 0; // control heights along x
+    int ny = 0; // along y
+    std::vector<double> heights_mm; // row-major, ny rows of nx
+    std::map<std::string, ControlGroup> groups;
+    bool operator==(const BSplineDesc&) const = default;
+};
+
+struct MeshDesc {
+    std::string file; // as written in the scene (relative to the scene file)
+    std::string resolved_path;
+    double unit_mm = 1.0;
+    bool operator==(const MeshDesc&) const = default;
+};
+
+struct ReflectorDesc {
+    Family family = Family::Plane;
+    std::map<std::string, double> parameters;
+    std::map<std::string, ParameterRange> optimize;
+    BSplineDesc bspline;
+    MeshDesc mesh;
+    bool operator==(const ReflectorDesc&) const = default;
+};
+
+enum class BouncePolicy { Paper, Strict };
+enum class SamplerKind { Random, Sobol };
+enum class HitMode { Paper, Refined };
+
+struct TraceSettings {
+    std::uint64_t rays = 1000000;
+    std::uint64_t seed = 1;
+    std::uint32_t max_bounces = 1;
+    BouncePolicy bounce_policy = BouncePolicy::Paper;
+    SamplerKind sampler = SamplerKind::Random;
+    HitMode hit_mode = HitMode::Refined;
+    std::uint32_t heightfield_w = 1200;
+    std::uint32_t heightfield_h = 800;
+    std::uint32_t farfield_w = 1800;
+    std::uint32_t farfield_h = 900;
+    bool operator==(const TraceSettings&) const = default;
+};
+
+struct TargetDesc {
+    enum class Kind { None, Reflector, Photometric } kind = Kind::None;
+    std::map<std::string, double> parameters; // Reflector: overrides of the reflector's
+    std::uint64_t seed = 2;                   // Reflector: its own, independent seed
+    std::string file;                         // Photometric: IES / LDT path as written
+    std::string resolved_path;
+    bool absolute = false; // Photometric: take the file's flux as is (else scaled)
+    bool operator==(const TargetDesc&) const = default;
+};
+
+struct Scene {
+    std::string path; // the file it came from (for messages)
+    std::string name;
+    SourceDesc source;
+    Holder holder;
+    ReflectorDesc reflector;
+    TraceSettings trace;
+    TargetDesc target;
+    bool operator==(const Scene& o) const {
+        return name == o.name && source == o.source && holder == o.holder &&
+               reflector == o.reflector && trace == o.trace && target == o.target;
+    }
+};
+
+const char* family_name(Family f);
+std::optional<Family> family_from_name(const std::string& name);
+// The parameter names a family needs (B-spline: its group names; mesh: none).
+std::vector<std::string> family_parameters(Family f);
+
+// The reflector the target describes: the scene's reflector with the target's values.
+ReflectorDesc target_reflector(const Scene& scene);
+
+} // namespace fird

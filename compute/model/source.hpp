@@ -1,0 +1,40 @@
+// Light sources: emission sampling (position on the emitter, direction) and the test of
+// whether a ray can meet the holder box at all (DESIGN.md §2).
+#pragma once
+
+#include <array>
+#include <cstdint>
+
+#include <glm/vec3.hpp>
+
+#include "scene.hpp"
+
+namespace fird {
+
+struct Ray {
+    glm::dvec3 origin;
+    glm::dvec3 direction; // unit length
+};
+
+// Maps four uniforms in (0, 1) to an emitted ray:
+// cylinder: uniform on the lateral surface (caps dark), Lambertian about the outward normal;
+// sphere: uniform on the surface, Lambertian about the outward normal;
+// point: isotropic, or Lambertian about `axis`.
+Ray sample_source(const SourceDesc& source, const std::array<double, 4>& u);
+
+// The uniforms for ray `index`: Philox (random) or scrambled Sobol, both keyed by seed.
+std::array<double, 4> ray_uniforms(SamplerKind sampler, std::uint64_t seed, std::uint64_t index);
+
+inline Ray emit_ray(const SourceDesc& source, SamplerKind sampler, std::uint64_t seed,
+                    std::uint64_t index) {
+    return sample_source(source, ray_uniforms(sampler, seed, index));
+}
+
+// True when the forward half-line (t >= 0) meets the closed holder box.
+bool ray_meets_box(const Ray& ray, const Holder& holder);
+
+// [t_enter, t_exit] of the forward half-line inside the box; false when it misses.
+bool clip_to_box(const Ray& ray, const glm::dvec3& lo, const glm::dvec3& hi, double& t_enter,
+                 double& t_exit);
+
+} // namespace fird

@@ -1,0 +1,63 @@
+// Reflector families as height functions z = f(x, y) over the holder rectangle, clamped
+// to the holder's z range: value, analytic gradient, and a conservative height range
+// over any axis-aligned box (used by the reference tracer to bracket roots safely).
+#pragma once
+
+#include <variant>
+#include <vector>
+
+#include <glm/vec2.hpp>
+
+#include "scene.hpp"
+
+namespace fird {
+
+struct HeightRange {
+    double lo;
+    double hi;
+};
+
+struct PlaneFn {
+    double z0, sx, sy, cx, cy;
+};
+struct ParaboloidFn {
+    double fx, fy, z0, cx, cy;
+};
+struct CupFn {
+    double a, b, p, h, z0, cx, cy;
+};
+struct FlutedCupFn {
+    double a, p, h, w, z0, cx, cy;
+};
+struct BSplineFn {
+    int nx, ny;
+    double x0, y0, dx, dy; // control height (i, j) sits at (x0 + i dx, y0 + j dy)
+    std::vector<double> heights;
+};
+
+class Surface {
+  public:
+    // Throws std::invalid_argument naming the parameter when a value is out of range.
+    static Surface make(const ReflectorDesc& reflector, const Holder& holder);
+
+    double height(double x, double y) const;         // clamped to the holder's z range
+    glm::dvec2 gradient(double x, double y) const;   // of the clamped surface
+    HeightRange bounds(double x0, double x1, double y0, double y1) const; // clamped, conservative
+    const Holder& holder() const { return holder_; }
+
+    // Unclamped ("raw") family function and its gradient.
+    double raw(double x, double y) const;
+    glm::dvec2 raw_gradient(double x, double y) const;
+
+  private:
+    using Fn = std::variant<PlaneFn, ParaboloidFn, CupFn, FlutedCupFn, BSplineFn>;
+    Surface(Fn fn, const Holder& holder) : fn_(std::move(fn)), holder_(holder) {}
+    Fn fn_;
+    Holder holder_;
+};
+
+// Applies the B-spline's parameters (group values) to its control heights.
+std::vector<double> bspline_heights(const BSplineDesc& spline,
+                                    const std::map<std::string, double>& parameters);
+
+} // namespace fird

@@ -1,0 +1,163 @@
+#include "reference_tracer.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+#include <thread>
+
+#include <fmt/format.h>
+#include <glm/geometric.hpp>
+
+#include "surface_hit.hpp"
+
+namespace fird {
+
+namespace {
+// After a reflection the search starts this far along the new direction: the
+// reflected ray leaves the surface, so this only skips the hit it starts on.
+constexpr double kBounceOffset_mm = 1e-7;
+constexpr std::uint64_t kBlock = 1u << 14;
+} // namespace
+
+PathResult trace_path(const Surface& surface, const Holder& holder, const Ray& ray,
+                      std::uint32_t max_bounces, BouncePolicy policy,
+                      std::vector<glm::dvec3>* vertices) {
+    if (vertices) vertices->assign(1, ray.origin);
+    if (!ray_meets_box(ray, holder)) return {RayFate::Discarded, 0, ray.direction};
+    Ray r = ray;
+    std::uint32_t reflections = 0;
+    for (;;) {
+        const double t_min = reflections == 0 ? 0.0 : kBounceOffset_mm;
+        const SurfaceHit hit = first_surface_hit(surface, r, t_min);
+        if (hit.start == HitStart::BelowSurface) return {RayFate::BelowSurface, reflections, r.direction};
+        if (hit.start == HitStart::Blocked) return {RayFate::Lost, reflections, r.direction};
+        if (!hit.t) {
+            if (vertices) vertices->push_back(r.origin + 10.0 * r.direction);
+            if (reflections == 0) return {RayFate::Direct, 0, r.direction};
+            return {RayFate::FarField, reflections, r.direction};
+        }
+        if (reflections == max_bounces) {
+            // Only reached under the strict policy: it would hit again.
+            if (vertices) vertices->push_back(r.origin + *hit.t * r.direction);
+            return {RayFate::Lost, reflections, r.direction};
+        }
+        const glm::dvec3 p = r.origin + *hit.t * r.direction;
+        const glm::dvec3 n = surface_normal(surface, p.x, p.y);
+        r = {p, glm::normalize(r.direction - 2.0 * glm::dot(r.direction, n) * n)};
+        ++reflections;
+        if (vertices) vertices->push_back(p);
+        if (reflections == max_bounces && policy == BouncePolicy::Paper) {
+            // "paper": the ray leaves with its last reflected direction (Algorithm 1).
+            if (vertices) vertices->push_back(p + 10.0 * r.direction);
+            return {RayFate::FarField, reflections, r.direction};
+        }
+    }
+}
+
+ReferenceResult trace_reference(const SourceDesc& source, const Surface& surface,
+                                const ReferenceOptions& o) {
+    const unsigned threads =
+        o.threads ? o.threads : std::max(1u, std::thread::hardware_concurrency());
+    const std::size_t cells = std::size_t(o.farfield_w) * o.farfield_h;
+    struct Local {
+        RayTally tally;
+        std::vector<std::uint32_t> counts;
+    };
+    std::vector<Local> locals(threads);
+    std::atomic<std::uint64_t> next{0};
+    const auto start = std::chrono::steady_clock::now();
+    const auto work = [&](Local& local) {
+        local.counts.assign(cells, 0);
+        local.tally.by_reflections.assign(o.max_bounces + 1, 0);
+        for (;;) {
+            const std::uint64_t begin = next.fetch_add(kBlock);
+            if (begin >= o.rays) break;
+            const std::uint64_t end = std::min(o.rays, begin + kBlock);
+            for (std::uint64_t i = begin; i < end; ++i) {
+                const Ray ray = emit_ray(source, o.sampler, o.seed, i);
+                const PathResult path =
+                    trace_path(surface, surface.holder(), ray, o.max_bounces, o.bounce_policy);
+                RayTally& t = local.tally;
+                switch (path.fate) {
+                case RayFate::Discarded:
+                    ++t.discarded;
+                    break;
+                case RayFate::Direct:
+                    ++t.direct;
+                    break;
+                case RayFate::FarField:
+                    ++t.farfield;
+                    ++t.by_reflections[path.reflections];
+                    ++local.counts[farfield_cell(path.direction, o.farfield_w, o.farfield_h)];
+                    break;
+                case RayFate::BelowSurface:
+                    ++t.below_surface;
+                    ++t.lost;
+                    break;
+                case RayFate::Lost:
+                    ++t.lost;
+                    break;
+                }
+            }
+        }
+    };
+    std::vector<std::thread> pool;
+    for (unsigned k = 1; k < threads; ++k) pool.emplace_back(work, std::ref(locals[k]));
+    work(locals[0]);
+    for (auto& t : pool) t.join();
+
+    ReferenceResult result;
+    result.threads = threads;
+    result.energy_per_ray_lm = o.rays ? source.flux_lm / double(o.rays) : 0.0;
+    RayTally& total = result.tally;
+    total.emitted = o.rays;
+    total.by_reflections.assign(o.max_bounces + 1, 0);
+    std::vector<std::uint64_t> counts(cells, 0);
+    for (const Local& l : locals) {
+        total.discarded += l.tally.discarded;
+        total.direct += l.tally.direct;
+        total.farfield += l.tally.farfield;
+        total.lost += l.tally.lost;
+        total.below_surface += l.tally.below_surface;
+        for (std::size_t b = 0; b < l.tally.by_reflections.size(); ++b)
+            total.by_reflections[b] += l.tally.by_reflections[b];
+        for (std::size_t c = 0; c < cells; ++c) counts[c] += l.counts[c];
+    }
+    result.farfield = farfield_from_counts(counts, o.farfield_w, o.farfield_h,
+                                           result.energy_per_ray_lm);
+    result.trace_ms =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    return result;
+}
+
+void check_reflector_clear_of_source(const Surface& surface, const SourceDesc& s) {
+    // Half extents of the source's bounding box: a cylinder of axis a reaches
+    // L/2 |a_k| + r sqrt(1 - a_k^2) along axis k; a sphere r; a point 0.
+    glm::dvec3 half(s.radius_mm);
+    if (s.kind == SourceKind::Cylinder) {
+        const glm::dvec3 a = glm::normalize(s.axis);
+        for (int k = 0; k < 3; ++k)
+            half[k] = 0.5 * s.length_mm * std::abs(a[k]) +
+                      s.radius_mm * std::sqrt(std::max(0.0, 1.0 - a[k] * a[k]));
+    } else if (s.kind == SourceKind::Point) {
+        half = glm::dvec3(0.0);
+    }
+    const glm::dvec3 lo = s.center_mm - half;
+    const glm::dvec3 hi = s.center_mm + half;
+    const Holder& h = surface.holder();
+    const double x0 = std::max(lo.x, h.min_mm.x), x1 = std::min(hi.x, h.max_mm.x);
+    const double y0 = std::max(lo.y, h.min_mm.y), y1 = std::min(hi.y, h.max_mm.y);
+    if (x0 > x1 || y0 > y1) return; // the source is not over the reflector
+    // The surface's height range over the footprint is conservative: it may refuse a
+    // reflector that only nearly touches the source, never accept one that cuts it.
+    const double highest = surface.bounds(x0, x1, y0, y1).hi;
+    if (highest >= lo.z)
+        throw std::invalid_argument(fmt::format(
+            "the reflector cuts the light source: the surface reaches z = {:.3f} mm under the "
+            "source, whose lowest point is z = {:.3f} mm",
+            highest, lo.z));
+}
+
+} // namespace fird

@@ -1,0 +1,67 @@
+// The accuracy oracle: a double-precision CPU tracer against the true surface
+// (DESIGN.md §1). Multi-threaded over rays; results do not depend on the thread count.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "farfield/farfield.hpp"
+#include "model/scene.hpp"
+#include "model/source.hpp"
+#include "model/surface.hpp"
+
+namespace fird {
+
+enum class RayFate { Discarded, Direct, FarField, Lost, BelowSurface };
+
+struct PathResult {
+    RayFate fate = RayFate::Discarded;
+    std::uint32_t reflections = 0;
+    glm::dvec3 direction{0.0}; // outgoing direction (FarField)
+};
+
+// One ray through the reflector with up to max_bounces specular reflections.
+// `vertices`, when given, receives the path's points (origin, hits, and an end point).
+PathResult trace_path(const Surface& surface, const Holder& holder, const Ray& ray,
+                      std::uint32_t max_bounces, BouncePolicy policy,
+                      std::vector<glm::dvec3>* vertices = nullptr);
+
+struct RayTally {
+    std::uint64_t emitted = 0;
+    std::uint64_t discarded = 0;
+    std::uint64_t direct = 0;
+    std::uint64_t farfield = 0;
+    std::uint64_t lost = 0;
+    std::uint64_t below_surface = 0; // subset of lost: rays born inside the solid
+    std::vector<std::uint64_t> by_reflections; // far-field rays by reflection count
+};
+
+struct ReferenceResult {
+    RayTally tally;
+    FarField farfield;
+    double energy_per_ray_lm = 0.0;
+    double trace_ms = 0.0;
+    unsigned threads = 0;
+};
+
+struct ReferenceOptions {
+    std::uint64_t rays = 0;
+    std::uint64_t seed = 1;
+    SamplerKind sampler = SamplerKind::Random;
+    std::uint32_t max_bounces = 1;
+    BouncePolicy bounce_policy = BouncePolicy::Paper;
+    std::uint32_t farfield_w = 1800;
+    std::uint32_t farfield_h = 900;
+    unsigned threads = 0; // 0: all hardware threads
+};
+
+// Emits `rays` rays from the source and traces them against the reflector.
+ReferenceResult trace_reference(const SourceDesc& source, const Surface& surface,
+                                const ReferenceOptions& options);
+
+// Throws std::invalid_argument when the reflector cuts the light source (DESIGN.md §2).
+void check_reflector_clear_of_source(const Surface& surface, const SourceDesc& source);
+
+} // namespace fird
