@@ -122,7 +122,7 @@ class TableReader {
         const toml::node& n = need(key);
         const auto t = n.as_table();
         if (!t) fail(&n, key, "must be a table");
-        return {file_, *t, name_ + "." + key};
+        return {file_, *t, name_.empty() ? key : name_ + "." + key};
     }
     const toml::table& table() const { return table_; }
     const std::string& file() const { return file_; }

@@ -170,8 +170,19 @@ struct RawBounds {
         const double rho_lo = std::hypot(u.lo, v.lo) / f.a;
         const double rho_hi = std::hypot(u.hi, v.hi) / f.a;
         const auto radial = scaled(f.h, std::pow(rho_lo, f.p), std::pow(rho_hi, f.p));
-        const double flute = std::abs(f.w) * rho_hi; // |w rho cos 8 psi| <= |w| rho
-        return {f.z0 + radial.lo - flute, f.z0 + radial.hi + flute};
+        // The flutes F = w rho cos 8 psi: |F| <= |w| rho_hi, and F is Lipschitz with
+        // |grad F| = |w|/a sqrt(cos^2 + 64 sin^2) <= |w| sqrt(65) / a, so around the box
+        // centre it varies by at most that times the half diagonal. The tighter of the two
+        // shrinks with the box, which keeps the reference tracer's subdivision shallow.
+        const double cx = 0.5 * (x0 + x1) - f.cx;
+        const double cy = 0.5 * (y0 + y1) - f.cy;
+        const double rc = std::hypot(cx, cy);
+        const double centre = rc > 0.0 ? f.w * rc / f.a * std::cos(8.0 * std::atan2(cy, cx)) : 0.0;
+        const double spread = std::abs(f.w) * std::sqrt(65.0) / f.a * 0.5 * std::hypot(x1 - x0, y1 - y0);
+        const double crude = std::abs(f.w) * rho_hi;
+        const double flute_lo = std::max(-crude, centre - spread);
+        const double flute_hi = std::min(crude, centre + spread);
+        return {f.z0 + radial.lo + flute_lo, f.z0 + radial.hi + flute_hi};
     }
     HeightRange operator()(const BSplineFn& f) const {
         // Convex hull property: the surface lies within its influencing control heights.

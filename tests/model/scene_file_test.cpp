@@ -1,0 +1,136 @@
+// Scene files: the paper's scenes load and round-trip; every malformed scene gets an
+// error naming the file, the key and the line.
+#include <filesystem>
+#include <fstream>
+
+#include <gtest/gtest.h>
+
+#include "io/scene_file.hpp"
+
+namespace fird {
+namespace {
+
+const std::string kScenes = std::string(FIRD_SOURCE_DIR) + "/scenes/";
+
+class SceneRoundTrip : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(SceneRoundTrip, WrittenBackParsesToTheSameScene) {
+    const Scene a = load_scene(kScenes + GetParam());
+    const std::string text = scene_to_toml(a);
+    const Scene b = parse_scene(text, kScenes + GetParam());
+    EXPECT_EQ(a, b) << text;
+}
+
+INSTANTIATE_TEST_SUITE_P(Scenes, SceneRoundTrip,
+                         ::testing::Values("model_a.toml", "model_b.toml", "model_c.toml",
+                                           "test/flat_mirror.toml", "test/focused_paraboloid.toml",
+                                           "test/bspline_dish.toml"));
+
+TEST(SceneFile, PaperScenesHaveThePaperValues) {
+    const Scene a = load_scene(kScenes + "model_a.toml");
+    EXPECT_EQ(a.source.kind, SourceKind::Cylinder);
+    EXPECT_DOUBLE_EQ(a.source.length_mm, 4.1);
+    EXPECT_DOUBLE_EQ(a.source.radius_mm, 0.65);
+    EXPECT_EQ(a.trace.rays, 10000000u);
+    EXPECT_EQ(a.trace.heightfield_w, 1200u);
+    EXPECT_EQ(a.target.parameters.at("fx"), 15.0);
+    const Scene b = load_scene(kScenes + "model_b.toml");
+    EXPECT_EQ(b.trace.max_bounces, 5u);
+    EXPECT_EQ(b.trace.rays, 5000000u);
+    const Scene c = load_scene(kScenes + "model_c.toml");
+    EXPECT_EQ(c.trace.max_bounces, 6u);
+    EXPECT_EQ(c.target.parameters.at("w"), 0.5);
+}
+
+// A valid base scene; each bad case replaces one line of it.
+const std::string kBase = R"([source]
+type = "sphere"
+center_mm = [5.0, 5.0, -2.0]
+radius_mm = 0.5
+flux_lm = 100.0
+
+[holder]
+min_mm = [0.0, 0.0, -6.0]
+max_mm = [10.0, 10.0, 0.0]
+
+[reflector]
+family = "paraboloid"
+fx = 3.0
+fy = 3.0
+z0 = -6.0
+cx = 5.0
+cy = 5.0
+optimize = { fx = { min = 1.0, max = 5.0, step = 0.5 } }
+
+[trace]
+rays = 1000
+max_bounces = 2
+)";
+
+struct BadCase {
+    std::string replace; // a line of kBase (without newline)
+    std::string with;
+    std::string expect;  // must appear in the message
+};
+
+class BadScene : public ::testing::TestWithParam<BadCase> {};
+
+TEST_P(BadScene, IsRefusedWithFileKeyAndLine) {
+    const BadCase& c = GetParam();
+    std::string text = kBase;
+    const auto at = text.find(c.replace);
+    ASSERT_NE(at, std::string::npos) << c.replace;
+    text.replace(at, c.replace.size(), c.with);
+    try {
+        (void)parse_scene(text, "bad.toml");
+        FAIL() << "accepted: " << c.with;
+    } catch (const SceneError& e) {
+        const std::string what = e.what();
+        EXPECT_EQ(what.rfind("bad.toml", 0), 0u) << what;
+        EXPECT_NE(what.find(c.expect), std::string::npos) << what;
+        EXPECT_EQ(what.find('\n'), std::string::npos) << "one line: " << what;
+    }
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Table, BadScene,
+    ::testing::Values(
+        BadCase{"radius_mm = 0.5", "radius_mm = -0.5", "bad.toml:4: [source] radius_mm: must be > 0"},
+        BadCase{"radius_mm = 0.5", "radius_mm = nan", "radius_mm: must be finite"},
+        BadCase{"radius_mm = 0.5", "radius_mm = \"big\"", "radius_mm: must be a number"},
+        BadCase{"radius_mm = 0.5", "radius = 0.5", "unknown key"},
+        BadCase{"flux_lm = 100.0", "flux_lm = inf", "flux_lm: must be finite"},
+        BadCase{"flux_lm = 100.0", "", "flux_lm: required key is missing"},
+        BadCase{"type = \"sphere\"", "type = \"laser\"", "type: must be one of"},
+        BadCase{"center_mm = [5.0, 5.0, -2.0]", "center_mm = [5.0, 5.0]", "center_mm: must be an array of 3"},
+        BadCase{"center_mm = [5.0, 5.0, -2.0]", "center_mm = [50.0, 5.0, -2.0]", "outside the holder's xy footprint"},
+        BadCase{"max_mm = [10.0, 10.0, 0.0]", "max_mm = [10.0, 10.0, -6.0]", "holder box is empty"},
+        BadCase{"family = \"paraboloid\"", "family = \"blob\"", "family: must be one of"},
+        BadCase{"fx = 3.0", "fx = -3.0", "'fx' must be > 0"},
+        BadCase{"fy = 3.0", "", "[reflector] fy: required key is missing"},
+        BadCase{"cy = 5.0", "cy = 5.0\nshape = 2", "[reflector] shape: unknown key"},
+        BadCase{"z0 = -6.0", "z0 = -2.4", "cuts the light source"},
+        BadCase{"optimize = { fx = { min = 1.0, max = 5.0, step = 0.5 } }",
+                "optimize = { fx = { min = 6.0, max = 5.0, step = 0.5 } }", "max: must not be below min"},
+        BadCase{"optimize = { fx = { min = 1.0, max = 5.0, step = 0.5 } }",
+                "optimize = { fx = { min = 1.0, max = 5.0, step = 0.0 } }", "step: must be > 0"},
+        BadCase{"optimize = { fx = { min = 1.0, max = 5.0, step = 0.5 } }",
+                "optimize = { q = { min = 1.0, max = 5.0, step = 0.5 } }", "q: is not a parameter"},
+        BadCase{"rays = 1000", "rays = 0", "rays: must be between"},
+        BadCase{"rays = 1000", "rays = 1.5", "rays: must be an integer"},
+        BadCase{"max_bounces = 2", "max_bounces = 0", "max_bounces: must be between"},
+        BadCase{"max_bounces = 2", "max_bounces = 2\nbounce_policy = \"sometimes\"", "bounce_policy: must be one of"},
+        BadCase{"max_bounces = 2", "max_bounces = 2\nfarfield = [0, 10]", "farfield: must be two whole numbers"},
+        BadCase{"max_bounces = 2", "max_bounces = 2\n[target]\nparameters = { fx = 2.0 }\nseed = 1",
+                "seed: must differ"},
+        BadCase{"max_bounces = 2", "max_bounces = 2\n[target]\nparameters = { zz = 2.0 }", "zz: is not a parameter"},
+        BadCase{"max_bounces = 2", "max_bounces = 2\n[target]\nseed = 4", "give either parameters"},
+        BadCase{"[trace]", "[trace]\n[trace]", "redefine existing table 'trace'"},
+        BadCase{"fx = 3.0", "fx = 3.0 3.0", "bad.toml:13"}));
+
+TEST(SceneFile, MissingFileIsAClearError) {
+    EXPECT_THROW((void)load_scene("/nonexistent/scene.toml"), SceneError);
+}
+
+} // namespace
+} // namespace fird

@@ -1,0 +1,71 @@
+// Reflector families: analytic gradients against finite differences, and the height
+// ranges the reference tracer relies on must contain every value in their box.
+#include <random>
+
+#include <gtest/gtest.h>
+
+#include "io/scene_file.hpp"
+#include "model/surface.hpp"
+
+namespace fird {
+namespace {
+
+const std::string kScenes = std::string(FIRD_SOURCE_DIR) + "/scenes/";
+
+class SurfaceFamily : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(SurfaceFamily, GradientMatchesFiniteDifferencesAndBoundsContainTheSurface) {
+    const Scene s = load_scene(kScenes + GetParam());
+    const Surface f = Surface::make(s.reflector, s.holder);
+    const Holder& h = s.holder;
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<double> ux(h.min_mm.x, h.max_mm.x), uy(h.min_mm.y, h.max_mm.y);
+    for (int k = 0; k < 2000; ++k) {
+        const double x = ux(rng), y = uy(rng);
+        constexpr double e = 1e-6;
+        const double gx = (f.raw(x + e, y) - f.raw(x - e, y)) / (2 * e);
+        const double gy = (f.raw(x, y + e) - f.raw(x, y - e)) / (2 * e);
+        const glm::dvec2 g = f.raw_gradient(x, y);
+        ASSERT_NEAR(g.x, gx, 1e-5 * (1 + std::abs(gx))) << x << "," << y;
+        ASSERT_NEAR(g.y, gy, 1e-5 * (1 + std::abs(gy))) << x << "," << y;
+
+        double x0 = ux(rng), x1 = ux(rng), y0 = uy(rng), y1 = uy(rng);
+        if (x0 > x1) std::swap(x0, x1);
+        if (y0 > y1) std::swap(y0, y1);
+        const HeightRange r = f.bounds(x0, x1, y0, y1);
+        for (int m = 0; m < 20; ++m) {
+            const double px = x0 + (x1 - x0) * m / 19.0;
+            for (int n = 0; n < 20; ++n) {
+                const double z = f.height(px, y0 + (y1 - y0) * n / 19.0);
+                ASSERT_GE(z, r.lo - 1e-12);
+                ASSERT_LE(z, r.hi + 1e-12);
+            }
+        }
+    }
+}
+
+INSTANTIATE_TEST_SUITE_P(Families, SurfaceFamily,
+                         ::testing::Values("model_a.toml", "model_b.toml", "model_c.toml",
+                                           "test/flat_mirror.toml", "test/bspline_dish.toml"));
+
+TEST(Surface, ClampPlateausAreFlatAndWithinTheHolder) {
+    const Scene s = load_scene(kScenes + "model_a.toml");
+    const Surface f = Surface::make(s.reflector, s.holder);
+    EXPECT_DOUBLE_EQ(f.height(29.9, 19.9), 0.0);
+    EXPECT_EQ(f.gradient(29.9, 19.9), glm::dvec2(0.0));
+    EXPECT_DOUBLE_EQ(f.height(0.0, 0.0), -10.0);
+}
+
+TEST(Surface, BSplineGroupsMoveTheirControlHeights) {
+    BSplineDesc b{.nx = 5, .ny = 4, .heights_mm = std::vector<double>(20, -1.0)};
+    b.groups["rim"] = {ControlGroup::Kind::Ring, 0, 0};
+    b.groups["c"] = {ControlGroup::Kind::Point, 2, 1};
+    const auto h = bspline_heights(b, {{"rim", -0.5}, {"c", -3.0}});
+    EXPECT_EQ(h[0], -0.5);          // corner: ring 0
+    EXPECT_EQ(h[1 * 5 + 1], -1.0);  // inner
+    EXPECT_EQ(h[1 * 5 + 2], -3.0);  // the point group
+    EXPECT_EQ(h[3 * 5 + 4], -0.5);
+}
+
+} // namespace
+} // namespace fird
