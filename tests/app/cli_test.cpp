@@ -1,4 +1,5 @@
 // The `fird` command's contract for bad input: one line, the usage, exit code 2.
+#include <algorithm>
 #include <array>
 #include <cstdio>
 #include <string>
@@ -66,6 +67,48 @@ TEST(Cli, NoVulkanDriverAtAllExitsOneWithOneLine) {
                            "info");
     EXPECT_EQ(r.code, 1) << r.out;
     EXPECT_NE(r.out.find("no Vulkan"), std::string::npos) << r.out;
+}
+
+TEST(Cli, BadSceneIsOneLineNamingFileKeyAndLineWithExitCode1) {
+    const std::string path = ::testing::TempDir() + "/bad_scene.toml";
+    FILE* f = std::fopen(path.c_str(), "w");
+    ASSERT_TRUE(f);
+    std::fputs("[source]\ntype = \"sphere\"\ncenter_mm = [0.0, 0.0, 0.0]\nradius_mm = -1.0\nflux_lm = 5.0\n", f);
+    std::fclose(f);
+    const auto r = run("trace " + path + " --backend cpu");
+    EXPECT_EQ(r.code, 1) << r.out;
+    EXPECT_NE(r.out.find(path + ":4: [source] radius_mm: must be > 0"), std::string::npos) << r.out;
+    EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << r.out;
+    std::remove(path.c_str());
+}
+
+TEST(Cli, TraceJsonHasEveryContractField) {
+    const auto r = run("trace " + std::string(FIRD_SOURCE_DIR) +
+                       "/scenes/model_a.toml --backend cpu --rays 20000 --json");
+    ASSERT_EQ(r.code, 0) << r.out;
+    const auto j = nlohmann::json::parse(r.out);
+    for (const char* key : {"rays_emitted", "rays_effective", "rays_reflected", "energy_emitted_lm",
+                            "energy_farfield_lm", "energy_direct_lm", "energy_discarded_lm",
+                            "energy_lost_lm", "l2", "timings_ms", "device"})
+        EXPECT_TRUE(j.contains(key)) << key;
+    for (const char* key : {"rayset", "heightfield", "trace", "histogram", "compare", "total"})
+        EXPECT_TRUE(j["timings_ms"].contains(key)) << key;
+    EXPECT_EQ(j["rays_emitted"].get<std::uint64_t>(), 20000u);
+    const double sum = j["energy_discarded_lm"].get<double>() + j["energy_direct_lm"].get<double>() +
+                       j["energy_farfield_lm"].get<double>() + j["energy_lost_lm"].get<double>();
+    EXPECT_NEAR(sum, j["energy_emitted_lm"].get<double>(), 1e-9);
+}
+
+TEST(Cli, TraceOutWritesNpyAndPictures) {
+    const std::string dir = ::testing::TempDir() + "/fird_out";
+    const auto r = run("trace " + std::string(FIRD_SOURCE_DIR) +
+                       "/scenes/model_b.toml --backend cpu --rays 5000 --out " + dir);
+    ASSERT_EQ(r.code, 0) << r.out;
+    for (const char* name : {"farfield.npy", "farfield.png", "target.npy", "target.png", "difference.png"}) {
+        FILE* f = std::fopen((dir + "/" + name).c_str(), "rb");
+        EXPECT_TRUE(f) << name;
+        if (f) std::fclose(f);
+    }
 }
 
 } // namespace
