@@ -5,6 +5,8 @@
 
 #include "commands.hpp"
 #include "evaluation/evaluation.hpp"
+#include "fastpath/fast_tracer.hpp"
+#include "vk/context.hpp"
 #include "io/scene_file.hpp"
 
 namespace fird::app {
@@ -13,7 +15,7 @@ void register_trace(CLI::App& app, const GlobalOptions& global, std::function<in
     auto* cmd = app.add_subcommand("trace", "One lighting evaluation of a scene");
     struct Args {
         std::string scene;
-        std::string backend = "cpu";
+        std::string backend = "gpu";
         std::string sampler;
         std::string out;
         std::uint64_t rays = 0;
@@ -34,16 +36,26 @@ void register_trace(CLI::App& app, const GlobalOptions& global, std::function<in
     cmd->add_option("--out", a->out, "Write farfield.npy and images to this directory");
     cmd->callback([&global, &run, a, cmd] {
         run = [&global, a, cmd] {
-            (void)global;
             TraceOverrides o;
             if (cmd->count("--rays")) o.rays = a->rays;
             if (cmd->count("--seed")) o.seed = a->seed;
             if (!a->sampler.empty())
                 o.sampler = a->sampler == "sobol" ? SamplerKind::Sobol : SamplerKind::Random;
             const Scene scene = apply_overrides(load_scene(a->scene), o);
-            if (a->backend == "gpu")
-                throw std::runtime_error("--backend gpu: the fast path is not built yet; use --backend cpu");
-            const Evaluation e = evaluate_reference(scene, a->threads);
+            Evaluation e;
+            if (a->backend == "gpu") {
+                const auto ctx = vk::Context::create(
+                    {.validation = global.validation, .device_name = global.device_name});
+                e = evaluate_fast(ctx, scene);
+                if (ctx.validation_errors() > 0)
+                    throw std::runtime_error("Vulkan validation errors were reported (see above)");
+            } else {
+                e = evaluate_reference(scene, a->threads);
+            }
+            if (e.tally.below_surface > 0)
+                std::fprintf(stderr, "fird: warning: %s: %llu rays start below the reflector surface "
+                                     "(counted as lost): the reflector cuts the light source\n",
+                             scene.path.c_str(), static_cast<unsigned long long>(e.tally.below_surface));
             if (!a->out.empty()) write_evaluation_outputs(a->out, scene, e);
             const auto j = evaluation_json(e);
             if (a->json) {

@@ -11,4 +11,12 @@ namespace fird {
 // Four scrambled Sobol coordinates in (0, 1) for point `index` under `seed`.
 std::array<double, 4> sobol_uniforms(std::uint64_t seed, std::uint64_t index);
 
+// The tables behind it, for the GPU twin (shaders/common.glsl): direction numbers of the
+// four dimensions, and the Owen scramble seeds (four dimensions, then the index).
+struct SobolTables {
+    std::uint32_t directions[4][32];
+    std::uint32_t scramble[5];
+};
+SobolTables sobol_tables(std::uint64_t seed);
+
 } // namespace fird

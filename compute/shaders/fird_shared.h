@@ -39,6 +39,113 @@ struct BinKeysPush {
     uint bin_count;
 };
 
+// ---- the fast path: rayset.comp, heightfield.comp, maxmip.comp, trace.comp ----
+#define FIRD_RAYSET_WORKGROUP_SIZE 128
+#define FIRD_TRACE_WORKGROUP_SIZE 64
+#define FIRD_HEIGHTFIELD_WORKGROUP_SIZE 16 // 16 x 16 texels
+#define FIRD_MAX_LEVELS 16                 // quadtree levels: textures up to 32768 texels wide
+#define FIRD_MAX_PARAMS 8
+#define FIRD_MAX_REFLECTIONS 64
+
+FIRD_CONSTANT(uint, kFamilyPlane, 0u);
+FIRD_CONSTANT(uint, kFamilyParaboloid, 1u);
+FIRD_CONSTANT(uint, kFamilyCup, 2u);
+FIRD_CONSTANT(uint, kFamilyFlutedCup, 3u);
+FIRD_CONSTANT(uint, kFamilyBSpline, 4u);
+FIRD_CONSTANT(uint, kFamilyTexture, 5u); // heights uploaded (meshes, tests)
+
+FIRD_CONSTANT(uint, kSourceCylinder, 0u);
+FIRD_CONSTANT(uint, kSourceSphere, 1u);
+FIRD_CONSTANT(uint, kSourcePointIsotropic, 2u);
+FIRD_CONSTANT(uint, kSourcePointCosine, 3u);
+
+FIRD_CONSTANT(uint, kHitModePaper, 0u);
+FIRD_CONSTANT(uint, kHitModeRefined, 1u);
+
+// Bindings of the fast-path passes.
+FIRD_CONSTANT(uint, kBindParams, 0u);
+FIRD_CONSTANT(uint, kRaysetBindRays, 1u);
+FIRD_CONSTANT(uint, kRaysetBindCounters, 2u);
+FIRD_CONSTANT(uint, kHeightfieldBindHeights, 1u);
+FIRD_CONSTANT(uint, kHeightfieldBindGradients, 2u);
+FIRD_CONSTANT(uint, kHeightfieldBindControl, 3u);
+FIRD_CONSTANT(uint, kMaxMipBindPaper, 1u);
+FIRD_CONSTANT(uint, kMaxMipBindRefined, 2u);
+FIRD_CONSTANT(uint, kTraceBindRaysIn, 1u);
+FIRD_CONSTANT(uint, kTraceBindRaysOut, 2u);
+FIRD_CONSTANT(uint, kTraceBindCounters, 3u);
+FIRD_CONSTANT(uint, kTraceBindPyramid, 4u);  // the traversal quadtree of the hit mode
+FIRD_CONSTANT(uint, kTraceBindHeights, 5u);  // the paper quadtree (level 0 = texel heights)
+FIRD_CONSTANT(uint, kTraceBindGradients, 6u);
+FIRD_CONSTANT(uint, kTraceBindFarField, 7u);
+FIRD_CONSTANT(uint, kTraceBindHits, 8u);
+
+// Counter slots (uint) in the counters buffer.
+FIRD_CONSTANT(uint, kCounterEffective, 0u);  // rays appended by the rayset pass
+FIRD_CONSTANT(uint, kCounterDiscarded, 1u);
+FIRD_CONSTANT(uint, kCounterBelow, 2u);      // born below the surface (a scene error)
+FIRD_CONSTANT(uint, kCounterDirect, 3u);
+FIRD_CONSTANT(uint, kCounterFarField, 4u);
+FIRD_CONSTANT(uint, kCounterLost, 5u);       // strict policy: would hit again
+FIRD_CONSTANT(uint, kCounterAborted, 6u);    // traversal bound reached (energy lost)
+FIRD_CONSTANT(uint, kCounterActiveOut, 7u);  // rays appended for the next bounce
+FIRD_CONSTANT(uint, kCounterByReflections, 8u); // + r: far-field rays with r reflections
+FIRD_CONSTANT(uint, kCounterCount, 8u + FIRD_MAX_REFLECTIONS + 1u);
+
+// Everything a pass needs to know about the scene, in one storage buffer (std430;
+// only 4-byte scalars and arrays of them, so C++ and GLSL agree on the layout).
+struct SceneParams {
+    float holder_min[4];
+    float holder_max[4];
+    float source_center[4];
+    float source_axis[4];
+    float source_length;
+    float source_radius;
+    uint source_kind;
+    uint sampler_kind; // 0 random (Philox), 1 Sobol
+    uint seed_lo;
+    uint seed_hi;
+    uint family;
+    uint bspline_nx;
+    uint bspline_ny;
+    float params[FIRD_MAX_PARAMS];
+    uint hf_w;
+    uint hf_h;
+    uint levels;
+    uint hit_mode;
+    uint level_w[FIRD_MAX_LEVELS];
+    uint level_h[FIRD_MAX_LEVELS];
+    uint level_offset[FIRD_MAX_LEVELS]; // into the quadtree buffer, in floats
+    uint ff_w;
+    uint ff_h;
+    uint max_bounces;
+    uint strict_policy;
+    uint max_steps; // traversal bound per ray and bounce
+    uint sobol_scramble[5]; // Owen scramble seeds: 4 dimensions, then the index
+    uint sobol_directions[4 * 32];
+};
+
+struct RaysetPush {
+    uint first_lo; // index of the first ray of this batch
+    uint first_hi;
+    uint count;
+    uint pad;
+};
+
+struct TracePush {
+    uint bounce;       // reflections so far (0: rays from the source)
+    uint final_check;  // strict policy: only test for another hit
+    uint active_count; // rays in rays_in (read back by the host after the previous pass)
+    uint record_hits;  // write hits[i] = (hit point, t) or t = -1 for input ray i
+};
+
+struct MaxMipPush {
+    uint level; // building this level from level - 1 (0: from the height texture)
+    uint pad0;
+    uint pad1;
+    uint pad2;
+};
+
 #ifdef __cplusplus
 } // namespace fird::gpu
 #endif

@@ -1,0 +1,311 @@
+#include "fast_tracer.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+#include "counts_to_lm_comp.h"
+#include "fastpath/scene_params.hpp"
+#include "heightfield_comp.h"
+#include "maxmip_comp.h"
+#include "rayset_comp.h"
+#include "trace_comp.h"
+#include "vk/check.hpp"
+
+namespace fird {
+
+namespace {
+
+constexpr VkDescriptorType kSB = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+constexpr std::uint64_t kRayBytes = 32;
+
+struct ToLmPush {
+    std::uint32_t count;
+    float lm_per_ray;
+};
+
+std::uint32_t groups(std::uint64_t n, std::uint32_t size) {
+    return std::uint32_t((n + size - 1) / size);
+}
+
+double ms_since(std::chrono::steady_clock::time_point t0) {
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+} // namespace
+
+FastTracer::FastTracer(const vk::Context& ctx, const Scene& scene, std::uint64_t seed)
+    : ctx_(&ctx), scene_(scene), params_(scene_params(scene, seed)),
+      rayset_pipeline_(ctx, fird_spv_rayset_comp, {kSB, kSB, kSB}, sizeof(gpu::RaysetPush),
+                       "fird.rayset"),
+      heightfield_pipeline_(ctx, fird_spv_heightfield_comp, {kSB, kSB, kSB, kSB}, 0,
+                            "fird.heightfield"),
+      maxmip_pipeline_(ctx, fird_spv_maxmip_comp, {kSB, kSB, kSB}, sizeof(gpu::MaxMipPush),
+                       "fird.maxmip"),
+      trace_pipeline_(ctx, fird_spv_trace_comp, {kSB, kSB, kSB, kSB, kSB, kSB, kSB, kSB, kSB},
+                      sizeof(gpu::TracePush), "fird.trace"),
+      to_lm_pipeline_(ctx, fird_spv_counts_to_lm_comp, {kSB, kSB}, sizeof(ToLmPush),
+                      "fird.counts_to_lm"),
+      timer_(ctx) {
+    if (scene.trace.max_bounces > FIRD_MAX_REFLECTIONS)
+        throw std::invalid_argument(fmt::format("max_bounces above {} is not supported on the fast path",
+                                                FIRD_MAX_REFLECTIONS));
+    if (scene.trace.rays >= (1ull << 32))
+        throw std::invalid_argument("the fast path counts far-field rays in 32 bits: use fewer than 2^32 rays");
+    // Constant memory whatever the ray count: batches no larger than one storage
+    // buffer binding allows (lavapipe: 128 MiB = 4M rays), and at most 8M rays.
+    const auto& limits = ctx.limits();
+    batch_capacity_ = std::min<std::uint64_t>(
+        {scene.trace.rays, limits.max_storage_buffer_range / kRayBytes, 1ull << 23});
+    const std::uint64_t ray_bytes = batch_capacity_ * kRayBytes;
+    const auto storage = vk::kStorageUsage;
+    params_buffer_ = vk::Buffer(ctx, sizeof(gpu::SceneParams), storage, vk::MemoryUse::Upload, "fird.params");
+    counters_ = vk::Buffer(ctx, gpu::kCounterCount * 4, storage, vk::MemoryUse::Readback, "fird.counters");
+    rays_cache_ = vk::Buffer(ctx, ray_bytes, storage, vk::MemoryUse::Device, "fird.rayset");
+    rays_ping_ = vk::Buffer(ctx, ray_bytes, storage, vk::MemoryUse::Device, "fird.rays.ping");
+    rays_pong_ = vk::Buffer(ctx, ray_bytes, storage, vk::MemoryUse::Device, "fird.rays.pong");
+    hits_ = vk::Buffer(ctx, 16, storage, vk::MemoryUse::Device, "fird.hits.unused");
+    const QuadtreeLayout q = quadtree_layout(params_.hf_w, params_.hf_h);
+    paper_tree_ = vk::Buffer(ctx, q.total_floats * 4, storage, vk::MemoryUse::Device, "fird.quadtree.paper");
+    refined_tree_ = vk::Buffer(ctx, q.total_floats * 4, storage, vk::MemoryUse::Device, "fird.quadtree.refined");
+    gradients_ = vk::Buffer(ctx, std::uint64_t(params_.hf_w) * params_.hf_h * 8, storage,
+                            vk::MemoryUse::Device, "fird.normals");
+    control_ = vk::Buffer(ctx, 4, storage, vk::MemoryUse::Device, "fird.bspline.control");
+    const std::uint64_t cells = std::uint64_t(params_.ff_w) * params_.ff_h;
+    farfield_counts_ = vk::Buffer(ctx, cells * 4, storage, vk::MemoryUse::Device, "fird.farfield.counts");
+    farfield_lm_ = vk::Buffer(ctx, cells * 4, storage, vk::MemoryUse::Device, "fird.farfield.lm");
+}
+
+void FastTracer::upload_params() {
+    params_buffer_.upload(*ctx_, std::as_bytes(std::span(&params_, 1)));
+}
+
+void FastTracer::set_reflector(const ReflectorDesc& reflector) {
+    if (reflector_ && *reflector_ == reflector) return; // height field is current
+    const std::vector<float> control = set_reflector_params(params_, reflector);
+    if (!control.empty()) {
+        control_ = vk::Buffer(*ctx_, control.size() * 4, vk::kStorageUsage, vk::MemoryUse::Device,
+                              "fird.bspline.control");
+        control_.upload(*ctx_, std::span<const float>(control));
+    }
+    upload_params();
+    reflector_ = reflector;
+    heightfield_dirty_ = true;
+}
+
+void FastTracer::build_heightfield(FastRun& run) {
+    if (!heightfield_dirty_) {
+        run.heightfield_reused = true;
+        return;
+    }
+    const auto t0 = std::chrono::steady_clock::now();
+    ctx_->submit_and_wait([&](VkCommandBuffer cb) {
+        timer_.begin(cb);
+        const vk::Binding hf[] = {vk::storage(params_buffer_), vk::storage(paper_tree_),
+                                  vk::storage(gradients_), vk::storage(control_)};
+        constexpr std::uint32_t g = FIRD_HEIGHTFIELD_WORKGROUP_SIZE;
+        heightfield_pipeline_.dispatch(cb, hf, nullptr, groups(params_.hf_w, g), groups(params_.hf_h, g));
+        vk::barrier_all(cb);
+        const vk::Binding mm[] = {vk::storage(params_buffer_), vk::storage(paper_tree_),
+                                  vk::storage(refined_tree_)};
+        for (std::uint32_t level = 0; level < params_.levels; ++level) {
+            const gpu::MaxMipPush push{.level = level};
+            maxmip_pipeline_.dispatch(cb, mm, &push, groups(params_.level_w[level], g),
+                                      groups(params_.level_h[level], g));
+            vk::barrier_all(cb);
+        }
+        timer_.end(cb);
+    });
+    run.timings.heightfield_ms = timer_.supported() ? timer_.elapsed_ms() : ms_since(t0);
+    heightfield_dirty_ = false;
+}
+
+void FastTracer::trace_batch(std::uint64_t effective, FastRun& run, bool record_hits) {
+    auto* counters = static_cast<std::uint32_t*>(counters_.data());
+    const vk::Buffer* in = &rays_cache_;
+    const vk::Buffer* out = &rays_ping_;
+    std::uint64_t active = effective;
+    const std::uint32_t passes = params_.max_bounces + (params_.strict_policy ? 1u : 0u);
+    for (std::uint32_t bounce = 0; bounce < passes && active > 0; ++bounce) {
+        // No dispatch for a bounce with no active rays (the loop condition).
+        const auto t0 = std::chrono::steady_clock::now();
+        ctx_->submit_and_wait([&](VkCommandBuffer cb) {
+            timer_.begin(cb);
+            vkCmdFillBuffer(cb, counters_.get(), gpu::kCounterActiveOut * 4, 4, 0);
+            vk::barrier_all(cb);
+            const vk::Binding b[] = {vk::storage(params_buffer_), vk::storage(*in),
+                                     vk::storage(*out), vk::storage(counters_),
+                                     vk::storage(params_.hit_mode == gpu::kHitModePaper ? paper_tree_ : refined_tree_),
+                                     vk::storage(paper_tree_), vk::storage(gradients_),
+                                     vk::storage(farfield_counts_), vk::storage(hits_)};
+            const gpu::TracePush push{.bounce = bounce,
+                                      .final_check = bounce == params_.max_bounces ? 1u : 0u,
+                                      .active_count = std::uint32_t(active),
+                                      .record_hits = record_hits && bounce == 0 ? 1u : 0u};
+            trace_pipeline_.dispatch(cb, b, &push, groups(active, FIRD_TRACE_WORKGROUP_SIZE));
+            timer_.end(cb);
+        });
+        run.timings.trace_ms += timer_.supported() ? timer_.elapsed_ms() : ms_since(t0);
+        active = counters[gpu::kCounterActiveOut];
+        in = out;
+        out = (out == &rays_ping_) ? &rays_pong_ : &rays_ping_;
+    }
+    // Tally this batch's counters (32-bit on the device, 64-bit here).
+    RayTally& t = run.tally;
+    t.discarded += counters[gpu::kCounterDiscarded];
+    t.direct += counters[gpu::kCounterDirect];
+    t.farfield += counters[gpu::kCounterFarField];
+    t.lost += counters[gpu::kCounterLost];
+    t.below_surface += counters[gpu::kCounterBelow];
+    run.aborted += counters[gpu::kCounterAborted];
+    for (std::uint32_t r = 0; r <= params_.max_bounces; ++r)
+        t.by_reflections[r] += counters[gpu::kCounterByReflections + r];
+}
+
+void FastTracer::finish(FastRun& run) {
+    const std::uint32_t cells = farfield_cells();
+    const auto t0 = std::chrono::steady_clock::now();
+    ctx_->submit_and_wait([&](VkCommandBuffer cb) {
+        timer_.begin(cb);
+        const vk::Binding b[] = {vk::storage(farfield_counts_), vk::storage(farfield_lm_)};
+        const ToLmPush push{cells, float(run.energy_per_ray_lm)};
+        to_lm_pipeline_.dispatch(cb, b, &push, groups(cells, FIRD_REDUCE_WORKGROUP_SIZE));
+        timer_.end(cb);
+    });
+    run.timings.histogram_ms = timer_.supported() ? timer_.elapsed_ms() : ms_since(t0);
+    const RayTally& t = run.tally;
+    if (t.emitted != t.discarded + t.direct + t.farfield + t.lost)
+        throw std::logic_error(fmt::format("fast path energy balance broken: {} emitted, {} accounted",
+                                           t.emitted, t.discarded + t.direct + t.farfield + t.lost));
+}
+
+FastRun FastTracer::run() {
+    if (!reflector_) throw std::logic_error("FastTracer::run: no reflector set");
+    const auto t0 = std::chrono::steady_clock::now();
+    FastRun run;
+    run.tally.emitted = scene_.trace.rays;
+    run.tally.by_reflections.assign(params_.max_bounces + 1, 0);
+    run.energy_per_ray_lm = scene_.source.flux_lm / double(scene_.trace.rays);
+    build_heightfield(run);
+    ctx_->submit_and_wait([&](VkCommandBuffer cb) {
+        vkCmdFillBuffer(cb, farfield_counts_.get(), 0, VK_WHOLE_SIZE, 0);
+    });
+    auto* counters = static_cast<std::uint32_t*>(counters_.data());
+    const bool one_batch = batch_capacity_ >= scene_.trace.rays;
+    std::uint64_t cached_effective = 0;
+    for (std::uint64_t first = 0; first < scene_.trace.rays; first += batch_capacity_) {
+        const std::uint64_t n = std::min(batch_capacity_, scene_.trace.rays - first);
+        if (one_batch && rayset_cached_) {
+            // The rayset does not depend on the reflector (§5): reuse it.
+            std::memset(counters, 0, gpu::kCounterCount * 4);
+            counters[gpu::kCounterDiscarded] = std::uint32_t(scene_.trace.rays - cached_effective_);
+            run.rayset_reused = true;
+            cached_effective = cached_effective_;
+        } else {
+            const auto tr = std::chrono::steady_clock::now();
+            ctx_->submit_and_wait([&](VkCommandBuffer cb) {
+                timer_.begin(cb);
+                vkCmdFillBuffer(cb, counters_.get(), 0, VK_WHOLE_SIZE, 0);
+                vk::barrier_all(cb);
+                const vk::Binding b[] = {vk::storage(params_buffer_), vk::storage(rays_cache_),
+                                         vk::storage(counters_)};
+                const gpu::RaysetPush push{.first_lo = std::uint32_t(first),
+                                           .first_hi = std::uint32_t(first >> 32),
+                                           .count = std::uint32_t(n)};
+                rayset_pipeline_.dispatch(cb, b, &push, groups(n, FIRD_RAYSET_WORKGROUP_SIZE));
+                timer_.end(cb);
+            });
+            run.timings.rayset_ms += timer_.supported() ? timer_.elapsed_ms() : ms_since(tr);
+            cached_effective = counters[gpu::kCounterEffective];
+            if (one_batch) {
+                rayset_cached_ = true;
+                cached_effective_ = cached_effective;
+            }
+        }
+        trace_batch(cached_effective, run, false);
+    }
+    finish(run);
+    run.timings.total_ms = ms_since(t0);
+    return run;
+}
+
+FastRun FastTracer::run_rays(const std::vector<Ray>& rays, std::vector<glm::vec4>* hits) {
+    if (!reflector_) throw std::logic_error("FastTracer::run_rays: no reflector set");
+    if (rays.size() > batch_capacity_)
+        throw std::invalid_argument("run_rays: more rays than one batch holds");
+    FastRun run;
+    run.tally.emitted = rays.size();
+    run.tally.by_reflections.assign(params_.max_bounces + 1, 0);
+    run.energy_per_ray_lm = scene_.source.flux_lm / double(std::max<std::size_t>(rays.size(), 1));
+    build_heightfield(run);
+    // Upload all rays (the caller chose them; none are discarded here).
+    std::vector<float> packed(rays.size() * 8, 0.0f);
+    for (std::size_t i = 0; i < rays.size(); ++i)
+        for (int k = 0; k < 3; ++k) {
+            packed[i * 8 + k] = float(rays[i].origin[k]);
+            packed[i * 8 + 4 + k] = float(rays[i].direction[k]);
+        }
+    rays_cache_.upload(*ctx_, std::span<const float>(packed));
+    rayset_cached_ = false; // the source's rayset is gone
+    if (hits) hits_ = vk::Buffer(*ctx_, std::max<std::size_t>(rays.size(), 1) * 16, vk::kStorageUsage,
+                                 vk::MemoryUse::Readback, "fird.hits");
+    ctx_->submit_and_wait([&](VkCommandBuffer cb) {
+        vkCmdFillBuffer(cb, farfield_counts_.get(), 0, VK_WHOLE_SIZE, 0);
+        vkCmdFillBuffer(cb, counters_.get(), 0, VK_WHOLE_SIZE, 0);
+    });
+    trace_batch(rays.size(), run, hits != nullptr);
+    finish(run);
+    if (hits) {
+        *hits = hits_.download_as<glm::vec4>(*ctx_, rays.size());
+        hits_ = vk::Buffer(*ctx_, 16, vk::kStorageUsage, vk::MemoryUse::Device, "fird.hits.unused");
+    }
+    return run;
+}
+
+std::vector<double> FastTracer::read_farfield() const {
+    const auto f = farfield_lm_.download_as<float>(*ctx_, farfield_cells());
+    return {f.begin(), f.end()};
+}
+
+double device_l2(const vk::Context& ctx, const ReducePass& reduce, const vk::Buffer& a,
+                 const vk::Buffer& b, std::uint32_t cells, double* compare_ms) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const double sum = reduce.sum_squared_difference(ctx, a, b, cells);
+    if (compare_ms) *compare_ms = ms_since(t0);
+    return std::sqrt(std::max(0.0, sum));
+}
+
+Evaluation evaluate_fast(const vk::Context& ctx, const Scene& scene) {
+    if (scene.target.kind == TargetDesc::Kind::Photometric)
+        throw std::invalid_argument(scene.path + ": [target] file: photometric targets are not supported yet");
+    const auto t0 = std::chrono::steady_clock::now();
+    FastTracer tracer(ctx, scene, scene.trace.seed);
+    tracer.set_reflector(scene.reflector);
+    const FastRun run = tracer.run();
+    Evaluation e;
+    e.backend = "gpu";
+    e.device = ctx.summary().name;
+    e.tally = run.tally;
+    e.rays_aborted = run.aborted;
+    e.energy_per_ray_lm = run.energy_per_ray_lm;
+    e.timings = run.timings;
+    const std::uint32_t cells = tracer.farfield_cells();
+    e.farfield = {scene.trace.farfield_w, scene.trace.farfield_h, tracer.read_farfield()};
+    if (scene.target.kind == TargetDesc::Kind::Reflector) {
+        FastTracer target(ctx, scene, scene.target.seed);
+        target.set_reflector(target_reflector(scene));
+        (void)target.run();
+        const ReducePass reduce(ctx);
+        double compare_ms = 0.0;
+        e.l2_lm = device_l2(ctx, reduce, tracer.farfield_lm(), target.farfield_lm(), cells, &compare_ms);
+        e.timings.compare_ms = compare_ms;
+        e.target_farfield = FarField{scene.trace.farfield_w, scene.trace.farfield_h, target.read_farfield()};
+    }
+    e.timings.total_ms = ms_since(t0);
+    return e;
+}
+
+} // namespace fird

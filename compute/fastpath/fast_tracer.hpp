@@ -1,0 +1,81 @@
+// The fast path (DESIGN.md §1): rayset, height field and max-mip quadtree, RQRM trace
+// with ping-pong over bounces, far-field histogram, on the shared Vulkan device.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+#include <glm/vec4.hpp>
+
+#include "evaluation/evaluation.hpp"
+#include "fird_shared.h"
+#include "model/scene.hpp"
+#include "model/source.hpp"
+#include "passes/reduce_pass.hpp"
+#include "vk/buffer.hpp"
+#include "vk/compute_pipeline.hpp"
+#include "vk/timer.hpp"
+
+namespace fird {
+
+struct FastRun {
+    RayTally tally;
+    std::uint64_t aborted = 0;
+    double energy_per_ray_lm = 0.0;
+    StageTimings timings; // device time where timestamps exist
+    bool rayset_reused = false;
+    bool heightfield_reused = false;
+};
+
+class FastTracer {
+  public:
+    // `seed` drives the rayset; scene.trace gives rays, grids, bounces and hit mode.
+    FastTracer(const vk::Context& ctx, const Scene& scene, std::uint64_t seed);
+
+    // Evaluates the reflector into the height field and quadtree, unless it is the one
+    // already there (the rayset is kept either way).
+    void set_reflector(const ReflectorDesc& reflector);
+
+    // Traces every ray of the scene; the far field stays on the device (farfield_lm()).
+    FastRun run();
+
+    // Traces given rays (one batch) instead of the source's; hits receives, per input
+    // ray, its first hit point and t (t < 0: no hit). For comparisons with the reference.
+    FastRun run_rays(const std::vector<Ray>& rays, std::vector<glm::vec4>* hits);
+
+    const vk::Buffer& farfield_lm() const { return farfield_lm_; }
+    std::vector<double> read_farfield() const;
+    std::uint32_t farfield_cells() const { return params_.ff_w * params_.ff_h; }
+
+  private:
+    void trace_batch(std::uint64_t effective, FastRun& run, bool record_hits);
+    void build_heightfield(FastRun& run);
+    void upload_params();
+    void finish(FastRun& run);
+
+    const vk::Context* ctx_;
+    Scene scene_;
+    gpu::SceneParams params_{};
+    std::optional<ReflectorDesc> reflector_;
+    std::uint64_t batch_capacity_ = 0;
+    bool rayset_cached_ = false;
+    std::uint64_t cached_effective_ = 0;
+    bool heightfield_dirty_ = true;
+
+    vk::ComputePipeline rayset_pipeline_, heightfield_pipeline_, maxmip_pipeline_, trace_pipeline_,
+        to_lm_pipeline_;
+    vk::Buffer params_buffer_, counters_, rays_cache_, rays_ping_, rays_pong_, hits_;
+    vk::Buffer paper_tree_, refined_tree_, gradients_, control_;
+    vk::Buffer farfield_counts_, farfield_lm_;
+    vk::GpuTimer timer_;
+};
+
+// l2 between two far fields on the device (reduction; only the number is read back).
+double device_l2(const vk::Context& ctx, const ReducePass& reduce, const vk::Buffer& a,
+                 const vk::Buffer& b, std::uint32_t cells, double* compare_ms = nullptr);
+
+// One evaluation on the fast path: the reflector and (if any) the target reflector.
+Evaluation evaluate_fast(const vk::Context& ctx, const Scene& scene);
+
+} // namespace fird

@@ -1,0 +1,111 @@
+#include "scene_params.hpp"
+
+#include <algorithm>
+#include <stdexcept>
+
+#include "model/surface.hpp"
+#include "sampling/sobol.hpp"
+
+namespace fird {
+
+QuadtreeLayout quadtree_layout(std::uint32_t width, std::uint32_t height) {
+    if (width == 0 || height == 0) throw std::invalid_argument("height field must be at least 1 x 1");
+    QuadtreeLayout q;
+    std::uint32_t w = width, h = height;
+    std::uint64_t offset = 0;
+    for (;;) {
+        if (q.levels == FIRD_MAX_LEVELS) throw std::invalid_argument("height field too large for the quadtree");
+        q.w[q.levels] = w;
+        q.h[q.levels] = h;
+        q.offset[q.levels] = std::uint32_t(offset);
+        offset += std::uint64_t(w) * h;
+        ++q.levels;
+        if (w == 1 && h == 1) break;
+        w = (w + 1) / 2;
+        h = (h + 1) / 2;
+    }
+    q.total_floats = offset;
+    return q;
+}
+
+gpu::SceneParams scene_params(const Scene& s, std::uint64_t seed) {
+    gpu::SceneParams p{};
+    for (int k = 0; k < 3; ++k) {
+        p.holder_min[k] = float(s.holder.min_mm[k]);
+        p.holder_max[k] = float(s.holder.max_mm[k]);
+        p.source_center[k] = float(s.source.center_mm[k]);
+        p.source_axis[k] = float(s.source.axis[k]);
+    }
+    p.source_length = float(s.source.length_mm);
+    p.source_radius = float(s.source.radius_mm);
+    switch (s.source.kind) {
+    case SourceKind::Cylinder:
+        p.source_kind = gpu::kSourceCylinder;
+        break;
+    case SourceKind::Sphere:
+        p.source_kind = gpu::kSourceSphere;
+        break;
+    case SourceKind::Point:
+        p.source_kind = s.source.emittance == Emittance::Cosine ? gpu::kSourcePointCosine
+                                                                : gpu::kSourcePointIsotropic;
+        break;
+    }
+    p.sampler_kind = s.trace.sampler == SamplerKind::Sobol ? 1u : 0u;
+    p.seed_lo = std::uint32_t(seed);
+    p.seed_hi = std::uint32_t(seed >> 32);
+    const SobolTables sobol = sobol_tables(seed);
+    for (int d = 0; d < 4; ++d)
+        for (int b = 0; b < 32; ++b) p.sobol_directions[d * 32 + b] = sobol.directions[d][b];
+    for (int k = 0; k < 5; ++k) p.sobol_scramble[k] = sobol.scramble[k];
+
+    p.hf_w = s.trace.heightfield_w;
+    p.hf_h = s.trace.heightfield_h;
+    const QuadtreeLayout q = quadtree_layout(p.hf_w, p.hf_h);
+    p.levels = q.levels;
+    for (std::uint32_t l = 0; l < q.levels; ++l) {
+        p.level_w[l] = q.w[l];
+        p.level_h[l] = q.h[l];
+        p.level_offset[l] = q.offset[l];
+    }
+    p.hit_mode = s.trace.hit_mode == HitMode::Paper ? gpu::kHitModePaper : gpu::kHitModeRefined;
+    p.ff_w = s.trace.farfield_w;
+    p.ff_h = s.trace.farfield_h;
+    p.max_bounces = s.trace.max_bounces;
+    p.strict_policy = s.trace.bounce_policy == BouncePolicy::Strict ? 1u : 0u;
+    // A ray crosses at most W + H texels per level; generous slack for descents.
+    p.max_steps = 8u * (p.hf_w + p.hf_h) + 64u * q.levels;
+    return p;
+}
+
+std::vector<float> set_reflector_params(gpu::SceneParams& p, const ReflectorDesc& r) {
+    const auto get = [&](const char* name) { return float(r.parameters.at(name)); };
+    std::fill(std::begin(p.params), std::end(p.params), 0.0f);
+    const auto names = family_parameters(r.family);
+    switch (r.family) {
+    case Family::Plane:
+        p.family = gpu::kFamilyPlane;
+        break;
+    case Family::Paraboloid:
+        p.family = gpu::kFamilyParaboloid;
+        break;
+    case Family::Cup:
+        p.family = gpu::kFamilyCup;
+        break;
+    case Family::FlutedCup:
+        p.family = gpu::kFamilyFlutedCup;
+        break;
+    case Family::BSpline: {
+        p.family = gpu::kFamilyBSpline;
+        p.bspline_nx = std::uint32_t(r.bspline.nx);
+        p.bspline_ny = std::uint32_t(r.bspline.ny);
+        const auto h = bspline_heights(r.bspline, r.parameters);
+        return {h.begin(), h.end()};
+    }
+    case Family::Mesh:
+        throw std::invalid_argument("mesh reflectors are rasterized, not evaluated");
+    }
+    for (std::size_t k = 0; k < names.size(); ++k) p.params[k] = get(names[k].c_str());
+    return {};
+}
+
+} // namespace fird

@@ -1,0 +1,129 @@
+// Shared GLSL for the fast path: the scene parameters, Philox and Sobol, the light
+// sources and the reflector families (the GLSL twins of compute/sampling and model/).
+#ifndef FIRD_COMMON_GLSL
+#define FIRD_COMMON_GLSL
+
+#extension GL_GOOGLE_include_directive : require
+#include "fird_shared.h"
+
+layout(std430, binding = kBindParams) readonly buffer Params { SceneParams P; };
+
+const float kPi = 3.14159265358979;
+
+struct Ray {
+    vec4 origin;
+    vec4 direction;
+};
+
+// Philox4x32-10, as sampling/philox.hpp.
+uvec4 philox(uvec4 c, uvec2 k) {
+    for (int r = 0; r < 10; ++r) {
+        uint hi0, lo0, hi1, lo1;
+        umulExtended(0xD2511F53u, c.x, hi0, lo0);
+        umulExtended(0xCD9E8D57u, c.z, hi1, lo1);
+        c = uvec4(hi1 ^ c.y ^ k.x, lo1, hi0 ^ c.w ^ k.y, lo0);
+        k += uvec2(0x9E3779B9u, 0xBB67AE85u);
+    }
+    return c;
+}
+
+// Uniforms in (0, 1): the top 24 bits, at cell midpoints (exact in float).
+vec4 to_unit(uvec4 bits) { return (vec4(bits >> 8u) + 0.5) * (1.0 / 16777216.0); }
+
+uint lk_permute(uint x, uint seed) {
+    x += seed;
+    x ^= x * 0x6c50b47cu;
+    x ^= x * 0xb82f1e52u;
+    x ^= x * 0xc7afe638u;
+    x ^= x * 0x8d22f6e6u;
+    return x;
+}
+uint owen_scramble(uint x, uint seed) { return bitfieldReverse(lk_permute(bitfieldReverse(x), seed)); }
+
+vec4 ray_uniforms(uint index_lo, uint index_hi) {
+    if (P.sampler_kind == 0u) return to_unit(philox(uvec4(index_lo, index_hi, 0u, 0u), uvec2(P.seed_lo, P.seed_hi)));
+    const uint i = owen_scramble(index_lo, P.sobol_scramble[4]);
+    uvec4 x = uvec4(0u);
+    for (uint b = 0u; b < 32u; ++b) {
+        if (((i >> b) & 1u) == 0u) continue;
+        x ^= uvec4(P.sobol_directions[b], P.sobol_directions[32u + b], P.sobol_directions[64u + b],
+                   P.sobol_directions[96u + b]);
+    }
+    x = uvec4(owen_scramble(x.x, P.sobol_scramble[0]), owen_scramble(x.y, P.sobol_scramble[1]),
+              owen_scramble(x.z, P.sobol_scramble[2]), owen_scramble(x.w, P.sobol_scramble[3]));
+    return to_unit(x);
+}
+
+void onb(vec3 n, out vec3 t, out vec3 b) {
+    const float s = n.z >= 0.0 ? 1.0 : -1.0;
+    const float a = -1.0 / (s + n.z);
+    const float c = n.x * n.y * a;
+    t = vec3(1.0 + s * n.x * n.x * a, s * c, -s * n.x);
+    b = vec3(c, s + n.y * n.y * a, -n.y);
+}
+
+vec3 cosine_direction(vec3 n, float u1, float u2) {
+    const float r = sqrt(u1);
+    const float phi = 2.0 * kPi * u2;
+    vec3 t, b;
+    onb(n, t, b);
+    return normalize(r * cos(phi) * t + r * sin(phi) * b + sqrt(max(0.0, 1.0 - u1)) * n);
+}
+
+vec3 uniform_sphere(float u1, float u2) {
+    const float z = 1.0 - 2.0 * u1;
+    const float r = sqrt(max(0.0, 1.0 - z * z));
+    const float phi = 2.0 * kPi * u2;
+    return vec3(r * cos(phi), r * sin(phi), z);
+}
+
+// As model/source.cpp sample_source.
+Ray sample_source(vec4 u) {
+    const vec3 c = vec3(P.source_center[0], P.source_center[1], P.source_center[2]);
+    const vec3 axis = normalize(vec3(P.source_axis[0], P.source_axis[1], P.source_axis[2]));
+    Ray r;
+    if (P.source_kind == kSourceCylinder) {
+        vec3 t, b;
+        onb(axis, t, b);
+        const float phi = 2.0 * kPi * u.y;
+        const vec3 n = cos(phi) * t + sin(phi) * b;
+        r.origin = vec4(c + (u.x - 0.5) * P.source_length * axis + P.source_radius * n, 0.0);
+        r.direction = vec4(cosine_direction(n, u.z, u.w), 0.0);
+    } else if (P.source_kind == kSourceSphere) {
+        const vec3 n = uniform_sphere(u.x, u.y);
+        r.origin = vec4(c + P.source_radius * n, 0.0);
+        r.direction = vec4(cosine_direction(n, u.z, u.w), 0.0);
+    } else if (P.source_kind == kSourcePointCosine) {
+        r.origin = vec4(c, 0.0);
+        r.direction = vec4(cosine_direction(axis, u.x, u.y), 0.0);
+    } else {
+        r.origin = vec4(c, 0.0);
+        r.direction = vec4(uniform_sphere(u.x, u.y), 0.0);
+    }
+    return r;
+}
+
+vec3 holder_min() { return vec3(P.holder_min[0], P.holder_min[1], P.holder_min[2]); }
+vec3 holder_max() { return vec3(P.holder_max[0], P.holder_max[1], P.holder_max[2]); }
+
+// Slab test of the forward half-line against the holder box; t range in t01.
+bool clip_to_box(vec3 o, vec3 d, out vec2 t01) {
+    const vec3 lo = holder_min();
+    const vec3 hi = holder_max();
+    float t0 = 0.0;
+    float t1 = 3.0e38;
+    for (int k = 0; k < 3; ++k) {
+        if (d[k] == 0.0) {
+            if (o[k] < lo[k] || o[k] > hi[k]) return false;
+            continue;
+        }
+        float ta = (lo[k] - o[k]) / d[k];
+        float tb = (hi[k] - o[k]) / d[k];
+        t0 = max(t0, min(ta, tb));
+        t1 = min(t1, max(ta, tb));
+    }
+    t01 = vec2(t0, t1);
+    return t0 <= t1;
+}
+
+#endif

@@ -1,0 +1,24 @@
+#version 450
+// The rayset (§4.1): sample the source, keep the rays whose forward half-line meets the
+// holder box (appended for tracing), count the others as discarded.
+#extension GL_GOOGLE_include_directive : require
+#include "common.glsl"
+
+layout(local_size_x = FIRD_RAYSET_WORKGROUP_SIZE) in;
+layout(std430, binding = kRaysetBindRays) writeonly buffer Rays { Ray rays[]; };
+layout(std430, binding = kRaysetBindCounters) buffer Counters { uint counters[]; };
+layout(push_constant) uniform Push { RaysetPush pc; };
+
+void main() {
+    const uint i = gl_GlobalInvocationID.x;
+    if (i >= pc.count) return;
+    const uint lo = pc.first_lo + i;
+    const uint hi = pc.first_hi + (lo < pc.first_lo ? 1u : 0u);
+    const Ray r = sample_source(ray_uniforms(lo, hi));
+    vec2 t01;
+    if (!clip_to_box(r.origin.xyz, r.direction.xyz, t01)) {
+        atomicAdd(counters[kCounterDiscarded], 1u);
+        return;
+    }
+    rays[atomicAdd(counters[kCounterEffective], 1u)] = r;
+}

@@ -1,0 +1,269 @@
+#version 450
+// One bounce of the fast path (§4.3): every active ray walks the max-mip quadtree from
+// the root, going down where it dips below a node's height and up again after it
+// crosses into a neighbour (RQRM, Algorithms 1-4), until it hits a texel or leaves the
+// holder box. Hits reflect and are appended for the next bounce (ping-pong); rays that
+// leave are binned into the far field with integer atomics (rays carry equal energy).
+// The traversal state is the level-0 texel and the level: stepping across a face moves
+// the texel by exact integer arithmetic, so float rounding cannot make a ray bounce
+// between two cells; every loop is bounded by P.max_steps (then counted as aborted).
+#extension GL_GOOGLE_include_directive : require
+#include "common.glsl"
+
+layout(local_size_x = FIRD_TRACE_WORKGROUP_SIZE) in;
+layout(std430, binding = kTraceBindRaysIn) readonly buffer RaysIn { Ray rays_in[]; };
+layout(std430, binding = kTraceBindRaysOut) writeonly buffer RaysOut { Ray rays_out[]; };
+layout(std430, binding = kTraceBindCounters) buffer Counters { uint counters[]; };
+layout(std430, binding = kTraceBindPyramid) readonly buffer Pyramid { float pyramid[]; };
+layout(std430, binding = kTraceBindHeights) readonly buffer Heights { float heights[]; };
+layout(std430, binding = kTraceBindGradients) readonly buffer Gradients { vec2 gradients[]; };
+layout(std430, binding = kTraceBindFarField) buffer FarField { uint farfield[]; };
+layout(std430, binding = kTraceBindHits) writeonly buffer Hits { vec4 hits[]; };
+layout(push_constant) uniform Push { TracePush pc; };
+
+const int kMiss = 0;
+const int kHit = 1;
+const int kAborted = 2;
+const int kBlocked = 3; // entered the box through a side face below the surface
+
+float height_at(ivec2 t) {
+    t = clamp(t, ivec2(0), ivec2(P.hf_w - 1u, P.hf_h - 1u));
+    return heights[uint(t.y) * P.hf_w + uint(t.x)];
+}
+vec2 gradient_at(ivec2 t) {
+    t = clamp(t, ivec2(0), ivec2(P.hf_w - 1u, P.hf_h - 1u));
+    return gradients[uint(t.y) * P.hf_w + uint(t.x)];
+}
+
+// Bilinear interpolation of the texel-centre samples at texel-space (X, Y), using the
+// patch whose lower-left sample is `base` (fixed over a sub-interval: exactly quadratic).
+float bilinear(vec2 q, ivec2 base) {
+    const vec2 f = q - 0.5 - vec2(base);
+    return mix(mix(height_at(base), height_at(base + ivec2(1, 0)), f.x),
+               mix(height_at(base + ivec2(0, 1)), height_at(base + ivec2(1, 1)), f.x), f.y);
+}
+vec2 bilinear_gradient(vec2 q) {
+    const ivec2 base = ivec2(floor(q - 0.5));
+    const vec2 f = q - 0.5 - vec2(base);
+    return mix(mix(gradient_at(base), gradient_at(base + ivec2(1, 0)), f.x),
+               mix(gradient_at(base + ivec2(0, 1)), gradient_at(base + ivec2(1, 1)), f.x), f.y);
+}
+
+struct Walk {
+    vec3 o;     // origin (mm)
+    vec3 d;     // direction
+    vec2 O;     // origin in texel units
+    vec2 D;     // direction in texel units per mm of t
+};
+
+vec2 texel_pos(Walk w, float t) { return w.O + t * w.D; }
+
+// The first root of the ray against the bilinear surface over the texel `cell` within
+// [ta, tb], as a fraction-free t; returns -1 when there is none.
+float refine_in_texel(Walk w, ivec2 cell, float ta, float tb, float t_ignore) {
+    float cuts[4];
+    int n = 0;
+    cuts[n++] = ta;
+    // Split where the ray crosses the texel's centre lines (patch boundaries).
+    const vec2 mid = vec2(cell) + 0.5;
+    float sx = w.D.x != 0.0 ? (mid.x - w.O.x) / w.D.x : -1.0;
+    float sy = w.D.y != 0.0 ? (mid.y - w.O.y) / w.D.y : -1.0;
+    if (sx > sy) { const float tmp = sx; sx = sy; sy = tmp; }
+    if (sx > ta && sx < tb) cuts[n++] = sx;
+    if (sy > ta && sy < tb) cuts[n++] = sy;
+    cuts[n++] = tb;
+    for (int k = 0; k + 1 < n; ++k) {
+        const float a = cuts[k], b = cuts[k + 1];
+        if (b <= t_ignore) continue;
+        const vec2 qm = texel_pos(w, 0.5 * (a + b));
+        const ivec2 base = ivec2(floor(qm - 0.5));
+        const float g0 = w.o.z + a * w.d.z - bilinear(texel_pos(w, a), base);
+        const float gm = w.o.z + 0.5 * (a + b) * w.d.z - bilinear(qm, base);
+        const float g1 = w.o.z + b * w.d.z - bilinear(texel_pos(w, b), base);
+        if (g0 <= 0.0 && a > t_ignore) return a; // already below: entered through an edge
+        // g(s) = qa s^2 + qb s + qc on s in [0, 1].
+        const float qa = 2.0 * (g0 - 2.0 * gm + g1);
+        const float qb = g1 - g0 - qa;
+        const float qc = g0;
+        float s = 2.0;
+        if (abs(qa) < 1e-12 * (abs(qb) + abs(qc) + 1e-30)) {
+            if (qb < 0.0) s = -qc / qb;
+        } else {
+            const float disc = qb * qb - 4.0 * qa * qc;
+            if (disc >= 0.0) {
+                const float root = sqrt(disc);
+                const float q = -0.5 * (qb + (qb >= 0.0 ? root : -root));
+                float s1 = q / qa;
+                float s2 = q != 0.0 ? qc / q : s1;
+                if (s1 > s2) { const float tmp = s1; s1 = s2; s2 = tmp; }
+                const float smin = t_ignore > a ? (t_ignore - a) / (b - a) : 0.0;
+                if (s1 >= smin && s1 <= 1.0) s = s1;
+                else if (s2 >= smin && s2 <= 1.0) s = s2;
+            }
+        }
+        if (s <= 1.0) {
+            const float t = a + clamp(s, 0.0, 1.0) * (b - a);
+            // Accept only a crossing from above to below (not a graze upwards).
+            const float gs = w.o.z + t * w.d.z - bilinear(texel_pos(w, t), base);
+            if (g1 <= 0.0 || gs <= 1e-5) return t;
+        }
+    }
+    return -1.0;
+}
+
+// RQRM: returns kHit with t_hit and the hit texel, kMiss, kAborted or kBlocked.
+int rqrm(Walk w, float t_start, ivec2 skip_texel, out float t_hit, out ivec2 hit_texel) {
+    t_hit = 0.0;
+    hit_texel = ivec2(0);
+    vec2 t01;
+    if (!clip_to_box(w.o, w.d, t01)) return kMiss;
+    float t = max(t01.x, t_start);
+    const float t_end = t01.y;
+    if (t >= t_end) return kMiss;
+    const ivec2 size = ivec2(P.hf_w, P.hf_h);
+    const vec2 bias = sign(w.D) * 1e-4; // choose cells in the direction of travel
+    ivec2 texel = clamp(ivec2(floor(texel_pos(w, t) + bias)), ivec2(0), size - 1);
+
+    // Entering through a side face below the surface meets the back of the reflector.
+    if (t01.x > t_start) {
+        const float z = w.o.z + t * w.d.z;
+        const bool top_face = abs(z - P.holder_max[2]) <= 1e-5 * (1.0 + abs(P.holder_max[2]));
+        if (!top_face && z < height_at(texel)) return kBlocked;
+    }
+
+    const int top = int(P.levels) - 1;
+    int level = top;
+    for (uint step = 0u; step < P.max_steps; ++step) {
+        const ivec2 cell = texel >> level;
+        const float cell_size = float(1 << level);
+        const vec2 lo = vec2(cell) * cell_size;
+        const vec2 hi = min(lo + cell_size, vec2(size));
+        const float tx = w.D.x > 0.0 ? (hi.x - w.O.x) / w.D.x : (w.D.x < 0.0 ? (lo.x - w.O.x) / w.D.x : 3.0e38);
+        const float ty = w.D.y > 0.0 ? (hi.y - w.O.y) / w.D.y : (w.D.y < 0.0 ? (lo.y - w.O.y) / w.D.y : 3.0e38);
+        const float t_exit = min(min(tx, ty), t_end);
+        const float h = pyramid[P.level_offset[level] + uint(cell.y) * P.level_w[level] + uint(cell.x)];
+        const float z_in = w.o.z + t * w.d.z;
+        const float z_out = w.o.z + max(t_exit, t) * w.d.z;
+        bool below = min(z_in, z_out) <= h;
+        if (below && level == 0) {
+            // Algorithm 1 lines 13-15 (paper) or the refined surface.
+            if (texel == skip_texel && P.hit_mode == kHitModePaper) {
+                below = false; // the texel the ray reflected from
+            } else if (P.hit_mode == kHitModePaper) {
+                t_hit = (w.d.z < 0.0 && z_in > h) ? max(t, (h - w.o.z) / w.d.z) : t;
+                hit_texel = texel;
+                return kHit;
+            } else {
+                const float t_ignore = texel == skip_texel ? t_start + 1e-3 : -1.0;
+                const float th = refine_in_texel(w, texel, t, max(t_exit, t), t_ignore);
+                if (th >= 0.0) {
+                    t_hit = th;
+                    hit_texel = texel;
+                    return kHit;
+                }
+                below = false;
+            }
+        }
+        if (below) {
+            // Algorithm 4 lines 1-6: the ray reaches the node's height inside the node:
+            // advance to that height and go down one level.
+            if (w.d.z < 0.0 && z_in > h) t = max(t, (h - w.o.z) / w.d.z);
+            --level;
+            const ivec2 child_lo = cell << 1;
+            const vec2 q = texel_pos(w, t) + bias;
+            const ivec2 span = ivec2(1 << level);
+            const ivec2 child = clamp(ivec2(floor(q / vec2(span))), child_lo, child_lo + 1);
+            // Keep the texel inside the child cell (and inside the texture).
+            texel = clamp(ivec2(floor(q)), child * span, min((child + 1) * span, size) - 1);
+            continue;
+        }
+        // Algorithm 4 lines 11-13: no hit under this node: move to the neighbour across
+        // the face the ray leaves through, then go up a level.
+        if (t_exit >= t_end) return kMiss;
+        t = t_exit;
+        const vec2 q = texel_pos(w, t) + bias;
+        const ivec2 cell_lo = cell << level;
+        const ivec2 cell_hi = min((cell + 1) << level, size) - 1;
+        ivec2 next = clamp(ivec2(floor(q)), cell_lo, cell_hi);
+        if (tx <= ty) next.x = w.D.x > 0.0 ? cell_hi.x + 1 : cell_lo.x - 1;
+        if (ty <= tx) next.y = w.D.y > 0.0 ? cell_hi.y + 1 : cell_lo.y - 1;
+        if (any(lessThan(next, ivec2(0))) || any(greaterThanEqual(next, size))) return kMiss;
+        texel = next;
+        level = min(level + 1, top);
+    }
+    return kAborted;
+}
+
+void bin_far_field(vec3 d, uint reflections) {
+    const float phi = atan(d.y, d.x);
+    const float theta = asin(clamp(d.z, -1.0, 1.0));
+    const int col = clamp(int(floor((phi + kPi) / (2.0 * kPi) * float(P.ff_w))), 0, int(P.ff_w) - 1);
+    const int row = clamp(int(floor((0.5 * kPi - theta) / kPi * float(P.ff_h))), 0, int(P.ff_h) - 1);
+    atomicAdd(farfield[uint(row) * P.ff_w + uint(col)], 1u);
+    atomicAdd(counters[kCounterFarField], 1u);
+    atomicAdd(counters[kCounterByReflections + reflections], 1u);
+}
+
+void main() {
+    const uint i = gl_GlobalInvocationID.x;
+    if (i >= pc.active_count) return;
+    const Ray ray = rays_in[i];
+    if (pc.record_hits != 0u) hits[i] = vec4(0.0, 0.0, 0.0, -1.0);
+    const vec3 lo = holder_min(), hi = holder_max();
+    const vec2 texel_mm = (hi.xy - lo.xy) / vec2(P.hf_w, P.hf_h);
+    Walk w;
+    w.o = ray.origin.xyz;
+    w.d = ray.direction.xyz;
+    w.O = (w.o.xy - lo.xy) / texel_mm;
+    w.D = w.d.xy / texel_mm;
+
+    ivec2 skip = ivec2(-1);
+    float t_start = 0.0;
+    if (pc.bounce > 0u) {
+        skip = ivec2(floatBitsToInt(ray.origin.w), floatBitsToInt(ray.direction.w));
+        t_start = 1e-5; // Algorithm 2 line 7: a small initial offset after a reflection
+    } else if (all(greaterThanEqual(w.O, vec2(0.0))) && all(lessThan(w.O, vec2(P.hf_w, P.hf_h))) &&
+               w.o.z < height_at(ivec2(floor(w.O)))) {
+        atomicAdd(counters[kCounterBelow], 1u); // the source is inside the reflector
+        atomicAdd(counters[kCounterLost], 1u);
+        return;
+    }
+
+    float t_hit;
+    ivec2 hit_texel;
+    const int result = rqrm(w, t_start, skip, t_hit, hit_texel);
+    if (result == kAborted) {
+        atomicAdd(counters[kCounterAborted], 1u);
+        atomicAdd(counters[kCounterLost], 1u);
+        return;
+    }
+    if (result == kBlocked) {
+        atomicAdd(counters[kCounterLost], 1u);
+        return;
+    }
+    if (result == kMiss) {
+        if (pc.bounce == 0u) atomicAdd(counters[kCounterDirect], 1u);
+        else bin_far_field(w.d, pc.bounce);
+        return;
+    }
+    if (pc.final_check != 0u) { // strict policy: it would hit again
+        atomicAdd(counters[kCounterLost], 1u);
+        return;
+    }
+    vec3 p = w.o + t_hit * w.d;
+    if (pc.record_hits != 0u) hits[i] = vec4(p, t_hit);
+    const vec2 q = texel_pos(w, t_hit);
+    const vec2 g = P.hit_mode == kHitModePaper ? gradient_at(hit_texel) : bilinear_gradient(q);
+    const vec3 n = normalize(vec3(-g, 1.0));
+    const vec3 r = normalize(w.d - 2.0 * dot(w.d, n) * n);
+    if (P.hit_mode == kHitModePaper) p.z = max(p.z, height_at(hit_texel)); // on the texel top
+    const uint reflections = pc.bounce + 1u;
+    if (reflections == P.max_bounces && P.strict_policy == 0u) {
+        bin_far_field(r, reflections); // "paper": leave with the last reflected direction
+        return;
+    }
+    Ray next;
+    next.origin = vec4(p, intBitsToFloat(hit_texel.x));
+    next.direction = vec4(r, intBitsToFloat(hit_texel.y));
+    rays_out[atomicAdd(counters[kCounterActiveOut], 1u)] = next;
+}
