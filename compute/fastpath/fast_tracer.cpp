@@ -37,7 +37,8 @@ double ms_since(std::chrono::steady_clock::time_point t0) {
 
 } // namespace
 
-FastTracer::FastTracer(const vk::Context& ctx, const Scene& scene, std::uint64_t seed)
+FastTracer::FastTracer(const vk::Context& ctx, const Scene& scene, std::uint64_t seed,
+                       std::uint64_t max_batch_rays)
     : ctx_(&ctx), scene_(scene), params_(scene_params(scene, seed)),
       rayset_pipeline_(ctx, fird_spv_rayset_comp, {kSB, kSB, kSB}, sizeof(gpu::RaysetPush),
                        "fird.rayset"),
@@ -59,7 +60,8 @@ FastTracer::FastTracer(const vk::Context& ctx, const Scene& scene, std::uint64_t
     // buffer binding allows (lavapipe: 128 MiB = 4M rays), and at most 8M rays.
     const auto& limits = ctx.limits();
     batch_capacity_ = std::min<std::uint64_t>(
-        {scene.trace.rays, limits.max_storage_buffer_range / kRayBytes, 1ull << 23});
+        {scene.trace.rays, limits.max_storage_buffer_range / kRayBytes, 1ull << 23,
+         max_batch_rays ? max_batch_rays : ~0ull});
     const std::uint64_t ray_bytes = batch_capacity_ * kRayBytes;
     const auto storage = vk::kStorageUsage;
     params_buffer_ = vk::Buffer(ctx, sizeof(gpu::SceneParams), storage, vk::MemoryUse::Upload, "fird.params");

@@ -31,7 +31,9 @@ struct FastRun {
 class FastTracer {
   public:
     // `seed` drives the rayset; scene.trace gives rays, grids, bounces and hit mode.
-    FastTracer(const vk::Context& ctx, const Scene& scene, std::uint64_t seed);
+    // max_batch_rays (0: as the device allows) caps the rays traced per batch.
+    FastTracer(const vk::Context& ctx, const Scene& scene, std::uint64_t seed,
+               std::uint64_t max_batch_rays = 0);
 
     // Evaluates the reflector into the height field and quadtree, unless it is the one
     // already there (the rayset is kept either way).

@@ -1,0 +1,259 @@
+// The fast path against the CPU reference: hit points ray by ray, far fields against
+// Monte Carlo noise, energy balance, batching, caching, and the stress cases.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <numeric>
+
+#include <glm/geometric.hpp>
+
+#include "fastpath/fast_tracer.hpp"
+#include "io/scene_file.hpp"
+#include "reference/reference_tracer.hpp"
+#include "reference/surface_hit.hpp"
+#include "vulkan_fixture.hpp"
+
+namespace fird::test {
+namespace {
+
+Scene scene(const std::string& name) {
+    return load_scene(std::string(FIRD_SOURCE_DIR) + "/scenes/" + name);
+}
+
+// Effective rays of the scene's source (those meeting the box), as the rayset pass keeps.
+std::vector<Ray> effective_rays(const Scene& s, std::size_t count, std::uint64_t seed) {
+    std::vector<Ray> rays;
+    for (std::uint64_t i = 0; rays.size() < count; ++i) {
+        const Ray r = emit_ray(s.source, SamplerKind::Random, seed, i);
+        if (ray_meets_box(r, s.holder)) rays.push_back(r);
+    }
+    return rays;
+}
+
+struct HitAgreement {
+    std::size_t both = 0, disagree = 0;
+    std::vector<double> error_texels; // |xy| distance of hit points, in texels
+};
+
+HitAgreement compare_hits(const vk::Context& ctx, Scene s, HitMode mode, std::size_t count) {
+    s.trace.hit_mode = mode;
+    s.trace.max_bounces = 1;
+    s.trace.bounce_policy = BouncePolicy::Paper;
+    const auto rays = effective_rays(s, count, 21);
+    FastTracer fast(ctx, s, 1);
+    fast.set_reflector(s.reflector);
+    std::vector<glm::vec4> hits;
+    (void)fast.run_rays(rays, &hits);
+    const Surface surface = Surface::make(s.reflector, s.holder);
+    const double texel = (s.holder.max_mm.x - s.holder.min_mm.x) / s.trace.heightfield_w;
+    HitAgreement a;
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+        const SurfaceHit ref = first_surface_hit(surface, rays[i], 0.0);
+        const bool ref_hit = ref.t.has_value();
+        const bool gpu_hit = hits[i].w >= 0.0f;
+        if (ref_hit != gpu_hit) {
+            ++a.disagree;
+            continue;
+        }
+        if (!ref_hit) continue;
+        ++a.both;
+        const glm::dvec3 p = rays[i].origin + *ref.t * rays[i].direction;
+        EXPECT_TRUE(std::isfinite(hits[i].x) && std::isfinite(hits[i].y) && std::isfinite(hits[i].z));
+        a.error_texels.push_back(glm::length(glm::dvec3(hits[i]) - p) / texel);
+    }
+    std::sort(a.error_texels.begin(), a.error_texels.end());
+    return a;
+}
+
+double quantile(const std::vector<double>& sorted, double q) {
+    return sorted.empty() ? 0.0 : sorted[std::size_t(q * double(sorted.size() - 1))];
+}
+
+class HitPoints : public VulkanTest, public ::testing::WithParamInterface<std::string> {};
+
+TEST_P(HitPoints, PaperModeWithinATexelRefinedModeFarCloser) {
+    Scene s = scene(GetParam());
+    s.trace.heightfield_w = 600; // half the paper's resolution keeps the test quick
+    s.trace.heightfield_h = std::uint32_t(600 * (s.holder.max_mm.y - s.holder.min_mm.y) /
+                                          (s.holder.max_mm.x - s.holder.min_mm.x));
+    const auto paper = compare_hits(ctx(), s, HitMode::Paper, 20000);
+    const auto refined = compare_hits(ctx(), s, HitMode::Refined, 20000);
+    ASSERT_GT(paper.both, 2000u);
+    std::printf("%s: hit error in texels, paper median %.4f p99 %.4f; refined median %.5f p99 %.4f\n",
+                GetParam().c_str(), quantile(paper.error_texels, 0.5), quantile(paper.error_texels, 0.99),
+                quantile(refined.error_texels, 0.5), quantile(refined.error_texels, 0.99));
+    // Hit or miss agrees for all but grazing rays at the rims.
+    EXPECT_LT(double(paper.disagree), 0.005 * double(paper.both));
+    EXPECT_LT(double(refined.disagree), 0.005 * double(refined.both));
+    // Paper mode: the texel's flat top; within a texel for 99 % of rays.
+    EXPECT_LT(quantile(paper.error_texels, 0.99), 1.0) << "paper p99";
+    // Refined: the bilinear surface through the texel centres.
+    EXPECT_LT(quantile(refined.error_texels, 0.5), 0.02) << "refined median";
+    EXPECT_LT(quantile(refined.error_texels, 0.99), 0.2) << "refined p99";
+    EXPECT_LT(quantile(refined.error_texels, 0.5), 0.25 * quantile(paper.error_texels, 0.5));
+}
+
+INSTANTIATE_TEST_SUITE_P(Scenes, HitPoints,
+                         ::testing::Values("test/flat_mirror.toml", "model_a.toml", "model_b.toml",
+                                           "model_c.toml"));
+
+// l2(fast, reference) for independent runs of N and M rays is, from noise alone,
+// F sqrt(sum p (1 - p) (1/N + 1/M)); the fast path may add only a little bias.
+class FarFieldAccuracy : public VulkanTest, public ::testing::WithParamInterface<std::string> {};
+
+TEST_P(FarFieldAccuracy, L2ToAFourTimesLargerReferenceIsWithinTheMonteCarloNoise) {
+    Scene s = scene(GetParam());
+    constexpr std::uint64_t kN = 200000, kM = 800000;
+    s.trace.rays = kN;
+    s.trace.farfield_w = 360;
+    s.trace.farfield_h = 180;
+    FastTracer fast(ctx(), s, 5);
+    fast.set_reflector(s.reflector);
+    const FastRun run = fast.run();
+    EXPECT_EQ(run.aborted, 0u);
+    const FarField gpu{360, 180, fast.read_farfield()};
+    const auto ref = trace_reference(s.source, Surface::make(s.reflector, s.holder),
+                                     {.rays = kM, .seed = 6, .max_bounces = s.trace.max_bounces,
+                                      .bounce_policy = s.trace.bounce_policy, .farfield_w = 360,
+                                      .farfield_h = 180});
+    double sum_p = 0.0;
+    for (double v : ref.farfield.lm) sum_p += v / s.source.flux_lm * (1.0 - v / s.source.flux_lm);
+    const double noise = s.source.flux_lm * std::sqrt(sum_p * (1.0 / kN + 1.0 / kM));
+    const double l2 = l2_distance(gpu, ref.farfield);
+    EXPECT_LT(l2, 1.25 * noise) << "l2 " << l2 << " noise " << noise;
+    EXPECT_NEAR(gpu.total_lm(), double(run.tally.farfield) * run.energy_per_ray_lm, 1e-3);
+}
+
+INSTANTIATE_TEST_SUITE_P(Scenes, FarFieldAccuracy,
+                         ::testing::Values("model_a.toml", "model_b.toml", "model_c.toml"));
+
+TEST_F(VulkanTest, FastPathBalancesEnergyForBothPoliciesAndIgnoresBatching) {
+    for (BouncePolicy policy : {BouncePolicy::Paper, BouncePolicy::Strict}) {
+        Scene s = scene("model_b.toml");
+        s.trace.rays = 60000;
+        s.trace.bounce_policy = policy;
+        s.trace.farfield_w = 360;
+        s.trace.farfield_h = 180;
+        FastTracer one(ctx(), s, 3);
+        one.set_reflector(s.reflector);
+        const FastRun a = one.run();
+        const RayTally& t = a.tally;
+        EXPECT_EQ(t.emitted, t.discarded + t.direct + t.farfield + t.lost);
+        EXPECT_EQ(t.farfield, std::accumulate(t.by_reflections.begin(), t.by_reflections.end(), 0ull));
+        if (policy == BouncePolicy::Paper) {
+            EXPECT_EQ(t.lost, 0u);
+        }
+        // The same rays in batches of 7,000: the identical histogram.
+        FastTracer batched(ctx(), s, 3, 7000);
+        batched.set_reflector(s.reflector);
+        const FastRun b = batched.run();
+        EXPECT_EQ(b.tally.farfield, t.farfield);
+        EXPECT_EQ(one.read_farfield(), batched.read_farfield());
+    }
+}
+
+TEST_F(VulkanTest, RaysetIsReusedAndHeightFieldRebuiltOnlyWhenTheReflectorChanges) {
+    Scene s = scene("model_a.toml");
+    s.trace.rays = 50000;
+    FastTracer t(ctx(), s, 1);
+    t.set_reflector(s.reflector);
+    const FastRun first = t.run();
+    EXPECT_FALSE(first.rayset_reused);
+    EXPECT_FALSE(first.heightfield_reused);
+    const FastRun same = t.run();
+    EXPECT_TRUE(same.rayset_reused);
+    EXPECT_TRUE(same.heightfield_reused);
+    EXPECT_EQ(same.tally.farfield, first.tally.farfield);
+    ReflectorDesc other = s.reflector;
+    other.parameters["fx"] = 14.0;
+    t.set_reflector(other);
+    const FastRun changed = t.run();
+    EXPECT_TRUE(changed.rayset_reused);
+    EXPECT_FALSE(changed.heightfield_reused);
+    EXPECT_NE(changed.tally.farfield, first.tally.farfield);
+}
+
+// Height fields of any size: a 1 x 1, a 1 x N, and an odd non-power-of-two texture.
+class OddSizes : public VulkanTest,
+                 public ::testing::WithParamInterface<std::pair<std::uint32_t, std::uint32_t>> {};
+
+TEST_P(OddSizes, TraceWithoutAbortedRaysOrNaN) {
+    Scene s = scene("model_a.toml");
+    s.trace.rays = 30000;
+    s.trace.heightfield_w = GetParam().first;
+    s.trace.heightfield_h = GetParam().second;
+    s.trace.farfield_w = 360;
+    s.trace.farfield_h = 180;
+    for (HitMode mode : {HitMode::Paper, HitMode::Refined}) {
+        s.trace.hit_mode = mode;
+        FastTracer t(ctx(), s, 2);
+        t.set_reflector(s.reflector);
+        const FastRun r = t.run();
+        EXPECT_EQ(r.aborted, 0u);
+        EXPECT_EQ(r.tally.emitted, r.tally.discarded + r.tally.direct + r.tally.farfield + r.tally.lost);
+        for (double v : t.read_farfield()) ASSERT_TRUE(std::isfinite(v));
+        EXPECT_GT(r.tally.farfield, 0u);
+    }
+}
+
+INSTANTIATE_TEST_SUITE_P(Sizes, OddSizes,
+                         ::testing::Values(std::pair{1u, 1u}, std::pair{1u, 37u}, std::pair{37u, 1u},
+                                           std::pair{1201u, 799u}, std::pair{64u, 64u}));
+
+TEST_F(VulkanTest, AxisParallelGrazingCornerAndEdgeRaysNeitherAbortNorTunnel) {
+    // A flat mirror at z = -2 over a 40 x 40 mm holder in 40 x 40 texels (1 mm texels):
+    // rays straight down through texel corners and along texel edges, rays parallel to
+    // the x and y axes just above and just below the surface, and grazing rays.
+    Scene s = parse_scene(R"(
+[source]
+type = "point"
+center_mm = [0.0, 0.0, 5.0]
+flux_lm = 1.0
+[holder]
+min_mm = [-20.0, -20.0, -10.0]
+max_mm = [20.0, 20.0, 0.0]
+[reflector]
+family = "plane"
+z0 = -2.0
+sx = 0.0
+sy = 0.0
+cx = 0.0
+cy = 0.0
+[trace]
+rays = 1000
+max_bounces = 3
+heightfield = [40, 40]
+)",
+                          "stress.toml");
+    std::vector<Ray> rays;
+    for (int k = -19; k <= 19; k += 3) {
+        rays.push_back({{double(k), double(k), 1.0}, {0, 0, -1}});        // texel corners
+        rays.push_back({{double(k), 0.5, 1.0}, {0, 0, -1}});              // along an edge
+        rays.push_back({{-25.0, double(k), -1.0}, {1, 0, 0}});            // x-parallel, above
+        rays.push_back({{double(k), -25.0, -1.0}, {0, 1, 0}});            // y-parallel, above
+        rays.push_back({{-19.5, double(k), -1.999}, glm::normalize(glm::dvec3(1, 0, -1e-4))}); // grazing
+        rays.push_back({{double(k), double(k) + 0.5, 1.0}, glm::normalize(glm::dvec3(1, 1, -1))}); // diagonal through corners
+    }
+    for (HitMode mode : {HitMode::Paper, HitMode::Refined}) {
+        s.trace.hit_mode = mode;
+        FastTracer t(ctx(), s, 1);
+        t.set_reflector(s.reflector);
+        std::vector<glm::vec4> hits;
+        const FastRun r = t.run_rays(rays, &hits);
+        EXPECT_EQ(r.aborted, 0u);
+        EXPECT_EQ(r.tally.lost, 0u);
+        const Surface surface = Surface::make(s.reflector, s.holder);
+        for (std::size_t i = 0; i < rays.size(); ++i) {
+            const SurfaceHit ref = first_surface_hit(surface, rays[i], 0.0);
+            ASSERT_EQ(ref.t.has_value(), hits[i].w >= 0.0f) << "ray " << i << " mode " << int(mode);
+            if (!ref.t) continue;
+            const glm::dvec3 p = rays[i].origin + *ref.t * rays[i].direction;
+            ASSERT_NEAR(hits[i].z, -2.0, 1e-4) << "ray " << i << ": no tunnelling, no early hit";
+            ASSERT_NEAR(glm::length(glm::dvec3(hits[i]) - p), 0.0, 0.05) << "ray " << i;
+        }
+        for (double v : t.read_farfield()) ASSERT_TRUE(std::isfinite(v));
+    }
+}
+
+} // namespace
+} // namespace fird::test
