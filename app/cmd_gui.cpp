@@ -20,7 +20,8 @@ void register_gui(CLI::App& app, const GlobalOptions& global, std::function<int(
 #else
             (void)global;
             (void)frames;
-            throw std::runtime_error("this fird was built without the ui floor (FIRD_BUILD_UI=OFF)");
+            throw std::runtime_error(
+                "this fird was built without the ui floor (FIRD_BUILD_UI=OFF)");
 #endif
         };
     });

@@ -6,8 +6,8 @@
 #include "commands.hpp"
 #include "evaluation/evaluation.hpp"
 #include "fastpath/fast_tracer.hpp"
-#include "vk/context.hpp"
 #include "io/scene_file.hpp"
+#include "vk/context.hpp"
 
 namespace fird::app {
 
@@ -53,9 +53,11 @@ void register_trace(CLI::App& app, const GlobalOptions& global, std::function<in
                 e = evaluate_reference(scene, a->threads);
             }
             if (e.tally.below_surface > 0)
-                std::fprintf(stderr, "fird: warning: %s: %llu rays start below the reflector surface "
-                                     "(counted as lost): the reflector cuts the light source\n",
-                             scene.path.c_str(), static_cast<unsigned long long>(e.tally.below_surface));
+                std::fprintf(stderr,
+                             "fird: warning: %s: %llu rays start below the reflector surface "
+                             "(counted as lost): the reflector cuts the light source\n",
+                             scene.path.c_str(),
+                             static_cast<unsigned long long>(e.tally.below_surface));
             if (!a->out.empty()) write_evaluation_outputs(a->out, scene, e);
             const auto j = evaluation_json(e);
             if (a->json) {

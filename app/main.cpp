@@ -32,9 +32,8 @@ int main(int argc, char** argv) {
                 ++i;
                 continue;
             }
-            const auto known = app.get_subcommands([&](const CLI::App* sub) {
-                return sub->get_name() == word;
-            });
+            const auto known =
+                app.get_subcommands([&](const CLI::App* sub) { return sub->get_name() == word; });
             if (!word.empty() && word[0] != '-' && known.empty())
                 message = "unknown subcommand '" + word + "'";
             break;

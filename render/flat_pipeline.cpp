@@ -22,10 +22,10 @@ vk::Owned<VkShaderModule> make_module(VkDevice dev, std::span<const std::uint32_
 FlatPipeline::FlatPipeline(const vk::Context& ctx, VkPrimitiveTopology topology,
                            std::string_view name) {
     const VkDevice dev = ctx.device();
-    const VkPushConstantRange range{.stageFlags = VK_SHADER_STAGE_VERTEX_BIT,
-                                    .offset = 0,
-                                    .size = sizeof(float) * 16};
-    const VkPipelineLayoutCreateInfo layout_info{.sType = VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO,
+    const VkPushConstantRange range{
+        .stageFlags = VK_SHADER_STAGE_VERTEX_BIT, .offset = 0, .size = sizeof(float) * 16};
+    const VkPipelineLayoutCreateInfo layout_info{.sType =
+                                                     VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO,
                                                  .pushConstantRangeCount = 1,
                                                  .pPushConstantRanges = &range};
     VkPipelineLayout layout = VK_NULL_HANDLE;
@@ -44,13 +44,16 @@ FlatPipeline::FlatPipeline(const vk::Context& ctx, VkPrimitiveTopology topology,
          .stage = VK_SHADER_STAGE_FRAGMENT_BIT,
          .module = frag.get(),
          .pName = "main"}};
-    const VkVertexInputBindingDescription binding{.binding = 0,
-                                                  .stride = sizeof(FlatVertex),
-                                                  .inputRate = VK_VERTEX_INPUT_RATE_VERTEX};
+    const VkVertexInputBindingDescription binding{
+        .binding = 0, .stride = sizeof(FlatVertex), .inputRate = VK_VERTEX_INPUT_RATE_VERTEX};
     const VkVertexInputAttributeDescription attributes[] = {
-        {.location = 0, .binding = 0, .format = VK_FORMAT_R32G32B32_SFLOAT,
+        {.location = 0,
+         .binding = 0,
+         .format = VK_FORMAT_R32G32B32_SFLOAT,
          .offset = offsetof(FlatVertex, position)},
-        {.location = 1, .binding = 0, .format = VK_FORMAT_R32G32B32A32_SFLOAT,
+        {.location = 1,
+         .binding = 0,
+         .format = VK_FORMAT_R32G32B32A32_SFLOAT,
          .offset = offsetof(FlatVertex, colour)}};
     const VkPipelineVertexInputStateCreateInfo vertex_input{
         .sType = VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO,
@@ -59,8 +62,7 @@ FlatPipeline::FlatPipeline(const vk::Context& ctx, VkPrimitiveTopology topology,
         .vertexAttributeDescriptionCount = 2,
         .pVertexAttributeDescriptions = attributes};
     const VkPipelineInputAssemblyStateCreateInfo assembly{
-        .sType = VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO,
-        .topology = topology};
+        .sType = VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO, .topology = topology};
     const VkPipelineViewportStateCreateInfo viewport{
         .sType = VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO,
         .viewportCount = 1,
@@ -104,7 +106,8 @@ FlatPipeline::FlatPipeline(const vk::Context& ctx, VkPrimitiveTopology topology,
         .colorAttachmentCount = 1,
         .pColorAttachmentFormats = &colour_format,
         .depthAttachmentFormat = kDepthFormat};
-    const VkGraphicsPipelineCreateInfo info{.sType = VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO,
+    const VkGraphicsPipelineCreateInfo info{.sType =
+                                                VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO,
                                             .pNext = &rendering,
                                             .stageCount = 2,
                                             .pStages = stages,

@@ -31,7 +31,6 @@ class FlatPipeline {
 };
 
 // The identity transform (vertices already in normalized device coordinates).
-inline constexpr std::array<float, 16> kIdentity = {1, 0, 0, 0, 0, 1, 0, 0,
-                                                    0, 0, 1, 0, 0, 0, 0, 1};
+inline constexpr std::array<float, 16> kIdentity = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
 
 } // namespace fird::render

@@ -4,8 +4,8 @@
 
 namespace fird::render {
 
-OffscreenTarget::OffscreenTarget(const vk::Context& ctx, std::uint32_t width,
-                                 std::uint32_t height, std::string_view name)
+OffscreenTarget::OffscreenTarget(const vk::Context& ctx, std::uint32_t width, std::uint32_t height,
+                                 std::string_view name)
     : colour_(ctx, width, height, kColourFormat,
               VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT |
                   VK_IMAGE_USAGE_SAMPLED_BIT,
@@ -14,9 +14,9 @@ OffscreenTarget::OffscreenTarget(const vk::Context& ctx, std::uint32_t width,
              std::string(name) + ".depth") {}
 
 void OffscreenTarget::begin(VkCommandBuffer cb, std::array<float, 4> clear) const {
-    vk::transition(cb, colour_, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL);
-    vk::transition(cb, depth_, VK_IMAGE_LAYOUT_UNDEFINED,
-                   VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL);
+    vk::transition(cb, colour_, VK_IMAGE_LAYOUT_UNDEFINED,
+                   VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL);
+    vk::transition(cb, depth_, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL);
     const VkRenderingAttachmentInfo colour{
         .sType = VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO,
         .imageView = colour_.view(),

@@ -25,7 +25,8 @@ void check_imgui_vk(VkResult r) {
 
 struct Glfw {
     Glfw() {
-        if (!glfwInit()) throw std::runtime_error("cannot open a window: no display (GLFW init failed)");
+        if (!glfwInit())
+            throw std::runtime_error("cannot open a window: no display (GLFW init failed)");
     }
     ~Glfw() { glfwTerminate(); }
     Glfw(const Glfw&) = delete;
@@ -51,12 +52,13 @@ void render_frame(const vk::Context& ctx, ImGui_ImplVulkanH_Window& wd, ImDrawDa
     const VkCommandBufferBeginInfo begin{.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO,
                                          .flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT};
     FIRD_VK_CHECK(vkBeginCommandBuffer(fd.CommandBuffer, &begin));
-    const VkRenderPassBeginInfo rp{.sType = VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO,
-                                   .renderPass = wd.RenderPass,
-                                   .framebuffer = fd.Framebuffer,
-                                   .renderArea = {{0, 0}, {std::uint32_t(wd.Width), std::uint32_t(wd.Height)}},
-                                   .clearValueCount = 1,
-                                   .pClearValues = &wd.ClearValue};
+    const VkRenderPassBeginInfo rp{
+        .sType = VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO,
+        .renderPass = wd.RenderPass,
+        .framebuffer = fd.Framebuffer,
+        .renderArea = {{0, 0}, {std::uint32_t(wd.Width), std::uint32_t(wd.Height)}},
+        .clearValueCount = 1,
+        .pClearValues = &wd.ClearValue};
     vkCmdBeginRenderPass(fd.CommandBuffer, &rp, VK_SUBPASS_CONTENTS_INLINE);
     ImGui_ImplVulkan_RenderDrawData(draw_data, fd.CommandBuffer);
     vkCmdEndRenderPass(fd.CommandBuffer);
@@ -106,7 +108,8 @@ int run_workbench(const WorkbenchOptions& options) {
     vk::ContextOptions ctx_options{.validation = options.validation,
                                    .device_name = options.device_name,
                                    .device_extensions = {VK_KHR_SWAPCHAIN_EXTENSION_NAME}};
-    for (std::uint32_t i = 0; i < ext_count; ++i) ctx_options.instance_extensions.emplace_back(exts[i]);
+    for (std::uint32_t i = 0; i < ext_count; ++i)
+        ctx_options.instance_extensions.emplace_back(exts[i]);
     const auto ctx = vk::Context::create(ctx_options);
     const auto report = device_report(ctx);
 
@@ -132,11 +135,12 @@ int run_workbench(const WorkbenchOptions& options) {
                                            ctx.queue_family(), nullptr, width, height, kMinImages);
 
     const VkDescriptorPoolSize pool_size{VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 64};
-    const VkDescriptorPoolCreateInfo pool_info{.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO,
-                                               .flags = VK_DESCRIPTOR_POOL_CREATE_FREE_DESCRIPTOR_SET_BIT,
-                                               .maxSets = 64,
-                                               .poolSizeCount = 1,
-                                               .pPoolSizes = &pool_size};
+    const VkDescriptorPoolCreateInfo pool_info{
+        .sType = VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO,
+        .flags = VK_DESCRIPTOR_POOL_CREATE_FREE_DESCRIPTOR_SET_BIT,
+        .maxSets = 64,
+        .poolSizeCount = 1,
+        .pPoolSizes = &pool_size};
     VkDescriptorPool pool = VK_NULL_HANDLE;
     FIRD_VK_CHECK(vkCreateDescriptorPool(ctx.device(), &pool_info, nullptr, &pool));
 

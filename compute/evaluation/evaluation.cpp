@@ -77,29 +77,28 @@ Evaluation evaluate_reference(const Scene& scene, unsigned threads) {
 nlohmann::json evaluation_json(const Evaluation& e) {
     const RayTally& t = e.tally;
     const double epr = e.energy_per_ray_lm;
-    nlohmann::json j = {
-        {"backend", e.backend},
-        {"device", e.device},
-        {"rays_emitted", t.emitted},
-        {"rays_effective", t.emitted - t.discarded},
-        {"rays_reflected", t.farfield},
-        {"rays_direct", t.direct},
-        {"rays_discarded", t.discarded},
-        {"rays_lost", t.lost},
-        {"rays_aborted", e.rays_aborted},
-        {"rays_by_reflections", t.by_reflections},
-        {"energy_emitted_lm", double(t.emitted) * epr},
-        {"energy_farfield_lm", double(t.farfield) * epr},
-        {"energy_direct_lm", double(t.direct) * epr},
-        {"energy_discarded_lm", double(t.discarded) * epr},
-        {"energy_lost_lm", double(t.lost) * epr},
-        {"timings_ms",
-         {{"rayset", e.timings.rayset_ms},
-          {"heightfield", e.timings.heightfield_ms},
-          {"trace", e.timings.trace_ms},
-          {"histogram", e.timings.histogram_ms},
-          {"compare", e.timings.compare_ms},
-          {"total", e.timings.total_ms}}}};
+    nlohmann::json j = {{"backend", e.backend},
+                        {"device", e.device},
+                        {"rays_emitted", t.emitted},
+                        {"rays_effective", t.emitted - t.discarded},
+                        {"rays_reflected", t.farfield},
+                        {"rays_direct", t.direct},
+                        {"rays_discarded", t.discarded},
+                        {"rays_lost", t.lost},
+                        {"rays_aborted", e.rays_aborted},
+                        {"rays_by_reflections", t.by_reflections},
+                        {"energy_emitted_lm", double(t.emitted) * epr},
+                        {"energy_farfield_lm", double(t.farfield) * epr},
+                        {"energy_direct_lm", double(t.direct) * epr},
+                        {"energy_discarded_lm", double(t.discarded) * epr},
+                        {"energy_lost_lm", double(t.lost) * epr},
+                        {"timings_ms",
+                         {{"rayset", e.timings.rayset_ms},
+                          {"heightfield", e.timings.heightfield_ms},
+                          {"trace", e.timings.trace_ms},
+                          {"histogram", e.timings.histogram_ms},
+                          {"compare", e.timings.compare_ms},
+                          {"total", e.timings.total_ms}}}};
     if (e.l2_lm) j["l2"] = *e.l2_lm;
     return j;
 }
@@ -108,7 +107,9 @@ void write_evaluation_outputs(const std::string& dir, const Scene& scene, const 
     namespace fs = std::filesystem;
     std::error_code ec;
     fs::create_directories(dir, ec);
-    if (ec) throw std::runtime_error(fmt::format("{}: cannot create the output directory: {}", dir, ec.message()));
+    if (ec)
+        throw std::runtime_error(
+            fmt::format("{}: cannot create the output directory: {}", dir, ec.message()));
     const auto path = [&](const char* name) { return (fs::path(dir) / name).string(); };
     const FarField& f = e.farfield;
     write_npy_f32(path("farfield.npy"), f.lm, f.height, f.width);
@@ -118,7 +119,8 @@ void write_evaluation_outputs(const std::string& dir, const Scene& scene, const 
         write_npy_f32(path("target.npy"), t.lm, t.height, t.width);
         write_farfield_png(path("target.png"), t, {.title = scene.name + ": desired far field"});
         FarField diff = f;
-        for (std::size_t i = 0; i < diff.lm.size(); ++i) diff.lm[i] -= t.lm[i];
+        for (std::size_t i = 0; i < diff.lm.size(); ++i)
+            diff.lm[i] -= t.lm[i];
         write_farfield_png(path("difference.png"), diff,
                            {.title = fmt::format("{}: obtained - desired, l2 = {:.4g} lm",
                                                  scene.name, e.l2_lm.value_or(0.0)),

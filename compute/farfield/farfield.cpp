@@ -9,7 +9,8 @@ namespace fird {
 
 double FarField::total_lm() const {
     double s = 0.0;
-    for (double v : lm) s += v;
+    for (double v : lm)
+        s += v;
     return s;
 }
 
@@ -27,7 +28,8 @@ std::uint32_t farfield_cell(const glm::dvec3& d, std::uint32_t width, std::uint3
 FarField farfield_from_counts(const std::vector<std::uint64_t>& counts, std::uint32_t width,
                               std::uint32_t height, double lm_per_ray) {
     FarField f{width, height, std::vector<double>(counts.size())};
-    for (std::size_t i = 0; i < counts.size(); ++i) f.lm[i] = double(counts[i]) * lm_per_ray;
+    for (std::size_t i = 0; i < counts.size(); ++i)
+        f.lm[i] = double(counts[i]) * lm_per_ray;
     return f;
 }
 

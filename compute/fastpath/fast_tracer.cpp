@@ -52,32 +52,38 @@ FastTracer::FastTracer(const vk::Context& ctx, const Scene& scene, std::uint64_t
                       "fird.counts_to_lm"),
       timer_(ctx) {
     if (scene.trace.max_bounces > FIRD_MAX_REFLECTIONS)
-        throw std::invalid_argument(fmt::format("max_bounces above {} is not supported on the fast path",
-                                                FIRD_MAX_REFLECTIONS));
+        throw std::invalid_argument(fmt::format(
+            "max_bounces above {} is not supported on the fast path", FIRD_MAX_REFLECTIONS));
     if (scene.trace.rays >= (1ull << 32))
-        throw std::invalid_argument("the fast path counts far-field rays in 32 bits: use fewer than 2^32 rays");
+        throw std::invalid_argument(
+            "the fast path counts far-field rays in 32 bits: use fewer than 2^32 rays");
     // Constant memory whatever the ray count: batches no larger than one storage
     // buffer binding allows (lavapipe: 128 MiB = 4M rays), and at most 8M rays.
     const auto& limits = ctx.limits();
-    batch_capacity_ = std::min<std::uint64_t>(
-        {scene.trace.rays, limits.max_storage_buffer_range / kRayBytes, 1ull << 23,
-         max_batch_rays ? max_batch_rays : ~0ull});
+    batch_capacity_ =
+        std::min<std::uint64_t>({scene.trace.rays, limits.max_storage_buffer_range / kRayBytes,
+                                 1ull << 23, max_batch_rays ? max_batch_rays : ~0ull});
     const std::uint64_t ray_bytes = batch_capacity_ * kRayBytes;
     const auto storage = vk::kStorageUsage;
-    params_buffer_ = vk::Buffer(ctx, sizeof(gpu::SceneParams), storage, vk::MemoryUse::Upload, "fird.params");
-    counters_ = vk::Buffer(ctx, gpu::kCounterCount * 4, storage, vk::MemoryUse::Readback, "fird.counters");
+    params_buffer_ =
+        vk::Buffer(ctx, sizeof(gpu::SceneParams), storage, vk::MemoryUse::Upload, "fird.params");
+    counters_ =
+        vk::Buffer(ctx, gpu::kCounterCount * 4, storage, vk::MemoryUse::Readback, "fird.counters");
     rays_cache_ = vk::Buffer(ctx, ray_bytes, storage, vk::MemoryUse::Device, "fird.rayset");
     rays_ping_ = vk::Buffer(ctx, ray_bytes, storage, vk::MemoryUse::Device, "fird.rays.ping");
     rays_pong_ = vk::Buffer(ctx, ray_bytes, storage, vk::MemoryUse::Device, "fird.rays.pong");
     hits_ = vk::Buffer(ctx, 16, storage, vk::MemoryUse::Device, "fird.hits.unused");
     const QuadtreeLayout q = quadtree_layout(params_.hf_w, params_.hf_h);
-    paper_tree_ = vk::Buffer(ctx, q.total_floats * 4, storage, vk::MemoryUse::Device, "fird.quadtree.paper");
-    refined_tree_ = vk::Buffer(ctx, q.total_floats * 4, storage, vk::MemoryUse::Device, "fird.quadtree.refined");
+    paper_tree_ =
+        vk::Buffer(ctx, q.total_floats * 4, storage, vk::MemoryUse::Device, "fird.quadtree.paper");
+    refined_tree_ = vk::Buffer(ctx, q.total_floats * 4, storage, vk::MemoryUse::Device,
+                               "fird.quadtree.refined");
     gradients_ = vk::Buffer(ctx, std::uint64_t(params_.hf_w) * params_.hf_h * 8, storage,
                             vk::MemoryUse::Device, "fird.normals");
     control_ = vk::Buffer(ctx, 4, storage, vk::MemoryUse::Device, "fird.bspline.control");
     const std::uint64_t cells = std::uint64_t(params_.ff_w) * params_.ff_h;
-    farfield_counts_ = vk::Buffer(ctx, cells * 4, storage, vk::MemoryUse::Device, "fird.farfield.counts");
+    farfield_counts_ =
+        vk::Buffer(ctx, cells * 4, storage, vk::MemoryUse::Device, "fird.farfield.counts");
     farfield_lm_ = vk::Buffer(ctx, cells * 4, storage, vk::MemoryUse::Device, "fird.farfield.lm");
 }
 
@@ -109,7 +115,8 @@ void FastTracer::build_heightfield(FastRun& run) {
         const vk::Binding hf[] = {vk::storage(params_buffer_), vk::storage(paper_tree_),
                                   vk::storage(gradients_), vk::storage(control_)};
         constexpr std::uint32_t g = FIRD_HEIGHTFIELD_WORKGROUP_SIZE;
-        heightfield_pipeline_.dispatch(cb, hf, nullptr, groups(params_.hf_w, g), groups(params_.hf_h, g));
+        heightfield_pipeline_.dispatch(cb, hf, nullptr, groups(params_.hf_w, g),
+                                       groups(params_.hf_h, g));
         vk::barrier_all(cb);
         const vk::Binding mm[] = {vk::storage(params_buffer_), vk::storage(paper_tree_),
                                   vk::storage(refined_tree_)};
@@ -138,11 +145,16 @@ void FastTracer::trace_batch(std::uint64_t effective, FastRun& run, bool record_
             timer_.begin(cb);
             vkCmdFillBuffer(cb, counters_.get(), gpu::kCounterActiveOut * 4, 4, 0);
             vk::barrier_all(cb);
-            const vk::Binding b[] = {vk::storage(params_buffer_), vk::storage(*in),
-                                     vk::storage(*out), vk::storage(counters_),
-                                     vk::storage(params_.hit_mode == gpu::kHitModePaper ? paper_tree_ : refined_tree_),
-                                     vk::storage(paper_tree_), vk::storage(gradients_),
-                                     vk::storage(farfield_counts_), vk::storage(hits_)};
+            const vk::Binding b[] = {
+                vk::storage(params_buffer_),
+                vk::storage(*in),
+                vk::storage(*out),
+                vk::storage(counters_),
+                vk::storage(params_.hit_mode == gpu::kHitModePaper ? paper_tree_ : refined_tree_),
+                vk::storage(paper_tree_),
+                vk::storage(gradients_),
+                vk::storage(farfield_counts_),
+                vk::storage(hits_)};
             const gpu::TracePush push{.bounce = bounce,
                                       .final_check = bounce == params_.max_bounces ? 1u : 0u,
                                       .active_count = std::uint32_t(active),
@@ -180,8 +192,9 @@ void FastTracer::finish(FastRun& run) {
     run.timings.histogram_ms = timer_.supported() ? timer_.elapsed_ms() : ms_since(t0);
     const RayTally& t = run.tally;
     if (t.emitted != t.discarded + t.direct + t.farfield + t.lost)
-        throw std::logic_error(fmt::format("fast path energy balance broken: {} emitted, {} accounted",
-                                           t.emitted, t.discarded + t.direct + t.farfield + t.lost));
+        throw std::logic_error(
+            fmt::format("fast path energy balance broken: {} emitted, {} accounted", t.emitted,
+                        t.discarded + t.direct + t.farfield + t.lost));
 }
 
 FastRun FastTracer::run() {
@@ -252,8 +265,9 @@ FastRun FastTracer::run_rays(const std::vector<Ray>& rays, std::vector<glm::vec4
         }
     rays_cache_.upload(*ctx_, std::span<const float>(packed));
     rayset_cached_ = false; // the source's rayset is gone
-    if (hits) hits_ = vk::Buffer(*ctx_, std::max<std::size_t>(rays.size(), 1) * 16, vk::kStorageUsage,
-                                 vk::MemoryUse::Readback, "fird.hits");
+    if (hits)
+        hits_ = vk::Buffer(*ctx_, std::max<std::size_t>(rays.size(), 1) * 16, vk::kStorageUsage,
+                           vk::MemoryUse::Readback, "fird.hits");
     ctx_->submit_and_wait([&](VkCommandBuffer cb) {
         vkCmdFillBuffer(cb, farfield_counts_.get(), 0, VK_WHOLE_SIZE, 0);
         vkCmdFillBuffer(cb, counters_.get(), 0, VK_WHOLE_SIZE, 0);
@@ -282,7 +296,8 @@ double device_l2(const vk::Context& ctx, const ReducePass& reduce, const vk::Buf
 
 Evaluation evaluate_fast(const vk::Context& ctx, const Scene& scene) {
     if (scene.target.kind == TargetDesc::Kind::Photometric)
-        throw std::invalid_argument(scene.path + ": [target] file: photometric targets are not supported yet");
+        throw std::invalid_argument(scene.path +
+                                    ": [target] file: photometric targets are not supported yet");
     const auto t0 = std::chrono::steady_clock::now();
     FastTracer tracer(ctx, scene, scene.trace.seed);
     tracer.set_reflector(scene.reflector);
@@ -302,9 +317,11 @@ Evaluation evaluate_fast(const vk::Context& ctx, const Scene& scene) {
         (void)target.run();
         const ReducePass reduce(ctx);
         double compare_ms = 0.0;
-        e.l2_lm = device_l2(ctx, reduce, tracer.farfield_lm(), target.farfield_lm(), cells, &compare_ms);
+        e.l2_lm =
+            device_l2(ctx, reduce, tracer.farfield_lm(), target.farfield_lm(), cells, &compare_ms);
         e.timings.compare_ms = compare_ms;
-        e.target_farfield = FarField{scene.trace.farfield_w, scene.trace.farfield_h, target.read_farfield()};
+        e.target_farfield =
+            FarField{scene.trace.farfield_w, scene.trace.farfield_h, target.read_farfield()};
     }
     e.timings.total_ms = ms_since(t0);
     return e;

@@ -9,12 +9,14 @@
 namespace fird {
 
 QuadtreeLayout quadtree_layout(std::uint32_t width, std::uint32_t height) {
-    if (width == 0 || height == 0) throw std::invalid_argument("height field must be at least 1 x 1");
+    if (width == 0 || height == 0)
+        throw std::invalid_argument("height field must be at least 1 x 1");
     QuadtreeLayout q;
     std::uint32_t w = width, h = height;
     std::uint64_t offset = 0;
     for (;;) {
-        if (q.levels == FIRD_MAX_LEVELS) throw std::invalid_argument("height field too large for the quadtree");
+        if (q.levels == FIRD_MAX_LEVELS)
+            throw std::invalid_argument("height field too large for the quadtree");
         q.w[q.levels] = w;
         q.h[q.levels] = h;
         q.offset[q.levels] = std::uint32_t(offset);
@@ -55,8 +57,10 @@ gpu::SceneParams scene_params(const Scene& s, std::uint64_t seed) {
     p.seed_hi = std::uint32_t(seed >> 32);
     const SobolTables sobol = sobol_tables(seed);
     for (int d = 0; d < 4; ++d)
-        for (int b = 0; b < 32; ++b) p.sobol_directions[d * 32 + b] = sobol.directions[d][b];
-    for (int k = 0; k < 5; ++k) p.sobol_scramble[k] = sobol.scramble[k];
+        for (int b = 0; b < 32; ++b)
+            p.sobol_directions[d * 32 + b] = sobol.directions[d][b];
+    for (int k = 0; k < 5; ++k)
+        p.sobol_scramble[k] = sobol.scramble[k];
 
     p.hf_w = s.trace.heightfield_w;
     p.hf_h = s.trace.heightfield_h;
@@ -104,7 +108,8 @@ std::vector<float> set_reflector_params(gpu::SceneParams& p, const ReflectorDesc
     case Family::Mesh:
         throw std::invalid_argument("mesh reflectors are rasterized, not evaluated");
     }
-    for (std::size_t k = 0; k < names.size(); ++k) p.params[k] = get(names[k].c_str());
+    for (std::size_t k = 0; k < names.size(); ++k)
+        p.params[k] = get(names[k].c_str());
     return {};
 }
 

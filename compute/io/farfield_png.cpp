@@ -20,14 +20,17 @@ void write_farfield_png(const std::string& path, const FarField& f,
     const Rgb ink{20, 20, 20};
 
     double peak = 0.0;
-    for (double v : f.lm) peak = std::max(peak, std::abs(v));
+    for (double v : f.lm)
+        peak = std::max(peak, std::abs(v));
     const double scale = peak > 0.0 ? 1.0 / peak : 0.0;
     for (int py = 0; py < map_h; ++py)
         for (int px = 0; px < map_w; ++px) {
             const std::uint32_t r0 = std::uint32_t(std::uint64_t(py) * f.height / map_h);
-            const std::uint32_t r1 = std::max(r0 + 1, std::uint32_t(std::uint64_t(py + 1) * f.height / map_h));
+            const std::uint32_t r1 =
+                std::max(r0 + 1, std::uint32_t(std::uint64_t(py + 1) * f.height / map_h));
             const std::uint32_t c0 = std::uint32_t(std::uint64_t(px) * f.width / map_w);
-            const std::uint32_t c1 = std::max(c0 + 1, std::uint32_t(std::uint64_t(px + 1) * f.width / map_w));
+            const std::uint32_t c1 =
+                std::max(c0 + 1, std::uint32_t(std::uint64_t(px + 1) * f.width / map_w));
             double v = 0.0;
             for (std::uint32_t r = r0; r < r1; ++r)
                 for (std::uint32_t c = c0; c < c1; ++c) {
@@ -35,7 +38,8 @@ void write_farfield_png(const std::string& path, const FarField& f,
                     if (std::abs(x) > std::abs(v)) v = x;
                 }
             img.set(kLeft + px, kTop + py,
-                    options.signed_values ? diverging_colour(v * scale) : sequential_colour(v * scale));
+                    options.signed_values ? diverging_colour(v * scale)
+                                          : sequential_colour(v * scale));
         }
 
     // Axes: altitude on the left, azimuth below, in degrees.
@@ -62,7 +66,8 @@ void write_farfield_png(const std::string& path, const FarField& f,
     const int bx = kLeft + map_w + kBarGap;
     for (int y = 0; y < map_h; ++y) {
         const double t = 1.0 - double(y) / (map_h - 1);
-        const Rgb c = options.signed_values ? diverging_colour(2.0 * t - 1.0) : sequential_colour(t);
+        const Rgb c =
+            options.signed_values ? diverging_colour(2.0 * t - 1.0) : sequential_colour(t);
         img.fill_rect(bx, kTop + y, bx + kBarW, kTop + y + 1, c);
     }
     const double low = options.signed_values ? -peak : 0.0;

@@ -42,7 +42,8 @@ NpyArray read_npy_f32(const std::string& path) {
     std::string header(length, '\0');
     in.read(header.data(), std::streamsize(length));
     if (header.find("'<f4'") == std::string::npos || header.find("False") == std::string::npos)
-        throw std::runtime_error(fmt::format("{}: not a little-endian float32 C-order array", path));
+        throw std::runtime_error(
+            fmt::format("{}: not a little-endian float32 C-order array", path));
     std::smatch m;
     if (!std::regex_search(header, m, std::regex(R"(\(([0-9, ]*)\))")))
         throw std::runtime_error(fmt::format("{}: no shape in the header", path));

@@ -24,7 +24,8 @@ void Raster::set(int x, int y, Rgb c) {
 
 void Raster::fill_rect(int x0, int y0, int x1, int y1, Rgb c) {
     for (int y = std::max(y0, 0); y < std::min(y1, height); ++y)
-        for (int x = std::max(x0, 0); x < std::min(x1, width); ++x) set(x, y, c);
+        for (int x = std::max(x0, 0); x < std::min(x1, width); ++x)
+            set(x, y, c);
 }
 
 void Raster::text(int x, int y, const std::string& s, Rgb c, int scale) {
@@ -32,7 +33,8 @@ void Raster::text(int x, int y, const std::string& s, Rgb c, int scale) {
     std::vector<char> buffer(s.size() * 270 + 64);
     std::string copy = s;
     unsigned char colour[4] = {c[0], c[1], c[2], 255};
-    const int quads = stb_easy_font_print(0, 0, copy.data(), colour, buffer.data(), int(buffer.size()));
+    const int quads =
+        stb_easy_font_print(0, 0, copy.data(), colour, buffer.data(), int(buffer.size()));
     for (int q = 0; q < quads; ++q) {
         const float* v = reinterpret_cast<const float*>(buffer.data() + q * 64);
         const float qx0 = v[0], qy0 = v[1], qx1 = v[8], qy1 = v[9]; // vertices 0 and 2
@@ -70,8 +72,8 @@ Rgb lerp_stops(const std::vector<std::array<double, 4>>& stops, double t) {
 
 Rgb sequential_colour(double t) {
     static const std::vector<std::array<double, 4>> stops = {
-        {0.0, 0.0, 0.0, 0.0},    {0.25, 0.30, 0.05, 0.45}, {0.5, 0.75, 0.15, 0.35},
-        {0.75, 0.98, 0.55, 0.05}, {0.92, 1.0, 0.92, 0.35}, {1.0, 1.0, 1.0, 1.0}};
+        {0.0, 0.0, 0.0, 0.0},     {0.25, 0.30, 0.05, 0.45}, {0.5, 0.75, 0.15, 0.35},
+        {0.75, 0.98, 0.55, 0.05}, {0.92, 1.0, 0.92, 0.35},  {1.0, 1.0, 1.0, 1.0}};
     return lerp_stops(stops, t);
 }
 

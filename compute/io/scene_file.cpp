@@ -32,8 +32,7 @@ class TableReader {
 
     void allow_only(const std::set<std::string>& allowed) const {
         for (const auto& [k, v] : table_)
-            if (!allowed.count(std::string(k.str())))
-                fail(&v, std::string(k.str()), "unknown key");
+            if (!allowed.count(std::string(k.str()))) fail(&v, std::string(k.str()), "unknown key");
     }
 
     const toml::node* find(const std::string& key) const { return table_.get(key); }
@@ -100,10 +99,12 @@ class TableReader {
         const toml::node& n = need(key);
         const auto arr = n.as_array();
         if (!arr || (count && arr->size() != count))
-            fail(&n, key, count ? fmt::format("must be an array of {} numbers", count)
-                                : "must be an array of numbers");
+            fail(&n, key,
+                 count ? fmt::format("must be an array of {} numbers", count)
+                       : "must be an array of numbers");
         std::vector<double> out;
-        for (const auto& e : *arr) out.push_back(number(key, e));
+        for (const auto& e : *arr)
+            out.push_back(number(key, e));
         return out;
     }
     glm::dvec3 vec3(const std::string& key) const {
@@ -114,7 +115,8 @@ class TableReader {
         const auto v = numbers(key, 2);
         for (double d : v)
             if (d != std::floor(d) || d < 1 || d > max)
-                fail(find(key), key, fmt::format("must be two whole numbers between 1 and {}", max));
+                fail(find(key), key,
+                     fmt::format("must be two whole numbers between 1 and {}", max));
         return {std::uint32_t(v[0]), std::uint32_t(v[1])};
     }
 
@@ -147,7 +149,8 @@ SourceDesc read_source(const TableReader& t) {
     s.flux_lm = t.positive("flux_lm");
     s.center_mm = t.vec3("center_mm");
     if (type == "cylinder") {
-        t.allow_only({"type", "center_mm", "axis", "length_mm", "radius_mm", "emittance", "flux_lm"});
+        t.allow_only(
+            {"type", "center_mm", "axis", "length_mm", "radius_mm", "emittance", "flux_lm"});
         s.kind = SourceKind::Cylinder;
         s.axis = t.vec3("axis");
         s.length_mm = t.positive("length_mm");
@@ -220,9 +223,10 @@ ReflectorDesc read_reflector(const TableReader& t, const std::string& scene_path
                     cg.kind = kind == "row"      ? ControlGroup::Kind::Row
                               : kind == "column" ? ControlGroup::Kind::Column
                                                  : ControlGroup::Kind::Ring;
-                    const int limit = kind == "row"      ? r.bspline.ny - 1
-                                      : kind == "column" ? r.bspline.nx - 1
-                                                         : (std::min(r.bspline.nx, r.bspline.ny) - 1) / 2;
+                    const int limit = kind == "row" ? r.bspline.ny - 1
+                                      : kind == "column"
+                                          ? r.bspline.nx - 1
+                                          : (std::min(r.bspline.nx, r.bspline.ny) - 1) / 2;
                     cg.i = int(g.integer("index", 0, limit));
                 }
                 r.bspline.groups[name] = cg;
@@ -274,10 +278,12 @@ TraceSettings read_trace(const TableReader& t) {
                           ? BouncePolicy::Strict
                           : BouncePolicy::Paper;
     s.sampler = t.choice("sampler", {"random", "sobol"}, "random") == "sobol" ? SamplerKind::Sobol
-                                                                             : SamplerKind::Random;
-    s.hit_mode = t.choice("hit_mode", {"paper", "refined"}, "refined") == "paper" ? HitMode::Paper
-                                                                                 : HitMode::Refined;
-    if (t.has("heightfield")) std::tie(s.heightfield_w, s.heightfield_h) = t.size2("heightfield", 16384);
+                                                                              : SamplerKind::Random;
+    s.hit_mode = t.choice("hit_mode", {"paper", "refined"}, "refined") == "paper"
+                     ? HitMode::Paper
+                     : HitMode::Refined;
+    if (t.has("heightfield"))
+        std::tie(s.heightfield_w, s.heightfield_h) = t.size2("heightfield", 16384);
     if (t.has("farfield")) std::tie(s.farfield_w, s.farfield_h) = t.size2("farfield", 8192);
     return s;
 }
@@ -307,7 +313,8 @@ TargetDesc read_target(const TableReader& t, const ReflectorDesc& reflector,
     d.seed = t.has("seed") ? std::uint64_t(t.integer("seed", 0, INT64_MAX)) : trace.seed + 1;
     if (d.seed == trace.seed)
         t.fail(t.find("seed"), "seed", "must differ from [trace] seed (an independent run)");
-    if (t.has("absolute")) t.fail(t.find("absolute"), "absolute", "only a photometric target has it");
+    if (t.has("absolute"))
+        t.fail(t.find("absolute"), "absolute", "only a photometric target has it");
     return d;
 }
 
@@ -363,7 +370,9 @@ Scene load_scene(const std::string& path) {
 }
 
 namespace {
-toml::array vec(const glm::dvec3& v) { return toml::array{v.x, v.y, v.z}; }
+toml::array vec(const glm::dvec3& v) {
+    return toml::array{v.x, v.y, v.z};
+}
 const char* source_type(SourceKind k) {
     return k == SourceKind::Cylinder ? "cylinder" : k == SourceKind::Sphere ? "sphere" : "point";
 }
@@ -392,15 +401,18 @@ std::string scene_to_toml(const Scene& s) {
     }
     if (s.source.kind != SourceKind::Point) source.insert("radius_mm", s.source.radius_mm);
     if (s.source.kind == SourceKind::Point) {
-        source.insert("emittance", s.source.emittance == Emittance::Cosine ? "cosine" : "isotropic");
+        source.insert("emittance",
+                      s.source.emittance == Emittance::Cosine ? "cosine" : "isotropic");
         if (s.source.emittance == Emittance::Cosine) source.insert("axis", vec(s.source.axis));
     }
     toml::table reflector{{"family", family_name(s.reflector.family)}};
-    for (const auto& [k, v] : s.reflector.parameters) reflector.insert(k, v);
+    for (const auto& [k, v] : s.reflector.parameters)
+        reflector.insert(k, v);
     if (s.reflector.family == Family::BSpline) {
         reflector.insert("grid", toml::array{s.reflector.bspline.nx, s.reflector.bspline.ny});
         toml::array heights;
-        for (double h : s.reflector.bspline.heights_mm) heights.push_back(h);
+        for (double h : s.reflector.bspline.heights_mm)
+            heights.push_back(h);
         reflector.insert("heights_mm", heights);
         toml::table groups;
         for (const auto& [name, g] : s.reflector.bspline.groups) {
@@ -426,25 +438,30 @@ std::string scene_to_toml(const Scene& s) {
         reflector.insert("optimize", opt);
     }
     const TraceSettings& t = s.trace;
-    toml::table trace{{"rays", std::int64_t(t.rays)},
-                      {"seed", std::int64_t(t.seed)},
-                      {"max_bounces", std::int64_t(t.max_bounces)},
-                      {"bounce_policy", t.bounce_policy == BouncePolicy::Strict ? "strict" : "paper"},
-                      {"sampler", t.sampler == SamplerKind::Sobol ? "sobol" : "random"},
-                      {"hit_mode", t.hit_mode == HitMode::Paper ? "paper" : "refined"},
-                      {"heightfield", toml::array{std::int64_t(t.heightfield_w), std::int64_t(t.heightfield_h)}},
-                      {"farfield", toml::array{std::int64_t(t.farfield_w), std::int64_t(t.farfield_h)}}};
-    toml::table root{{"name", s.name},
-                     {"source", source},
-                     {"holder", toml::table{{"min_mm", vec(s.holder.min_mm)}, {"max_mm", vec(s.holder.max_mm)}}},
-                     {"reflector", reflector},
-                     {"trace", trace}};
+    toml::table trace{
+        {"rays", std::int64_t(t.rays)},
+        {"seed", std::int64_t(t.seed)},
+        {"max_bounces", std::int64_t(t.max_bounces)},
+        {"bounce_policy", t.bounce_policy == BouncePolicy::Strict ? "strict" : "paper"},
+        {"sampler", t.sampler == SamplerKind::Sobol ? "sobol" : "random"},
+        {"hit_mode", t.hit_mode == HitMode::Paper ? "paper" : "refined"},
+        {"heightfield", toml::array{std::int64_t(t.heightfield_w), std::int64_t(t.heightfield_h)}},
+        {"farfield", toml::array{std::int64_t(t.farfield_w), std::int64_t(t.farfield_h)}}};
+    toml::table root{
+        {"name", s.name},
+        {"source", source},
+        {"holder", toml::table{{"min_mm", vec(s.holder.min_mm)}, {"max_mm", vec(s.holder.max_mm)}}},
+        {"reflector", reflector},
+        {"trace", trace}};
     if (s.target.kind == TargetDesc::Kind::Reflector) {
         toml::table params;
-        for (const auto& [k, v] : s.target.parameters) params.insert(k, v);
-        root.insert("target", toml::table{{"parameters", params}, {"seed", std::int64_t(s.target.seed)}});
+        for (const auto& [k, v] : s.target.parameters)
+            params.insert(k, v);
+        root.insert("target",
+                    toml::table{{"parameters", params}, {"seed", std::int64_t(s.target.seed)}});
     } else if (s.target.kind == TargetDesc::Kind::Photometric) {
-        root.insert("target", toml::table{{"file", s.target.file}, {"absolute", s.target.absolute}});
+        root.insert("target",
+                    toml::table{{"file", s.target.file}, {"absolute", s.target.absolute}});
     }
     std::ostringstream out;
     out << root << "\n";

@@ -46,7 +46,8 @@ std::vector<std::string> family_parameters(Family f) {
 
 ReflectorDesc target_reflector(const Scene& scene) {
     ReflectorDesc r = scene.reflector;
-    for (const auto& [k, v] : scene.target.parameters) r.parameters[k] = v;
+    for (const auto& [k, v] : scene.target.parameters)
+        r.parameters[k] = v;
     return r;
 }
 

@@ -49,8 +49,8 @@ struct ControlGroup {
 };
 
 struct BSplineDesc {
-    int nx = 0; // control heights along x
-    int ny = 0; // along y
+    int nx = 0;                     // control heights along x
+    int ny = 0;                     // along y
     std::vector<double> heights_mm; // row-major, ny rows of nx
     std::map<std::string, ControlGroup> groups;
     bool operator==(const BSplineDesc&) const = default;

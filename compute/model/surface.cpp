@@ -18,7 +18,8 @@ double param(const ReflectorDesc& r, const char* name) {
 
 void require(bool ok, const char* name, const char* rule) {
     if (!ok)
-        throw std::invalid_argument(std::string("reflector parameter '") + name + "' must be " + rule);
+        throw std::invalid_argument(std::string("reflector parameter '") + name + "' must be " +
+                                    rule);
 }
 
 // Range of (v - c)^2 ... over v in [v0, v1]: of |v - c|.
@@ -50,7 +51,9 @@ void basis(double t, double b[4], double db[4]) {
 
 struct Raw {
     double x, y;
-    double operator()(const PlaneFn& f) const { return f.z0 + f.sx * (x - f.cx) + f.sy * (y - f.cy); }
+    double operator()(const PlaneFn& f) const {
+        return f.z0 + f.sx * (x - f.cx) + f.sy * (y - f.cy);
+    }
     double operator()(const ParaboloidFn& f) const {
         const double u = x - f.cx;
         const double v = y - f.cy;
@@ -178,7 +181,8 @@ struct RawBounds {
         const double cy = 0.5 * (y0 + y1) - f.cy;
         const double rc = std::hypot(cx, cy);
         const double centre = rc > 0.0 ? f.w * rc / f.a * std::cos(8.0 * std::atan2(cy, cx)) : 0.0;
-        const double spread = std::abs(f.w) * std::sqrt(65.0) / f.a * 0.5 * std::hypot(x1 - x0, y1 - y0);
+        const double spread =
+            std::abs(f.w) * std::sqrt(65.0) / f.a * 0.5 * std::hypot(x1 - x0, y1 - y0);
         const double crude = std::abs(f.w) * rho_hi;
         const double flute_lo = std::max(-crude, centre - spread);
         const double flute_hi = std::min(crude, centre + spread);
@@ -236,9 +240,9 @@ std::vector<double> bspline_heights(const BSplineDesc& s,
 Surface Surface::make(const ReflectorDesc& r, const Holder& holder) {
     switch (r.family) {
     case Family::Plane:
-        return {PlaneFn{param(r, "z0"), param(r, "sx"), param(r, "sy"), param(r, "cx"),
-                        param(r, "cy")},
-                holder};
+        return {
+            PlaneFn{param(r, "z0"), param(r, "sx"), param(r, "sy"), param(r, "cx"), param(r, "cy")},
+            holder};
     case Family::Paraboloid: {
         const ParaboloidFn f{param(r, "fx"), param(r, "fy"), param(r, "z0"), param(r, "cx"),
                              param(r, "cy")};
@@ -247,7 +251,7 @@ Surface Surface::make(const ReflectorDesc& r, const Holder& holder) {
         return {f, holder};
     }
     case Family::Cup: {
-        const CupFn f{param(r, "a"), param(r, "b"), param(r, "p"), param(r, "h"),
+        const CupFn f{param(r, "a"),  param(r, "b"),  param(r, "p"), param(r, "h"),
                       param(r, "z0"), param(r, "cx"), param(r, "cy")};
         require(f.a > 0.0, "a", "> 0");
         require(f.b > 0.0, "b", "> 0");
@@ -255,7 +259,7 @@ Surface Surface::make(const ReflectorDesc& r, const Holder& holder) {
         return {f, holder};
     }
     case Family::FlutedCup: {
-        const FlutedCupFn f{param(r, "a"), param(r, "p"), param(r, "h"), param(r, "w"),
+        const FlutedCupFn f{param(r, "a"),  param(r, "p"),  param(r, "h"), param(r, "w"),
                             param(r, "z0"), param(r, "cx"), param(r, "cy")};
         require(f.a > 0.0, "a", "> 0");
         require(f.p >= 1.0, "p", ">= 1");
@@ -266,7 +270,8 @@ Surface Surface::make(const ReflectorDesc& r, const Holder& holder) {
         if (s.nx < 2 || s.ny < 2 || s.heights_mm.size() != std::size_t(s.nx) * s.ny)
             throw std::invalid_argument("bspline needs a grid of at least 2 x 2 control heights");
         const Holder& h = holder;
-        return {BSplineFn{s.nx, s.ny, h.min_mm.x, h.min_mm.y, (h.max_mm.x - h.min_mm.x) / (s.nx - 1),
+        return {BSplineFn{s.nx, s.ny, h.min_mm.x, h.min_mm.y,
+                          (h.max_mm.x - h.min_mm.x) / (s.nx - 1),
                           (h.max_mm.y - h.min_mm.y) / (s.ny - 1), bspline_heights(s, r.parameters)},
                 holder};
     }
@@ -276,7 +281,9 @@ Surface Surface::make(const ReflectorDesc& r, const Holder& holder) {
     throw std::invalid_argument("unknown reflector family");
 }
 
-double Surface::raw(double x, double y) const { return std::visit(Raw{x, y}, fn_); }
+double Surface::raw(double x, double y) const {
+    return std::visit(Raw{x, y}, fn_);
+}
 
 glm::dvec2 Surface::raw_gradient(double x, double y) const {
     return std::visit(RawGradient{x, y}, fn_);

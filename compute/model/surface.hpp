@@ -40,8 +40,8 @@ class Surface {
     // Throws std::invalid_argument naming the parameter when a value is out of range.
     static Surface make(const ReflectorDesc& reflector, const Holder& holder);
 
-    double height(double x, double y) const;         // clamped to the holder's z range
-    glm::dvec2 gradient(double x, double y) const;   // of the clamped surface
+    double height(double x, double y) const;       // clamped to the holder's z range
+    glm::dvec2 gradient(double x, double y) const; // of the clamped surface
     HeightRange bounds(double x0, double x1, double y0, double y1) const; // clamped, conservative
     const Holder& holder() const { return holder_; }
 

@@ -9,7 +9,9 @@ namespace fird {
 
 namespace {
 constexpr std::uint32_t kSpan = gpu::kReduceWorkgroupSize * gpu::kReduceItemsPerThread;
-std::uint32_t groups_for(std::uint32_t count) { return (count + kSpan - 1) / kSpan; }
+std::uint32_t groups_for(std::uint32_t count) {
+    return (count + kSpan - 1) / kSpan;
+}
 } // namespace
 
 ReducePass::ReducePass(const vk::Context& ctx)
@@ -19,7 +21,9 @@ ReducePass::ReducePass(const vk::Context& ctx)
                 sizeof(gpu::ReducePush), "fird.reduce_sum") {}
 
 // Storage-buffer offsets must respect minStorageBufferOffsetAlignment (<= 256 by spec).
-static VkDeviceSize align_offset(VkDeviceSize bytes) { return (bytes + 255) / 256 * 256; }
+static VkDeviceSize align_offset(VkDeviceSize bytes) {
+    return (bytes + 255) / 256 * 256;
+}
 
 VkDeviceSize ReducePass::scratch_bytes(std::uint64_t count) {
     // Partial sums of every level but the last, laid end to end at aligned offsets.

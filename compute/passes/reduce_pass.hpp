@@ -23,8 +23,8 @@ class ReducePass {
 
     // Convenience: allocate scratch, run, read back.
     double sum(const vk::Context& ctx, const vk::Buffer& a, std::uint32_t count) const;
-    double sum_squared_difference(const vk::Context& ctx, const vk::Buffer& a,
-                                  const vk::Buffer& b, std::uint32_t count) const;
+    double sum_squared_difference(const vk::Context& ctx, const vk::Buffer& a, const vk::Buffer& b,
+                                  std::uint32_t count) const;
 
   private:
     double run(const vk::Context& ctx, const vk::Buffer& a, const vk::Buffer* b,

@@ -31,7 +31,8 @@ PathResult trace_path(const Surface& surface, const Holder& holder, const Ray& r
     for (;;) {
         const double t_min = reflections == 0 ? 0.0 : kBounceOffset_mm;
         const SurfaceHit hit = first_surface_hit(surface, r, t_min);
-        if (hit.start == HitStart::BelowSurface) return {RayFate::BelowSurface, reflections, r.direction};
+        if (hit.start == HitStart::BelowSurface)
+            return {RayFate::BelowSurface, reflections, r.direction};
         if (hit.start == HitStart::Blocked) return {RayFate::Lost, reflections, r.direction};
         if (!hit.t) {
             if (vertices) vertices->push_back(r.origin + 10.0 * r.direction);
@@ -104,9 +105,11 @@ ReferenceResult trace_reference(const SourceDesc& source, const Surface& surface
         }
     };
     std::vector<std::thread> pool;
-    for (unsigned k = 1; k < threads; ++k) pool.emplace_back(work, std::ref(locals[k]));
+    for (unsigned k = 1; k < threads; ++k)
+        pool.emplace_back(work, std::ref(locals[k]));
     work(locals[0]);
-    for (auto& t : pool) t.join();
+    for (auto& t : pool)
+        t.join();
 
     ReferenceResult result;
     result.threads = threads;
@@ -123,10 +126,11 @@ ReferenceResult trace_reference(const SourceDesc& source, const Surface& surface
         total.below_surface += l.tally.below_surface;
         for (std::size_t b = 0; b < l.tally.by_reflections.size(); ++b)
             total.by_reflections[b] += l.tally.by_reflections[b];
-        for (std::size_t c = 0; c < cells; ++c) counts[c] += l.counts[c];
+        for (std::size_t c = 0; c < cells; ++c)
+            counts[c] += l.counts[c];
     }
-    result.farfield = farfield_from_counts(counts, o.farfield_w, o.farfield_h,
-                                           result.energy_per_ray_lm);
+    result.farfield =
+        farfield_from_counts(counts, o.farfield_w, o.farfield_h, result.energy_per_ray_lm);
     result.trace_ms =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     return result;

@@ -34,7 +34,7 @@ struct RayTally {
     std::uint64_t direct = 0;
     std::uint64_t farfield = 0;
     std::uint64_t lost = 0;
-    std::uint64_t below_surface = 0; // subset of lost: rays born inside the solid
+    std::uint64_t below_surface = 0;           // subset of lost: rays born inside the solid
     std::vector<std::uint64_t> by_reflections; // far-field rays by reflection count
 };
 

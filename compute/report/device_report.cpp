@@ -49,12 +49,11 @@ nlohmann::json device_report(const vk::Context& ctx) {
 std::string device_report_text(const nlohmann::json& r) {
     std::string out = "devices:\n";
     for (const auto& d : r["devices"]) {
-        out += fmt::format("  - {} ({}, {}, Vulkan {}){}\n", d["name"].get<std::string>(),
-                           d["type"].get<std::string>(), d["driver"].get<std::string>(),
-                           d["api_version"].get<std::string>(),
-                           d["usable"].get<bool>()
-                               ? ""
-                               : " unusable: " + d["unusable_reason"].get<std::string>());
+        out += fmt::format(
+            "  - {} ({}, {}, Vulkan {}){}\n", d["name"].get<std::string>(),
+            d["type"].get<std::string>(), d["driver"].get<std::string>(),
+            d["api_version"].get<std::string>(),
+            d["usable"].get<bool>() ? "" : " unusable: " + d["unusable_reason"].get<std::string>());
     }
     const auto& c = r["chosen"];
     const auto& l = r["limits"];
@@ -75,8 +74,9 @@ std::string device_report_text(const nlohmann::json& r) {
     out += fmt::format("subgroup size: {}\n", l["subgroup_size"].get<unsigned>());
     out += fmt::format("32-bit float atomic add: {}\n",
                        l["float32_atomic_add"].get<bool>() ? "yes" : "no");
-    out += fmt::format("timestamps: {} (period {} ns)\n", l["timestamps"].get<bool>() ? "yes" : "no",
-                       l["timestamp_period_ns"].get<float>());
+    out +=
+        fmt::format("timestamps: {} (period {} ns)\n", l["timestamps"].get<bool>() ? "yes" : "no",
+                    l["timestamp_period_ns"].get<float>());
     return out;
 }
 

@@ -30,12 +30,13 @@ constexpr Philox4 philox4x32_10(Philox4 counter, std::array<std::uint32_t, 2> ke
 // Four uniform numbers in (0, 1) for ray `index` of stream `stream` under `seed`.
 inline std::array<double, 4> philox_uniforms(std::uint64_t seed, std::uint64_t index,
                                              std::uint32_t stream) {
-    const Philox4 bits = philox4x32_10(
-        {std::uint32_t(index), std::uint32_t(index >> 32), stream, 0u},
-        {std::uint32_t(seed), std::uint32_t(seed >> 32)});
+    const Philox4 bits =
+        philox4x32_10({std::uint32_t(index), std::uint32_t(index >> 32), stream, 0u},
+                      {std::uint32_t(seed), std::uint32_t(seed >> 32)});
     std::array<double, 4> u{};
     // Midpoints of 2^32 equal cells: never exactly 0 or 1.
-    for (int i = 0; i < 4; ++i) u[i] = (double(bits[i]) + 0.5) * 0x1p-32;
+    for (int i = 0; i < 4; ++i)
+        u[i] = (double(bits[i]) + 0.5) * 0x1p-32;
     return u;
 }
 

@@ -12,7 +12,8 @@ namespace {
 struct Directions {
     std::uint32_t v[4][32];
     Directions() {
-        for (int b = 0; b < 32; ++b) v[0][b] = 1u << (31 - b); // van der Corput
+        for (int b = 0; b < 32; ++b)
+            v[0][b] = 1u << (31 - b); // van der Corput
         struct Poly {
             int degree;
             std::uint32_t a; // inner coefficients
@@ -22,7 +23,8 @@ struct Directions {
         for (int d = 1; d < 4; ++d) {
             const Poly& p = polys[d - 1];
             const int s = p.degree;
-            for (int b = 0; b < s; ++b) v[d][b] = p.m[b] << (31 - b);
+            for (int b = 0; b < s; ++b)
+                v[d][b] = p.m[b] << (31 - b);
             for (int b = s; b < 32; ++b) {
                 std::uint32_t x = v[d][b - s] ^ (v[d][b - s] >> s);
                 for (int k = 1; k < s; ++k)
@@ -67,19 +69,22 @@ SobolTables sobol_tables(std::uint64_t seed) {
     SobolTables t{};
     const auto& v = directions().v;
     for (int d = 0; d < 4; ++d)
-        for (int b = 0; b < 32; ++b) t.directions[d][b] = v[d][b];
+        for (int b = 0; b < 32; ++b)
+            t.directions[d][b] = v[d][b];
     // Per-seed scramble seeds come from Philox keyed by the seed, not from XOR-ed hashes.
     const std::array<std::uint32_t, 2> key{std::uint32_t(seed), std::uint32_t(seed >> 32)};
     const Philox4 seeds = philox4x32_10({0u, 0u, 0x50B01u, 0u}, key);
     const Philox4 more = philox4x32_10({1u, 0u, 0x50B01u, 0u}, key);
-    for (int d = 0; d < 4; ++d) t.scramble[d] = seeds[d];
+    for (int d = 0; d < 4; ++d)
+        t.scramble[d] = seeds[d];
     t.scramble[4] = more[0];
     return t;
 }
 
 std::array<double, 4> sobol_uniforms(std::uint64_t seed, std::uint64_t index) {
     const SobolTables tables = sobol_tables(seed);
-    const Philox4 seeds{tables.scramble[0], tables.scramble[1], tables.scramble[2], tables.scramble[3]};
+    const Philox4 seeds{tables.scramble[0], tables.scramble[1], tables.scramble[2],
+                        tables.scramble[3]};
     const std::uint32_t i = owen_scramble(std::uint32_t(index), tables.scramble[4]);
     const auto& v = tables.directions;
     std::array<double, 4> u{};

@@ -8,8 +8,8 @@
 
 namespace fird::vk {
 
-Buffer::Buffer(const Context& ctx, VkDeviceSize size_bytes, VkBufferUsageFlags usage,
-               MemoryUse use, std::string_view name)
+Buffer::Buffer(const Context& ctx, VkDeviceSize size_bytes, VkBufferUsageFlags usage, MemoryUse use,
+               std::string_view name)
     : size_(size_bytes == 0 ? 4 : size_bytes) {
     const VkDevice dev = ctx.device();
     const VkBufferCreateInfo info{.sType = VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO,
@@ -52,7 +52,8 @@ Buffer::Buffer(const Context& ctx, VkDeviceSize size_bytes, VkBufferUsageFlags u
     vkGetPhysicalDeviceMemoryProperties(ctx.physical_device(), &props);
     const auto flags = props.memoryTypes[type].propertyFlags;
     const auto host = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
-    if ((flags & host) == host) FIRD_VK_CHECK(vkMapMemory(dev, memory, 0, VK_WHOLE_SIZE, 0, &mapped_));
+    if ((flags & host) == host)
+        FIRD_VK_CHECK(vkMapMemory(dev, memory, 0, VK_WHOLE_SIZE, 0, &mapped_));
 }
 
 Buffer::~Buffer() = default; // memory is unmapped implicitly by vkFreeMemory

@@ -53,7 +53,8 @@ const char* explain(VkResult result) {
 } // namespace
 
 void throw_vk_error(const char* call_text, VkResult result) {
-    // Keep just the function name of the call expression: "vkCreateBuffer(dev, ...)" -> "vkCreateBuffer".
+    // Keep just the function name of the call expression: "vkCreateBuffer(dev, ...)" ->
+    // "vkCreateBuffer".
     std::string call(call_text);
     if (const auto paren = call.find('('); paren != std::string::npos) call.resize(paren);
     throw VulkanError(fmt::format("{}: {} ({})", call, explain(result), result_name(result)),

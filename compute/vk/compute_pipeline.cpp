@@ -27,9 +27,8 @@ ComputePipeline::ComputePipeline(const Context& ctx, std::span<const std::uint32
     set_layout_ = Owned<VkDescriptorSetLayout>(dev, set_layout);
     ctx.name(set_layout, VK_OBJECT_TYPE_DESCRIPTOR_SET_LAYOUT, name);
 
-    const VkPushConstantRange range{.stageFlags = VK_SHADER_STAGE_COMPUTE_BIT,
-                                    .offset = 0,
-                                    .size = push_constant_bytes};
+    const VkPushConstantRange range{
+        .stageFlags = VK_SHADER_STAGE_COMPUTE_BIT, .offset = 0, .size = push_constant_bytes};
     const VkPipelineLayoutCreateInfo layout_info{
         .sType = VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO,
         .setLayoutCount = 1,

@@ -58,8 +58,9 @@ bool has_layer(const char* name) {
     FIRD_VK_CHECK(vkEnumerateInstanceLayerProperties(&n, nullptr));
     std::vector<VkLayerProperties> layers(n);
     FIRD_VK_CHECK(vkEnumerateInstanceLayerProperties(&n, layers.data()));
-    return std::any_of(layers.begin(), layers.end(),
-                       [&](const VkLayerProperties& l) { return std::strcmp(l.layerName, name) == 0; });
+    return std::any_of(layers.begin(), layers.end(), [&](const VkLayerProperties& l) {
+        return std::strcmp(l.layerName, name) == 0;
+    });
 }
 
 bool has_instance_extension(const char* name) {
@@ -78,7 +79,8 @@ std::vector<std::string> device_extensions(VkPhysicalDevice pd) {
     std::vector<VkExtensionProperties> exts(n);
     FIRD_VK_CHECK(vkEnumerateDeviceExtensionProperties(pd, nullptr, &n, exts.data()));
     std::vector<std::string> names;
-    for (const auto& e : exts) names.emplace_back(e.extensionName);
+    for (const auto& e : exts)
+        names.emplace_back(e.extensionName);
     return names;
 }
 
@@ -97,8 +99,8 @@ std::int64_t universal_queue_family(VkPhysicalDevice pd) {
 }
 
 DeviceSummary summarize(VkPhysicalDevice pd, const std::vector<std::string>& extra_extensions) {
-    VkPhysicalDeviceDriverProperties driver{.sType =
-                                                VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DRIVER_PROPERTIES};
+    VkPhysicalDeviceDriverProperties driver{
+        .sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DRIVER_PROPERTIES};
     VkPhysicalDeviceProperties2 props{.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2,
                                       .pNext = &driver};
     vkGetPhysicalDeviceProperties2(pd, &props);
@@ -143,7 +145,8 @@ VkInstance create_instance(const ContextOptions& options, bool& validation, bool
     debug_utils = has_instance_extension(VK_EXT_DEBUG_UTILS_EXTENSION_NAME);
     std::vector<const char*> extensions;
     if (debug_utils) extensions.push_back(VK_EXT_DEBUG_UTILS_EXTENSION_NAME);
-    for (const auto& e : options.instance_extensions) extensions.push_back(e.c_str());
+    for (const auto& e : options.instance_extensions)
+        extensions.push_back(e.c_str());
     std::vector<const char*> layers;
     if (validation) layers.push_back(kValidationLayer);
 
@@ -290,8 +293,8 @@ Context Context::create(const ContextOptions& options) {
         if (!wanted.empty()) {
             if (lower(d.name).find(wanted) == std::string::npos) continue;
             if (!d.usable)
-                throw NoDeviceError(fmt::format("device '{}' cannot be used: {}", d.name,
-                                                d.unusable_reason));
+                throw NoDeviceError(
+                    fmt::format("device '{}' cannot be used: {}", d.name, d.unusable_reason));
             best = static_cast<int>(i);
             break;
         }
@@ -308,8 +311,8 @@ Context Context::create(const ContextOptions& options) {
             names += fmt::format("{}'{}'{}", names.empty() ? "" : ", ", d.name,
                                  d.usable ? "" : " (" + d.unusable_reason + ")");
         if (!wanted.empty())
-            throw NoDeviceError(
-                fmt::format("no Vulkan device matches --device '{}'; found {}", options.device_name, names));
+            throw NoDeviceError(fmt::format("no Vulkan device matches --device '{}'; found {}",
+                                            options.device_name, names));
         throw NoDeviceError(fmt::format("no usable Vulkan device; found {}", names));
     }
     s->physical = devices[static_cast<std::size_t>(best)];
@@ -323,17 +326,20 @@ Context Context::create(const ContextOptions& options) {
     };
     std::vector<const char*> extensions(std::begin(kRequiredDeviceExtensions),
                                         std::end(kRequiredDeviceExtensions));
-    for (const auto& e : options.device_extensions) extensions.push_back(e.c_str());
+    for (const auto& e : options.device_extensions)
+        extensions.push_back(e.c_str());
     const bool atomic_float = has(VK_EXT_SHADER_ATOMIC_FLOAT_EXTENSION_NAME);
     s->limits = query_limits(s->physical, s->queue_family, atomic_float);
 
-    VkPhysicalDeviceVulkan13Features f13{.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES,
+    VkPhysicalDeviceVulkan13Features f13{.sType =
+                                             VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES,
                                          .synchronization2 = VK_TRUE,
                                          .dynamicRendering = VK_TRUE,
                                          // glslang emits LocalSizeId for SPIR-V 1.6; maintenance4
                                          // (required of every 1.3 device) makes that valid.
                                          .maintenance4 = VK_TRUE};
-    VkPhysicalDeviceVulkan12Features f12{.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES,
+    VkPhysicalDeviceVulkan12Features f12{.sType =
+                                             VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES,
                                          .pNext = &f13,
                                          .hostQueryReset = VK_TRUE,
                                          .timelineSemaphore = VK_TRUE};
@@ -344,19 +350,20 @@ Context Context::create(const ContextOptions& options) {
                                              .queueFamilyIndex = s->queue_family,
                                              .queueCount = 1,
                                              .pQueuePriorities = &priority};
-    const VkDeviceCreateInfo device_info{
-        .sType = VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO,
-        .pNext = &features,
-        .queueCreateInfoCount = 1,
-        .pQueueCreateInfos = &queue_info,
-        .enabledExtensionCount = static_cast<std::uint32_t>(extensions.size()),
-        .ppEnabledExtensionNames = extensions.data()};
+    const VkDeviceCreateInfo device_info{.sType = VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO,
+                                         .pNext = &features,
+                                         .queueCreateInfoCount = 1,
+                                         .pQueueCreateInfos = &queue_info,
+                                         .enabledExtensionCount =
+                                             static_cast<std::uint32_t>(extensions.size()),
+                                         .ppEnabledExtensionNames = extensions.data()};
     FIRD_VK_CHECK(vkCreateDevice(s->physical, &device_info, nullptr, &s->device));
     vkGetDeviceQueue(s->device, s->queue_family, 0, &s->queue);
 
     const VkCommandPoolCreateInfo pool_info{.sType = VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO,
-                                            .flags = VK_COMMAND_POOL_CREATE_TRANSIENT_BIT |
-                                                     VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT,
+                                            .flags =
+                                                VK_COMMAND_POOL_CREATE_TRANSIENT_BIT |
+                                                VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT,
                                             .queueFamilyIndex = s->queue_family};
     VkCommandPool pool = VK_NULL_HANDLE;
     FIRD_VK_CHECK(vkCreateCommandPool(s->device, &pool_info, nullptr, &pool));
@@ -367,21 +374,42 @@ Context Context::create(const ContextOptions& options) {
     return ctx;
 }
 
-VkInstance Context::instance() const { return state_->instance; }
-VkPhysicalDevice Context::physical_device() const { return state_->physical; }
-VkDevice Context::device() const { return state_->device; }
-VkQueue Context::queue() const { return state_->queue; }
-std::uint32_t Context::queue_family() const { return state_->queue_family; }
-const DeviceSummary& Context::summary() const { return state_->summary; }
-const DeviceLimits& Context::limits() const { return state_->limits; }
-const std::vector<DeviceSummary>& Context::all_devices() const { return state_->devices; }
-bool Context::validation_enabled() const { return state_->validation; }
-std::uint64_t Context::validation_errors() const { return state_->validation_errors.load(); }
+VkInstance Context::instance() const {
+    return state_->instance;
+}
+VkPhysicalDevice Context::physical_device() const {
+    return state_->physical;
+}
+VkDevice Context::device() const {
+    return state_->device;
+}
+VkQueue Context::queue() const {
+    return state_->queue;
+}
+std::uint32_t Context::queue_family() const {
+    return state_->queue_family;
+}
+const DeviceSummary& Context::summary() const {
+    return state_->summary;
+}
+const DeviceLimits& Context::limits() const {
+    return state_->limits;
+}
+const std::vector<DeviceSummary>& Context::all_devices() const {
+    return state_->devices;
+}
+bool Context::validation_enabled() const {
+    return state_->validation;
+}
+std::uint64_t Context::validation_errors() const {
+    return state_->validation_errors.load();
+}
 
 void Context::set_name(VkObjectType type, std::uint64_t handle, std::string_view text) const {
     if (!state_->set_object_name || handle == 0) return;
     const std::string name(text);
-    const VkDebugUtilsObjectNameInfoEXT info{.sType = VK_STRUCTURE_TYPE_DEBUG_UTILS_OBJECT_NAME_INFO_EXT,
+    const VkDebugUtilsObjectNameInfoEXT info{.sType =
+                                                 VK_STRUCTURE_TYPE_DEBUG_UTILS_OBJECT_NAME_INFO_EXT,
                                              .objectType = type,
                                              .objectHandle = handle,
                                              .pObjectName = name.c_str()};
@@ -420,7 +448,8 @@ void Context::submit_and_wait(const std::function<void(VkCommandBuffer)>& record
     FIRD_VK_CHECK(vkQueueSubmit2(state_->queue, 1, &submit, fence.get()));
     // Bounded wait: a submission that runs this long has hung the device.
     constexpr std::uint64_t kSubmitTimeoutNs = 600ull * 1000 * 1000 * 1000;
-    const VkResult waited = vkWaitForFences(state_->device, 1, &fence_handle, VK_TRUE, kSubmitTimeoutNs);
+    const VkResult waited =
+        vkWaitForFences(state_->device, 1, &fence_handle, VK_TRUE, kSubmitTimeoutNs);
     if (waited == VK_TIMEOUT)
         throw VulkanError("vkWaitForFences: the device did not finish within 600 s", VK_TIMEOUT);
     FIRD_VK_CHECK(waited);
@@ -443,7 +472,8 @@ std::vector<DeviceSummary> enumerate_devices() {
     VkInstance instance = create_instance({}, validation, debug_utils);
     std::vector<DeviceSummary> out;
     try {
-        for (auto pd : physical_devices(instance)) out.push_back(summarize(pd, {}));
+        for (auto pd : physical_devices(instance))
+            out.push_back(summarize(pd, {}));
     } catch (...) {
         vkDestroyInstance(instance, nullptr);
         throw;

@@ -8,20 +8,42 @@
 namespace fird::vk {
 
 // One overload per handle type; Owned<T> finds the right one.
-inline void destroy(VkDevice d, VkPipeline h) { vkDestroyPipeline(d, h, nullptr); }
-inline void destroy(VkDevice d, VkPipelineLayout h) { vkDestroyPipelineLayout(d, h, nullptr); }
+inline void destroy(VkDevice d, VkPipeline h) {
+    vkDestroyPipeline(d, h, nullptr);
+}
+inline void destroy(VkDevice d, VkPipelineLayout h) {
+    vkDestroyPipelineLayout(d, h, nullptr);
+}
 inline void destroy(VkDevice d, VkDescriptorSetLayout h) {
     vkDestroyDescriptorSetLayout(d, h, nullptr);
 }
-inline void destroy(VkDevice d, VkShaderModule h) { vkDestroyShaderModule(d, h, nullptr); }
-inline void destroy(VkDevice d, VkCommandPool h) { vkDestroyCommandPool(d, h, nullptr); }
-inline void destroy(VkDevice d, VkFence h) { vkDestroyFence(d, h, nullptr); }
-inline void destroy(VkDevice d, VkQueryPool h) { vkDestroyQueryPool(d, h, nullptr); }
-inline void destroy(VkDevice d, VkBuffer h) { vkDestroyBuffer(d, h, nullptr); }
-inline void destroy(VkDevice d, VkImage h) { vkDestroyImage(d, h, nullptr); }
-inline void destroy(VkDevice d, VkImageView h) { vkDestroyImageView(d, h, nullptr); }
-inline void destroy(VkDevice d, VkDeviceMemory h) { vkFreeMemory(d, h, nullptr); }
-inline void destroy(VkDevice d, VkSampler h) { vkDestroySampler(d, h, nullptr); }
+inline void destroy(VkDevice d, VkShaderModule h) {
+    vkDestroyShaderModule(d, h, nullptr);
+}
+inline void destroy(VkDevice d, VkCommandPool h) {
+    vkDestroyCommandPool(d, h, nullptr);
+}
+inline void destroy(VkDevice d, VkFence h) {
+    vkDestroyFence(d, h, nullptr);
+}
+inline void destroy(VkDevice d, VkQueryPool h) {
+    vkDestroyQueryPool(d, h, nullptr);
+}
+inline void destroy(VkDevice d, VkBuffer h) {
+    vkDestroyBuffer(d, h, nullptr);
+}
+inline void destroy(VkDevice d, VkImage h) {
+    vkDestroyImage(d, h, nullptr);
+}
+inline void destroy(VkDevice d, VkImageView h) {
+    vkDestroyImageView(d, h, nullptr);
+}
+inline void destroy(VkDevice d, VkDeviceMemory h) {
+    vkFreeMemory(d, h, nullptr);
+}
+inline void destroy(VkDevice d, VkSampler h) {
+    vkDestroySampler(d, h, nullptr);
+}
 
 template <typename Handle> class Owned {
   public:

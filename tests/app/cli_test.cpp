@@ -16,17 +16,22 @@ struct Result {
 };
 
 Result run_env(const std::string& env, const std::string& args) {
-    const std::string cmd = env + " " + std::string(FIRD_BINARY) + " " + args + " 2>&1";
+    // Every run has the validation layers on: a validation error fails the command.
+    const std::string cmd =
+        env + " " + std::string(FIRD_BINARY) + " --validation " + args + " 2>&1";
     FILE* pipe = popen(cmd.c_str(), "r");
     if (!pipe) return {-1, ""};
     std::string out;
     std::array<char, 4096> buf{};
-    while (std::fgets(buf.data(), int(buf.size()), pipe)) out += buf.data();
+    while (std::fgets(buf.data(), int(buf.size()), pipe))
+        out += buf.data();
     const int status = pclose(pipe);
     return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
 }
 
-Result run(const std::string& args) { return run_env("", args); }
+Result run(const std::string& args) {
+    return run_env("", args);
+}
 
 TEST(Cli, UnknownSubcommandIsUsageErrorWithCode2) {
     const auto r = run("frobnicate");
@@ -40,18 +45,22 @@ TEST(Cli, UnknownOptionIsUsageErrorWithCode2) {
     EXPECT_EQ(r.code, 2) << r.out;
 }
 
-TEST(Cli, NoSubcommandIsUsageError) { EXPECT_EQ(run("").code, 2); }
+TEST(Cli, NoSubcommandIsUsageError) {
+    EXPECT_EQ(run("").code, 2);
+}
 
-TEST(Cli, HelpExitsZero) { EXPECT_EQ(run("--help").code, 0); }
+TEST(Cli, HelpExitsZero) {
+    EXPECT_EQ(run("--help").code, 0);
+}
 
 TEST(Cli, InfoJsonHasTheLimitsThatMatter) {
     const auto r = run("info --json");
     ASSERT_EQ(r.code, 0) << r.out;
     const auto j = nlohmann::json::parse(r.out);
     EXPECT_FALSE(j["chosen"]["name"].get<std::string>().empty());
-    for (const char* key : {"max_compute_workgroup_size", "max_compute_workgroup_count",
-                            "max_storage_buffer_range", "subgroup_size", "float32_atomic_add",
-                            "timestamps"})
+    for (const char* key :
+         {"max_compute_workgroup_size", "max_compute_workgroup_count", "max_storage_buffer_range",
+          "subgroup_size", "float32_atomic_add", "timestamps"})
         EXPECT_TRUE(j["limits"].contains(key)) << key;
 }
 
@@ -63,8 +72,8 @@ TEST(Cli, UnknownDeviceNameExitsOneWithOneLine) {
 
 TEST(Cli, NoVulkanDriverAtAllExitsOneWithOneLine) {
     // Point the loader at an empty driver list: no device at all.
-    const auto r = run_env("VK_DRIVER_FILES=/nonexistent.json VK_ICD_FILENAMES=/nonexistent.json",
-                           "info");
+    const auto r =
+        run_env("VK_DRIVER_FILES=/nonexistent.json VK_ICD_FILENAMES=/nonexistent.json", "info");
     EXPECT_EQ(r.code, 1) << r.out;
     EXPECT_NE(r.out.find("no Vulkan"), std::string::npos) << r.out;
 }
@@ -73,7 +82,9 @@ TEST(Cli, BadSceneIsOneLineNamingFileKeyAndLineWithExitCode1) {
     const std::string path = ::testing::TempDir() + "/bad_scene.toml";
     FILE* f = std::fopen(path.c_str(), "w");
     ASSERT_TRUE(f);
-    std::fputs("[source]\ntype = \"sphere\"\ncenter_mm = [0.0, 0.0, 0.0]\nradius_mm = -1.0\nflux_lm = 5.0\n", f);
+    std::fputs("[source]\ntype = \"sphere\"\ncenter_mm = [0.0, 0.0, 0.0]\nradius_mm = "
+               "-1.0\nflux_lm = 5.0\n",
+               f);
     std::fclose(f);
     const auto r = run("trace " + path + " --backend cpu");
     EXPECT_EQ(r.code, 1) << r.out;
@@ -94,8 +105,9 @@ TEST(Cli, TraceJsonHasEveryContractField) {
     for (const char* key : {"rayset", "heightfield", "trace", "histogram", "compare", "total"})
         EXPECT_TRUE(j["timings_ms"].contains(key)) << key;
     EXPECT_EQ(j["rays_emitted"].get<std::uint64_t>(), 20000u);
-    const double sum = j["energy_discarded_lm"].get<double>() + j["energy_direct_lm"].get<double>() +
-                       j["energy_farfield_lm"].get<double>() + j["energy_lost_lm"].get<double>();
+    const double sum = j["energy_discarded_lm"].get<double>() +
+                       j["energy_direct_lm"].get<double>() + j["energy_farfield_lm"].get<double>() +
+                       j["energy_lost_lm"].get<double>();
     EXPECT_NEAR(sum, j["energy_emitted_lm"].get<double>(), 1e-9);
 }
 
@@ -104,7 +116,8 @@ TEST(Cli, TraceOutWritesNpyAndPictures) {
     const auto r = run("trace " + std::string(FIRD_SOURCE_DIR) +
                        "/scenes/model_b.toml --backend cpu --rays 5000 --out " + dir);
     ASSERT_EQ(r.code, 0) << r.out;
-    for (const char* name : {"farfield.npy", "farfield.png", "target.npy", "target.png", "difference.png"}) {
+    for (const char* name :
+         {"farfield.npy", "farfield.png", "target.npy", "target.png", "difference.png"}) {
         FILE* f = std::fopen((dir + "/" + name).c_str(), "rb");
         EXPECT_TRUE(f) << name;
         if (f) std::fclose(f);

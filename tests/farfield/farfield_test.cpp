@@ -38,11 +38,13 @@ TEST(FarField, L2IsTheEuclideanDistance) {
 TEST(Npy, WritesFloat32WithShapeAndReadsBack) {
     const std::string path = ::testing::TempDir() + "/ff.npy";
     std::vector<double> v(6);
-    for (int i = 0; i < 6; ++i) v[i] = 0.5 * i;
+    for (int i = 0; i < 6; ++i)
+        v[i] = 0.5 * i;
     write_npy_f32(path, v, 2, 3);
     const NpyArray a = read_npy_f32(path);
     ASSERT_EQ(a.shape, (std::vector<std::uint64_t>{2, 3}));
-    for (int i = 0; i < 6; ++i) EXPECT_FLOAT_EQ(a.values[i], float(v[i]));
+    for (int i = 0; i < 6; ++i)
+        EXPECT_FLOAT_EQ(a.values[i], float(v[i]));
     std::remove(path.c_str());
 }
 

@@ -58,7 +58,8 @@ HitAgreement compare_hits(const vk::Context& ctx, Scene s, HitMode mode, std::si
         if (!ref_hit) continue;
         ++a.both;
         const glm::dvec3 p = rays[i].origin + *ref.t * rays[i].direction;
-        EXPECT_TRUE(std::isfinite(hits[i].x) && std::isfinite(hits[i].y) && std::isfinite(hits[i].z));
+        EXPECT_TRUE(std::isfinite(hits[i].x) && std::isfinite(hits[i].y) &&
+                    std::isfinite(hits[i].z));
         a.error_texels.push_back(glm::length(glm::dvec3(hits[i]) - p) / texel);
     }
     std::sort(a.error_texels.begin(), a.error_texels.end());
@@ -79,9 +80,10 @@ TEST_P(HitPoints, PaperModeWithinATexelRefinedModeFarCloser) {
     const auto paper = compare_hits(ctx(), s, HitMode::Paper, 20000);
     const auto refined = compare_hits(ctx(), s, HitMode::Refined, 20000);
     ASSERT_GT(paper.both, 2000u);
-    std::printf("%s: hit error in texels, paper median %.4f p99 %.4f; refined median %.5f p99 %.4f\n",
-                GetParam().c_str(), quantile(paper.error_texels, 0.5), quantile(paper.error_texels, 0.99),
-                quantile(refined.error_texels, 0.5), quantile(refined.error_texels, 0.99));
+    std::printf(
+        "%s: hit error in texels, paper median %.4f p99 %.4f; refined median %.5f p99 %.4f\n",
+        GetParam().c_str(), quantile(paper.error_texels, 0.5), quantile(paper.error_texels, 0.99),
+        quantile(refined.error_texels, 0.5), quantile(refined.error_texels, 0.99));
     // Hit or miss agrees for all but grazing rays at the rims.
     EXPECT_LT(double(paper.disagree), 0.005 * double(paper.both));
     EXPECT_LT(double(refined.disagree), 0.005 * double(refined.both));
@@ -113,11 +115,15 @@ TEST_P(FarFieldAccuracy, L2ToAFourTimesLargerReferenceIsWithinTheMonteCarloNoise
     EXPECT_EQ(run.aborted, 0u);
     const FarField gpu{360, 180, fast.read_farfield()};
     const auto ref = trace_reference(s.source, Surface::make(s.reflector, s.holder),
-                                     {.rays = kM, .seed = 6, .max_bounces = s.trace.max_bounces,
-                                      .bounce_policy = s.trace.bounce_policy, .farfield_w = 360,
+                                     {.rays = kM,
+                                      .seed = 6,
+                                      .max_bounces = s.trace.max_bounces,
+                                      .bounce_policy = s.trace.bounce_policy,
+                                      .farfield_w = 360,
                                       .farfield_h = 180});
     double sum_p = 0.0;
-    for (double v : ref.farfield.lm) sum_p += v / s.source.flux_lm * (1.0 - v / s.source.flux_lm);
+    for (double v : ref.farfield.lm)
+        sum_p += v / s.source.flux_lm * (1.0 - v / s.source.flux_lm);
     const double noise = s.source.flux_lm * std::sqrt(sum_p * (1.0 / kN + 1.0 / kM));
     const double l2 = l2_distance(gpu, ref.farfield);
     EXPECT_LT(l2, 1.25 * noise) << "l2 " << l2 << " noise " << noise;
@@ -139,7 +145,8 @@ TEST_F(VulkanTest, FastPathBalancesEnergyForBothPoliciesAndIgnoresBatching) {
         const FastRun a = one.run();
         const RayTally& t = a.tally;
         EXPECT_EQ(t.emitted, t.discarded + t.direct + t.farfield + t.lost);
-        EXPECT_EQ(t.farfield, std::accumulate(t.by_reflections.begin(), t.by_reflections.end(), 0ull));
+        EXPECT_EQ(t.farfield,
+                  std::accumulate(t.by_reflections.begin(), t.by_reflections.end(), 0ull));
         if (policy == BouncePolicy::Paper) {
             EXPECT_EQ(t.lost, 0u);
         }
@@ -190,15 +197,18 @@ TEST_P(OddSizes, TraceWithoutAbortedRaysOrNaN) {
         t.set_reflector(s.reflector);
         const FastRun r = t.run();
         EXPECT_EQ(r.aborted, 0u);
-        EXPECT_EQ(r.tally.emitted, r.tally.discarded + r.tally.direct + r.tally.farfield + r.tally.lost);
-        for (double v : t.read_farfield()) ASSERT_TRUE(std::isfinite(v));
+        EXPECT_EQ(r.tally.emitted,
+                  r.tally.discarded + r.tally.direct + r.tally.farfield + r.tally.lost);
+        for (double v : t.read_farfield())
+            ASSERT_TRUE(std::isfinite(v));
         EXPECT_GT(r.tally.farfield, 0u);
     }
 }
 
 INSTANTIATE_TEST_SUITE_P(Sizes, OddSizes,
-                         ::testing::Values(std::pair{1u, 1u}, std::pair{1u, 37u}, std::pair{37u, 1u},
-                                           std::pair{1201u, 799u}, std::pair{64u, 64u}));
+                         ::testing::Values(std::pair{1u, 1u}, std::pair{1u, 37u},
+                                           std::pair{37u, 1u}, std::pair{1201u, 799u},
+                                           std::pair{64u, 64u}));
 
 TEST_F(VulkanTest, AxisParallelGrazingCornerAndEdgeRaysNeitherAbortNorTunnel) {
     // A flat mirror at z = -2 over a 40 x 40 mm holder in 40 x 40 texels (1 mm texels):
@@ -227,12 +237,14 @@ heightfield = [40, 40]
                           "stress.toml");
     std::vector<Ray> rays;
     for (int k = -19; k <= 19; k += 3) {
-        rays.push_back({{double(k), double(k), 1.0}, {0, 0, -1}});        // texel corners
-        rays.push_back({{double(k), 0.5, 1.0}, {0, 0, -1}});              // along an edge
-        rays.push_back({{-25.0, double(k), -1.0}, {1, 0, 0}});            // x-parallel, above
-        rays.push_back({{double(k), -25.0, -1.0}, {0, 1, 0}});            // y-parallel, above
-        rays.push_back({{-19.5, double(k), -1.999}, glm::normalize(glm::dvec3(1, 0, -1e-4))}); // grazing
-        rays.push_back({{double(k), double(k) + 0.5, 1.0}, glm::normalize(glm::dvec3(1, 1, -1))}); // diagonal through corners
+        rays.push_back({{double(k), double(k), 1.0}, {0, 0, -1}}); // texel corners
+        rays.push_back({{double(k), 0.5, 1.0}, {0, 0, -1}});       // along an edge
+        rays.push_back({{-25.0, double(k), -1.0}, {1, 0, 0}});     // x-parallel, above
+        rays.push_back({{double(k), -25.0, -1.0}, {0, 1, 0}});     // y-parallel, above
+        rays.push_back(
+            {{-19.5, double(k), -1.999}, glm::normalize(glm::dvec3(1, 0, -1e-4))}); // grazing
+        rays.push_back({{double(k), double(k) + 0.5, 1.0},
+                        glm::normalize(glm::dvec3(1, 1, -1))}); // diagonal through corners
     }
     for (HitMode mode : {HitMode::Paper, HitMode::Refined}) {
         s.trace.hit_mode = mode;
@@ -251,7 +263,8 @@ heightfield = [40, 40]
             ASSERT_NEAR(hits[i].z, -2.0, 1e-4) << "ray " << i << ": no tunnelling, no early hit";
             ASSERT_NEAR(glm::length(glm::dvec3(hits[i]) - p), 0.0, 0.05) << "ray " << i;
         }
-        for (double v : t.read_farfield()) ASSERT_TRUE(std::isfinite(v));
+        for (double v : t.read_farfield())
+            ASSERT_TRUE(std::isfinite(v));
     }
 }
 

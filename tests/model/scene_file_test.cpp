@@ -70,7 +70,7 @@ max_bounces = 2
 struct BadCase {
     std::string replace; // a line of kBase (without newline)
     std::string with;
-    std::string expect;  // must appear in the message
+    std::string expect; // must appear in the message
 };
 
 class BadScene : public ::testing::TestWithParam<BadCase> {};
@@ -95,15 +95,18 @@ TEST_P(BadScene, IsRefusedWithFileKeyAndLine) {
 INSTANTIATE_TEST_SUITE_P(
     Table, BadScene,
     ::testing::Values(
-        BadCase{"radius_mm = 0.5", "radius_mm = -0.5", "bad.toml:4: [source] radius_mm: must be > 0"},
+        BadCase{"radius_mm = 0.5", "radius_mm = -0.5",
+                "bad.toml:4: [source] radius_mm: must be > 0"},
         BadCase{"radius_mm = 0.5", "radius_mm = nan", "radius_mm: must be finite"},
         BadCase{"radius_mm = 0.5", "radius_mm = \"big\"", "radius_mm: must be a number"},
         BadCase{"radius_mm = 0.5", "radius = 0.5", "unknown key"},
         BadCase{"flux_lm = 100.0", "flux_lm = inf", "flux_lm: must be finite"},
         BadCase{"flux_lm = 100.0", "", "flux_lm: required key is missing"},
         BadCase{"type = \"sphere\"", "type = \"laser\"", "type: must be one of"},
-        BadCase{"center_mm = [5.0, 5.0, -2.0]", "center_mm = [5.0, 5.0]", "center_mm: must be an array of 3"},
-        BadCase{"center_mm = [5.0, 5.0, -2.0]", "center_mm = [50.0, 5.0, -2.0]", "outside the holder's xy footprint"},
+        BadCase{"center_mm = [5.0, 5.0, -2.0]", "center_mm = [5.0, 5.0]",
+                "center_mm: must be an array of 3"},
+        BadCase{"center_mm = [5.0, 5.0, -2.0]", "center_mm = [50.0, 5.0, -2.0]",
+                "outside the holder's xy footprint"},
         BadCase{"max_mm = [10.0, 10.0, 0.0]", "max_mm = [10.0, 10.0, -6.0]", "holder box is empty"},
         BadCase{"family = \"paraboloid\"", "family = \"blob\"", "family: must be one of"},
         BadCase{"fx = 3.0", "fx = -3.0", "'fx' must be > 0"},
@@ -111,7 +114,8 @@ INSTANTIATE_TEST_SUITE_P(
         BadCase{"cy = 5.0", "cy = 5.0\nshape = 2", "[reflector] shape: unknown key"},
         BadCase{"z0 = -6.0", "z0 = -2.4", "cuts the light source"},
         BadCase{"optimize = { fx = { min = 1.0, max = 5.0, step = 0.5 } }",
-                "optimize = { fx = { min = 6.0, max = 5.0, step = 0.5 } }", "max: must not be below min"},
+                "optimize = { fx = { min = 6.0, max = 5.0, step = 0.5 } }",
+                "max: must not be below min"},
         BadCase{"optimize = { fx = { min = 1.0, max = 5.0, step = 0.5 } }",
                 "optimize = { fx = { min = 1.0, max = 5.0, step = 0.0 } }", "step: must be > 0"},
         BadCase{"optimize = { fx = { min = 1.0, max = 5.0, step = 0.5 } }",
@@ -119,11 +123,14 @@ INSTANTIATE_TEST_SUITE_P(
         BadCase{"rays = 1000", "rays = 0", "rays: must be between"},
         BadCase{"rays = 1000", "rays = 1.5", "rays: must be an integer"},
         BadCase{"max_bounces = 2", "max_bounces = 0", "max_bounces: must be between"},
-        BadCase{"max_bounces = 2", "max_bounces = 2\nbounce_policy = \"sometimes\"", "bounce_policy: must be one of"},
-        BadCase{"max_bounces = 2", "max_bounces = 2\nfarfield = [0, 10]", "farfield: must be two whole numbers"},
+        BadCase{"max_bounces = 2", "max_bounces = 2\nbounce_policy = \"sometimes\"",
+                "bounce_policy: must be one of"},
+        BadCase{"max_bounces = 2", "max_bounces = 2\nfarfield = [0, 10]",
+                "farfield: must be two whole numbers"},
         BadCase{"max_bounces = 2", "max_bounces = 2\n[target]\nparameters = { fx = 2.0 }\nseed = 1",
                 "seed: must differ"},
-        BadCase{"max_bounces = 2", "max_bounces = 2\n[target]\nparameters = { zz = 2.0 }", "zz: is not a parameter"},
+        BadCase{"max_bounces = 2", "max_bounces = 2\n[target]\nparameters = { zz = 2.0 }",
+                "zz: is not a parameter"},
         BadCase{"max_bounces = 2", "max_bounces = 2\n[target]\nseed = 4", "give either parameters"},
         BadCase{"[trace]", "[trace]\n[trace]", "redefine existing table 'trace'"},
         BadCase{"fx = 3.0", "fx = 3.0 3.0", "bad.toml:13"}));

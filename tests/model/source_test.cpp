@@ -13,8 +13,11 @@ namespace {
 constexpr int kN = 200000;
 
 TEST(Source, CylinderIsLambertianAboutTheOutwardNormalAndUniformAlongItsLength) {
-    const SourceDesc s{.kind = SourceKind::Cylinder, .center_mm = {1, 2, 3}, .axis = {1, 0, 0},
-                       .length_mm = 4.0, .radius_mm = 0.5};
+    const SourceDesc s{.kind = SourceKind::Cylinder,
+                       .center_mm = {1, 2, 3},
+                       .axis = {1, 0, 0},
+                       .length_mm = 4.0,
+                       .radius_mm = 0.5};
     double cos_sum = 0.0, along_sq = 0.0;
     for (int i = 0; i < kN; ++i) {
         const Ray r = emit_ray(s, SamplerKind::Random, 1, std::uint64_t(i));

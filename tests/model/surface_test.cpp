@@ -61,9 +61,9 @@ TEST(Surface, BSplineGroupsMoveTheirControlHeights) {
     b.groups["rim"] = {ControlGroup::Kind::Ring, 0, 0};
     b.groups["c"] = {ControlGroup::Kind::Point, 2, 1};
     const auto h = bspline_heights(b, {{"rim", -0.5}, {"c", -3.0}});
-    EXPECT_EQ(h[0], -0.5);          // corner: ring 0
-    EXPECT_EQ(h[1 * 5 + 1], -1.0);  // inner
-    EXPECT_EQ(h[1 * 5 + 2], -3.0);  // the point group
+    EXPECT_EQ(h[0], -0.5);         // corner: ring 0
+    EXPECT_EQ(h[1 * 5 + 1], -1.0); // inner
+    EXPECT_EQ(h[1 * 5 + 2], -3.0); // the point group
     EXPECT_EQ(h[3 * 5 + 4], -0.5);
 }
 

@@ -10,7 +10,9 @@
 namespace fird {
 namespace {
 
-Scene scene(const char* name) { return load_scene(std::string(FIRD_SOURCE_DIR) + "/scenes/" + name); }
+Scene scene(const char* name) {
+    return load_scene(std::string(FIRD_SOURCE_DIR) + "/scenes/" + name);
+}
 
 TEST(ReferenceAnalytic, FlatTiltedMirrorGivesMirroredDirections) {
     const Scene s = scene("test/flat_mirror.toml");
@@ -37,17 +39,22 @@ TEST(ReferenceAnalytic, PointAtParaboloidFocusSendsEveryReflectedRayToTheZenith)
     const Scene s = scene("test/focused_paraboloid.toml");
     const Surface surface = Surface::make(s.reflector, s.holder);
     const auto r = trace_reference(s.source, surface,
-                                   {.rays = s.trace.rays, .seed = s.trace.seed,
-                                    .max_bounces = 1, .bounce_policy = BouncePolicy::Strict,
-                                    .farfield_w = 360, .farfield_h = 180});
+                                   {.rays = s.trace.rays,
+                                    .seed = s.trace.seed,
+                                    .max_bounces = 1,
+                                    .bounce_policy = BouncePolicy::Strict,
+                                    .farfield_w = 360,
+                                    .farfield_h = 180});
     ASSERT_GT(r.tally.farfield, s.trace.rays / 3);
     double zenith = 0.0;
-    for (std::uint32_t c = 0; c < 360; ++c) zenith += r.farfield.lm[c];
+    for (std::uint32_t c = 0; c < 360; ++c)
+        zenith += r.farfield.lm[c];
     EXPECT_NEAR(zenith, r.farfield.total_lm(), 1e-9 * r.farfield.total_lm());
     // And directions are exactly +z, not just within the 1-degree row.
     for (std::uint64_t i = 0; i < 5000; ++i) {
-        const PathResult p = trace_path(surface, s.holder, emit_ray(s.source, SamplerKind::Random, 5, i),
-                                        1, BouncePolicy::Strict);
+        const PathResult p =
+            trace_path(surface, s.holder, emit_ray(s.source, SamplerKind::Random, 5, i), 1,
+                       BouncePolicy::Strict);
         if (p.fate == RayFate::FarField) {
             ASSERT_NEAR(p.direction.z, 1.0, 1e-9);
         }
@@ -55,8 +62,8 @@ TEST(ReferenceAnalytic, PointAtParaboloidFocusSendsEveryReflectedRayToTheZenith)
 }
 
 TEST(ReferenceAnalytic, RightAngledTroughReversesTheCrossSectionAfterTwoBounces) {
-    // A 90-degree V trough along y (cup with p = 1 and b = 1e12, so the y slope is 1e-12): walls z = -10 + |x|.
-    // Two reflections off perpendicular walls reverse the (x, z) components.
+    // A 90-degree V trough along y (cup with p = 1 and b = 1e12, so the y slope is 1e-12): walls z
+    // = -10 + |x|. Two reflections off perpendicular walls reverse the (x, z) components.
     const Scene s = parse_scene(R"(
 [source]
 type = "point"

@@ -19,9 +19,14 @@ ReferenceResult run(const Scene& s, std::uint64_t rays, std::uint64_t seed,
                     SamplerKind sampler = SamplerKind::Random, std::uint32_t ffw = 360,
                     std::uint32_t ffh = 180, unsigned threads = 0) {
     return trace_reference(s.source, Surface::make(s.reflector, s.holder),
-                           {.rays = rays, .seed = seed, .sampler = sampler,
-                            .max_bounces = s.trace.max_bounces, .bounce_policy = s.trace.bounce_policy,
-                            .farfield_w = ffw, .farfield_h = ffh, .threads = threads});
+                           {.rays = rays,
+                            .seed = seed,
+                            .sampler = sampler,
+                            .max_bounces = s.trace.max_bounces,
+                            .bounce_policy = s.trace.bounce_policy,
+                            .farfield_w = ffw,
+                            .farfield_h = ffh,
+                            .threads = threads});
 }
 
 class EnergyBalance : public ::testing::TestWithParam<std::string> {};
@@ -33,7 +38,8 @@ TEST_P(EnergyBalance, EveryEmittedRayIsAccountedForExactly) {
         const auto r = run(s, 30000, 4);
         const RayTally& t = r.tally;
         EXPECT_EQ(t.emitted, t.discarded + t.direct + t.farfield + t.lost);
-        EXPECT_EQ(t.farfield, std::accumulate(t.by_reflections.begin(), t.by_reflections.end(), 0ull));
+        EXPECT_EQ(t.farfield,
+                  std::accumulate(t.by_reflections.begin(), t.by_reflections.end(), 0ull));
         EXPECT_EQ(t.by_reflections[0], 0u) << "direct light never reaches the far field";
         EXPECT_NEAR(r.farfield.total_lm(), double(t.farfield) * r.energy_per_ray_lm, 1e-9);
         EXPECT_EQ(t.below_surface, 0u);
@@ -45,7 +51,8 @@ TEST_P(EnergyBalance, EveryEmittedRayIsAccountedForExactly) {
 
 INSTANTIATE_TEST_SUITE_P(Scenes, EnergyBalance,
                          ::testing::Values("model_a.toml", "model_b.toml", "model_c.toml",
-                                           "test/flat_mirror.toml", "test/focused_paraboloid.toml"));
+                                           "test/flat_mirror.toml",
+                                           "test/focused_paraboloid.toml"));
 
 TEST(ReferenceDeterminism, SameSeedSameHistogramWhateverTheThreadCount) {
     const Scene s = scene("model_c.toml");
@@ -74,7 +81,8 @@ TEST(ReferenceStatistics, SeedToSeedNoiseScalesAsOneOverSqrtNOverTwoDecades) {
         double mean_sq = 0.0;
         constexpr int kPairs = 6;
         for (int k = 0; k < kPairs; ++k) {
-            const double l2 = l2_distance(run(s, n, 2 * k + 1).farfield, run(s, n, 2 * k + 2).farfield);
+            const double l2 =
+                l2_distance(run(s, n, 2 * k + 1).farfield, run(s, n, 2 * k + 2).farfield);
             mean_sq += l2 * l2 / kPairs;
         }
         const double predicted = flux * std::sqrt(2.0 * sum_p / double(n));
@@ -96,8 +104,10 @@ TEST(ReferenceStatistics, SobolIsCloserToTheConvergedFarFieldThanRandomAtEqualRa
     const auto reference = run(s, 8000000, 77, SamplerKind::Random, kW, kH);
     double random_sq = 0.0, sobol_sq = 0.0;
     for (std::uint64_t seed : {1ull, 2ull, 3ull, 4ull}) {
-        const double r = l2_distance(run(s, 1 << 18, seed, SamplerKind::Random, kW, kH).farfield, reference.farfield);
-        const double q = l2_distance(run(s, 1 << 18, seed, SamplerKind::Sobol, kW, kH).farfield, reference.farfield);
+        const double r = l2_distance(run(s, 1 << 18, seed, SamplerKind::Random, kW, kH).farfield,
+                                     reference.farfield);
+        const double q = l2_distance(run(s, 1 << 18, seed, SamplerKind::Sobol, kW, kH).farfield,
+                                     reference.farfield);
         random_sq += r * r;
         sobol_sq += q * q;
     }

@@ -25,10 +25,12 @@ TEST_F(VulkanTest, ClearAndDrawARectangleReadsBackExpectedPixels) {
     // A red rectangle covering the left half of the image (NDC x in [-1, 0]), and a
     // half-transparent green one over the bottom half, drawn after it at the same depth.
     const std::vector<FlatVertex> vertices = {
-        {{-1, -1, 0.5f}, {1, 0, 0, 1}}, {{0, -1, 0.5f}, {1, 0, 0, 1}}, {{0, 1, 0.5f}, {1, 0, 0, 1}},
-        {{-1, -1, 0.5f}, {1, 0, 0, 1}}, {{0, 1, 0.5f}, {1, 0, 0, 1}},  {{-1, 1, 0.5f}, {1, 0, 0, 1}},
-        {{-1, 0, 0.5f}, {0, 1, 0, 0.5f}}, {{1, 0, 0.5f}, {0, 1, 0, 0.5f}}, {{1, 1, 0.5f}, {0, 1, 0, 0.5f}},
-        {{-1, 0, 0.5f}, {0, 1, 0, 0.5f}}, {{1, 1, 0.5f}, {0, 1, 0, 0.5f}}, {{-1, 1, 0.5f}, {0, 1, 0, 0.5f}},
+        {{-1, -1, 0.5f}, {1, 0, 0, 1}},   {{0, -1, 0.5f}, {1, 0, 0, 1}},
+        {{0, 1, 0.5f}, {1, 0, 0, 1}},     {{-1, -1, 0.5f}, {1, 0, 0, 1}},
+        {{0, 1, 0.5f}, {1, 0, 0, 1}},     {{-1, 1, 0.5f}, {1, 0, 0, 1}},
+        {{-1, 0, 0.5f}, {0, 1, 0, 0.5f}}, {{1, 0, 0.5f}, {0, 1, 0, 0.5f}},
+        {{1, 1, 0.5f}, {0, 1, 0, 0.5f}},  {{-1, 0, 0.5f}, {0, 1, 0, 0.5f}},
+        {{1, 1, 0.5f}, {0, 1, 0, 0.5f}},  {{-1, 1, 0.5f}, {0, 1, 0, 0.5f}},
     };
     vk::Buffer vb(ctx(), vertices.size() * sizeof(FlatVertex), VK_BUFFER_USAGE_VERTEX_BUFFER_BIT,
                   vk::MemoryUse::Upload, "test.vertices");
@@ -42,13 +44,13 @@ TEST_F(VulkanTest, ClearAndDrawARectangleReadsBackExpectedPixels) {
     ASSERT_EQ(rgba.size(), std::size_t(kW) * kH * 4);
     // Vulkan's NDC +y points down the image: y in [0, 1] is the bottom half.
     using P = std::array<std::uint8_t, 4>;
-    EXPECT_EQ(pixel(rgba, kW, 10, 10), (P{255, 0, 0, 255}));   // top-left: red
-    EXPECT_EQ(pixel(rgba, kW, 50, 10), (P{0, 0, 255, 255}));   // top-right: clear blue
-    const auto bl = pixel(rgba, kW, 10, 40);                    // red under 50 % green
+    EXPECT_EQ(pixel(rgba, kW, 10, 10), (P{255, 0, 0, 255})); // top-left: red
+    EXPECT_EQ(pixel(rgba, kW, 50, 10), (P{0, 0, 255, 255})); // top-right: clear blue
+    const auto bl = pixel(rgba, kW, 10, 40);                 // red under 50 % green
     EXPECT_NEAR(bl[0], 128, 2);
     EXPECT_NEAR(bl[1], 128, 2);
     EXPECT_EQ(bl[2], 0);
-    const auto br = pixel(rgba, kW, 50, 40);                    // blue under 50 % green
+    const auto br = pixel(rgba, kW, 50, 40); // blue under 50 % green
     EXPECT_EQ(br[0], 0);
     EXPECT_NEAR(br[1], 128, 2);
     EXPECT_NEAR(br[2], 128, 2);

@@ -39,14 +39,15 @@ TEST(Check, FailureNamesTheCallAndResult) {
 
 TEST_F(VulkanTest, ImpossibleAllocationIsAnErrorNotACrash) {
     // Far more than any device has: must come back as a VulkanError.
-    EXPECT_THROW(vk::Buffer(ctx(), VkDeviceSize(1) << 50, vk::kStorageUsage,
-                            vk::MemoryUse::Device, "test.too_big"),
+    EXPECT_THROW(vk::Buffer(ctx(), VkDeviceSize(1) << 50, vk::kStorageUsage, vk::MemoryUse::Device,
+                            "test.too_big"),
                  vk::VulkanError);
 }
 
 TEST_F(VulkanTest, UploadDownloadRoundTrip) {
     std::vector<std::uint32_t> values(1000);
-    for (std::uint32_t i = 0; i < values.size(); ++i) values[i] = i * 2654435761u;
+    for (std::uint32_t i = 0; i < values.size(); ++i)
+        values[i] = i * 2654435761u;
     vk::Buffer b(ctx(), values.size() * 4, vk::kStorageUsage, vk::MemoryUse::Device, "test.rt");
     b.upload(ctx(), std::span<const std::uint32_t>(values));
     EXPECT_EQ(b.download_as<std::uint32_t>(ctx(), values.size()), values);

@@ -16,7 +16,8 @@ std::vector<float> random_floats(std::uint32_t n, std::uint32_t seed) {
     std::mt19937 rng(seed);
     std::uniform_real_distribution<float> u(-1.0f, 4.0f);
     std::vector<float> v(n);
-    for (auto& x : v) x = u(rng);
+    for (auto& x : v)
+        x = u(rng);
     return v;
 }
 
@@ -52,8 +53,7 @@ TEST_P(ReduceTest, SquaredDifferenceMatchesCpu) {
         expected += d * d;
     }
     const ReducePass pass(ctx());
-    const double got =
-        pass.sum_squared_difference(ctx(), upload(ctx(), a), upload(ctx(), b), n);
+    const double got = pass.sum_squared_difference(ctx(), upload(ctx(), a), upload(ctx(), b), n);
     EXPECT_NEAR(got, expected, 1e-5 * (1.0 + expected));
 }
 

@@ -9,9 +9,13 @@ void VulkanTest::SetUpTestSuite() {
         context_ = std::make_unique<vk::Context>(vk::Context::create({.validation = true}));
 }
 
-void VulkanTest::TearDownTestSuite() { context_.reset(); }
+void VulkanTest::TearDownTestSuite() {
+    context_.reset();
+}
 
-void VulkanTest::SetUp() { errors_before_ = context_->validation_errors(); }
+void VulkanTest::SetUp() {
+    errors_before_ = context_->validation_errors();
+}
 
 void VulkanTest::TearDown() {
     EXPECT_EQ(context_->validation_errors(), errors_before_)
