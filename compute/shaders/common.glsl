@@ -4,6 +4,8 @@
 #define FIRD_COMMON_GLSL
 
 #extension GL_GOOGLE_include_directive : require
+#extension GL_KHR_shader_subgroup_basic : require
+#extension GL_KHR_shader_subgroup_ballot : require
 #include "fird_shared.h"
 
 layout(std430, binding = kBindParams) readonly buffer Params { SceneParams P; };
@@ -125,5 +127,23 @@ bool clip_to_box(vec3 o, vec3 d, out vec2 t01) {
     t01 = vec2(t0, t1);
     return t0 <= t1;
 }
+
+// Per-subgroup aggregation: one atomic per subgroup instead of one per ray on the same
+// counter (every ray touches the same few counters; serialized atomics dominated).
+#define FIRD_COUNT(counter_array, slot, condition)                                          \
+    {                                                                                      \
+        const uint fird_n_ = subgroupBallotBitCount(subgroupBallot(condition));            \
+        if (fird_n_ > 0u && subgroupElect()) atomicAdd(counter_array[slot], fird_n_);       \
+    }
+
+// Appends where `condition` holds: returns each such lane's slot in the output array.
+#define FIRD_APPEND_INDEX(counter_array, slot, condition, out_index)                        \
+    {                                                                                      \
+        const uvec4 fird_b_ = subgroupBallot(condition);                                   \
+        const uint fird_n_ = subgroupBallotBitCount(fird_b_);                              \
+        uint fird_base_ = 0u;                                                              \
+        if (subgroupElect() && fird_n_ > 0u) fird_base_ = atomicAdd(counter_array[slot], fird_n_); \
+        out_index = subgroupBroadcastFirst(fird_base_) + subgroupBallotExclusiveBitCount(fird_b_); \
+    }
 
 #endif

@@ -16,9 +16,9 @@ void main() {
     const uint hi = pc.first_hi + (lo < pc.first_lo ? 1u : 0u);
     const Ray r = sample_source(ray_uniforms(lo, hi));
     vec2 t01;
-    if (!clip_to_box(r.origin.xyz, r.direction.xyz, t01)) {
-        atomicAdd(counters[kCounterDiscarded], 1u);
-        return;
-    }
-    rays[atomicAdd(counters[kCounterEffective], 1u)] = r;
+    const bool effective = clip_to_box(r.origin.xyz, r.direction.xyz, t01);
+    FIRD_COUNT(counters, kCounterDiscarded, !effective);
+    uint slot;
+    FIRD_APPEND_INDEX(counters, kCounterEffective, effective, slot);
+    if (effective) rays[slot] = r;
 }

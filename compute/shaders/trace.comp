@@ -194,14 +194,12 @@ int rqrm(Walk w, float t_start, ivec2 skip_texel, out float t_hit, out ivec2 hit
     return kAborted;
 }
 
-void bin_far_field(vec3 d, uint reflections) {
+uint far_field_cell(vec3 d) {
     const float phi = atan(d.y, d.x);
     const float theta = asin(clamp(d.z, -1.0, 1.0));
     const int col = clamp(int(floor((phi + kPi) / (2.0 * kPi) * float(P.ff_w))), 0, int(P.ff_w) - 1);
     const int row = clamp(int(floor((0.5 * kPi - theta) / kPi * float(P.ff_h))), 0, int(P.ff_h) - 1);
-    atomicAdd(farfield[uint(row) * P.ff_w + uint(col)], 1u);
-    atomicAdd(counters[kCounterFarField], 1u);
-    atomicAdd(counters[kCounterByReflections + reflections], 1u);
+    return uint(row) * P.ff_w + uint(col);
 }
 
 void main() {
@@ -217,6 +215,15 @@ void main() {
     w.O = (w.o.xy - lo.xy) / texel_mm;
     w.D = w.d.xy / texel_mm;
 
+    // Every lane reaches the counting at the end (no early returns), so the counters
+    // are aggregated per subgroup.
+    bool below = false, aborted = false, blocked = false, direct = false;
+    bool far_miss = false, far_final = false, lost_again = false, append = false;
+    vec3 far_dir = w.d;
+    Ray next;
+    next.origin = vec4(0.0);
+    next.direction = vec4(0.0);
+
     ivec2 skip = ivec2(-1);
     float t_start = 0.0;
     if (pc.bounce > 0u) {
@@ -224,46 +231,48 @@ void main() {
         t_start = 1e-5; // Algorithm 2 line 7: a small initial offset after a reflection
     } else if (all(greaterThanEqual(w.O, vec2(0.0))) && all(lessThan(w.O, vec2(P.hf_w, P.hf_h))) &&
                w.o.z < height_at(ivec2(floor(w.O)))) {
-        atomicAdd(counters[kCounterBelow], 1u); // the source is inside the reflector
-        atomicAdd(counters[kCounterLost], 1u);
-        return;
+        below = true; // the source is inside the reflector
     }
-
-    float t_hit;
-    ivec2 hit_texel;
-    const int result = rqrm(w, t_start, skip, t_hit, hit_texel);
-    if (result == kAborted) {
-        atomicAdd(counters[kCounterAborted], 1u);
-        atomicAdd(counters[kCounterLost], 1u);
-        return;
+    if (!below) {
+        float t_hit;
+        ivec2 hit_texel;
+        const int result = rqrm(w, t_start, skip, t_hit, hit_texel);
+        aborted = result == kAborted;
+        blocked = result == kBlocked;
+        if (result == kMiss) {
+            direct = pc.bounce == 0u;
+            far_miss = !direct;
+        } else if (result == kHit) {
+            if (pc.final_check != 0u) {
+                lost_again = true; // strict policy: it would hit again
+            } else {
+                vec3 p = w.o + t_hit * w.d;
+                if (pc.record_hits != 0u) hits[i] = vec4(p, t_hit);
+                const vec2 q = texel_pos(w, t_hit);
+                const vec2 g = P.hit_mode == kHitModePaper ? gradient_at(hit_texel) : bilinear_gradient(q);
+                const vec3 n = normalize(vec3(-g, 1.0));
+                const vec3 r = normalize(w.d - 2.0 * dot(w.d, n) * n);
+                if (P.hit_mode == kHitModePaper) p.z = max(p.z, height_at(hit_texel)); // on the texel top
+                if (pc.bounce + 1u == P.max_bounces && P.strict_policy == 0u) {
+                    far_final = true; // "paper": leave with the last reflected direction
+                    far_dir = r;
+                } else {
+                    append = true;
+                    next.origin = vec4(p, intBitsToFloat(hit_texel.x));
+                    next.direction = vec4(r, intBitsToFloat(hit_texel.y));
+                }
+            }
+        }
     }
-    if (result == kBlocked) {
-        atomicAdd(counters[kCounterLost], 1u);
-        return;
-    }
-    if (result == kMiss) {
-        if (pc.bounce == 0u) atomicAdd(counters[kCounterDirect], 1u);
-        else bin_far_field(w.d, pc.bounce);
-        return;
-    }
-    if (pc.final_check != 0u) { // strict policy: it would hit again
-        atomicAdd(counters[kCounterLost], 1u);
-        return;
-    }
-    vec3 p = w.o + t_hit * w.d;
-    if (pc.record_hits != 0u) hits[i] = vec4(p, t_hit);
-    const vec2 q = texel_pos(w, t_hit);
-    const vec2 g = P.hit_mode == kHitModePaper ? gradient_at(hit_texel) : bilinear_gradient(q);
-    const vec3 n = normalize(vec3(-g, 1.0));
-    const vec3 r = normalize(w.d - 2.0 * dot(w.d, n) * n);
-    if (P.hit_mode == kHitModePaper) p.z = max(p.z, height_at(hit_texel)); // on the texel top
-    const uint reflections = pc.bounce + 1u;
-    if (reflections == P.max_bounces && P.strict_policy == 0u) {
-        bin_far_field(r, reflections); // "paper": leave with the last reflected direction
-        return;
-    }
-    Ray next;
-    next.origin = vec4(p, intBitsToFloat(hit_texel.x));
-    next.direction = vec4(r, intBitsToFloat(hit_texel.y));
-    rays_out[atomicAdd(counters[kCounterActiveOut], 1u)] = next;
+    if (far_miss || far_final) atomicAdd(farfield[far_field_cell(far_dir)], 1u);
+    FIRD_COUNT(counters, kCounterBelow, below);
+    FIRD_COUNT(counters, kCounterAborted, aborted);
+    FIRD_COUNT(counters, kCounterLost, below || aborted || blocked || lost_again);
+    FIRD_COUNT(counters, kCounterDirect, direct);
+    FIRD_COUNT(counters, kCounterFarField, far_miss || far_final);
+    FIRD_COUNT(counters, kCounterByReflections + pc.bounce, far_miss);
+    FIRD_COUNT(counters, kCounterByReflections + pc.bounce + 1u, far_final);
+    uint slot;
+    FIRD_APPEND_INDEX(counters, kCounterActiveOut, append, slot);
+    if (append) rays_out[slot] = next;
 }
