@@ -33,9 +33,6 @@ Scene apply_overrides(Scene scene, const TraceOverrides& o) {
 }
 
 Evaluation evaluate_reference(const Scene& scene, unsigned threads) {
-    if (scene.reflector.family == Family::Mesh)
-        throw std::invalid_argument(scene.path + ": [reflector] family = \"mesh\": the CPU "
-                                                 "reference traces analytic families only");
     const auto t0 = std::chrono::steady_clock::now();
     const TraceSettings& t = scene.trace;
     ReferenceOptions options{.rays = t.rays,

@@ -295,6 +295,10 @@ double device_l2(const vk::Context& ctx, const ReducePass& reduce, const vk::Buf
 }
 
 Evaluation evaluate_fast(const vk::Context& ctx, const Scene& scene) {
+    if (scene.reflector.family == Family::Mesh)
+        throw std::invalid_argument(scene.path +
+                                    ": [reflector] family = \"mesh\": the fast path "
+                                    "does not rasterize meshes yet; use --backend cpu");
     if (scene.target.kind == TargetDesc::Kind::Photometric)
         throw std::invalid_argument(scene.path +
                                     ": [target] file: photometric targets are not supported yet");

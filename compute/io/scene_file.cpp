@@ -328,12 +328,13 @@ void validate_scene(const Scene& s) {
     if (s.source.center_mm.x < h.min_mm.x || s.source.center_mm.x > h.max_mm.x ||
         s.source.center_mm.y < h.min_mm.y || s.source.center_mm.y > h.max_mm.y)
         fail("[source] center_mm: the light source is outside the holder's xy footprint");
-    if (s.reflector.family == Family::Mesh) return; // checked when the mesh is loaded
     const auto check = [&](const ReflectorDesc& r, const char* table) {
         try {
             check_reflector_clear_of_source(Surface::make(r, h), s.source);
         } catch (const std::invalid_argument& e) {
             fail(fmt::format("[{}] {}", table, e.what()));
+        } catch (const std::runtime_error& e) { // an unreadable mesh file
+            fail(fmt::format("[{}] file: {}", table, e.what()));
         }
     };
     check(s.reflector, "reflector");

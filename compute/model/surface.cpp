@@ -5,6 +5,8 @@
 #include <numbers>
 #include <stdexcept>
 
+#include "mesh.hpp"
+
 namespace fird {
 
 namespace {
@@ -51,6 +53,9 @@ void basis(double t, double b[4], double db[4]) {
 
 struct Raw {
     double x, y;
+    // Every point of the holder rectangle lies over a triangle (checked at load); the
+    // fallback only catches points a rounding error outside the mesh's rim.
+    double operator()(const MeshFn& f) const { return f.field->height(x, y).value_or(-1e300); }
     double operator()(const PlaneFn& f) const {
         return f.z0 + f.sx * (x - f.cx) + f.sy * (y - f.cy);
     }
@@ -91,6 +96,11 @@ struct Raw {
 
 struct RawGradient {
     double x, y;
+    glm::dvec2 operator()(const MeshFn& f) const {
+        glm::dvec2 g{0.0};
+        (void)f.field->height(x, y, &g);
+        return g;
+    }
     glm::dvec2 operator()(const PlaneFn& f) const { return {f.sx, f.sy}; }
     glm::dvec2 operator()(const ParaboloidFn& f) const {
         return {(x - f.cx) / (2.0 * f.fx), (y - f.cy) / (2.0 * f.fy)};
@@ -148,6 +158,10 @@ struct RawGradient {
 
 struct RawBounds {
     double x0, x1, y0, y1;
+    HeightRange operator()(const MeshFn& f) const {
+        const auto [lo, hi] = f.field->bounds(x0, x1, y0, y1);
+        return {lo, hi};
+    }
     HeightRange operator()(const PlaneFn& f) const {
         const auto a = scaled(f.sx, x0 - f.cx, x1 - f.cx);
         const auto b = scaled(f.sy, y0 - f.cy, y1 - f.cy);
@@ -275,8 +289,12 @@ Surface Surface::make(const ReflectorDesc& r, const Holder& holder) {
                           (h.max_mm.y - h.min_mm.y) / (s.ny - 1), bspline_heights(s, r.parameters)},
                 holder};
     }
-    case Family::Mesh:
-        throw std::invalid_argument("a mesh reflector is not a height function family");
+    case Family::Mesh: {
+        TriangleMesh mesh = load_mesh(r.mesh.resolved_path, r.mesh.unit_mm);
+        return {MeshFn{std::make_shared<const MeshHeightField>(std::move(mesh), holder,
+                                                               r.mesh.resolved_path)},
+                holder};
+    }
     }
     throw std::invalid_argument("unknown reflector family");
 }

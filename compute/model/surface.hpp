@@ -3,6 +3,7 @@
 // over any axis-aligned box (used by the reference tracer to bracket roots safely).
 #pragma once
 
+#include <memory>
 #include <variant>
 #include <vector>
 
@@ -29,6 +30,10 @@ struct CupFn {
 struct FlutedCupFn {
     double a, p, h, w, z0, cx, cy;
 };
+class MeshHeightField;
+struct MeshFn {
+    std::shared_ptr<const MeshHeightField> field;
+};
 struct BSplineFn {
     int nx, ny;
     double x0, y0, dx, dy; // control height (i, j) sits at (x0 + i dx, y0 + j dy)
@@ -37,7 +42,8 @@ struct BSplineFn {
 
 class Surface {
   public:
-    // Throws std::invalid_argument naming the parameter when a value is out of range.
+    // Throws std::invalid_argument naming the parameter when a value is out of range, or
+    // where a mesh is not a height field; std::runtime_error for an unreadable mesh.
     static Surface make(const ReflectorDesc& reflector, const Holder& holder);
 
     double height(double x, double y) const;       // clamped to the holder's z range
@@ -50,7 +56,7 @@ class Surface {
     glm::dvec2 raw_gradient(double x, double y) const;
 
   private:
-    using Fn = std::variant<PlaneFn, ParaboloidFn, CupFn, FlutedCupFn, BSplineFn>;
+    using Fn = std::variant<PlaneFn, ParaboloidFn, CupFn, FlutedCupFn, BSplineFn, MeshFn>;
     Surface(Fn fn, const Holder& holder) : fn_(std::move(fn)), holder_(holder) {}
     Fn fn_;
     Holder holder_;

@@ -24,7 +24,7 @@ TEST_P(SceneRoundTrip, WrittenBackParsesToTheSameScene) {
 INSTANTIATE_TEST_SUITE_P(Scenes, SceneRoundTrip,
                          ::testing::Values("model_a.toml", "model_b.toml", "model_c.toml",
                                            "test/flat_mirror.toml", "test/focused_paraboloid.toml",
-                                           "test/bspline_dish.toml"));
+                                           "test/bspline_dish.toml", "test/mesh_dish.toml"));
 
 TEST(SceneFile, PaperScenesHaveThePaperValues) {
     const Scene a = load_scene(kScenes + "model_a.toml");
