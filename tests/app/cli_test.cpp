@@ -124,4 +124,36 @@ TEST(Cli, TraceOutWritesNpyAndPictures) {
     }
 }
 
+TEST(Cli, BenchWritesTableCsvAndPlot) {
+    const std::string dir = ::testing::TempDir() + "/fird_bench";
+    const auto r = run("bench " + std::string(FIRD_SOURCE_DIR) +
+                       "/scenes/test/flat_mirror.toml --heightfields 40x40,61x37 --rays 2e4 "
+                       "--reference-rays 1e5 --out " +
+                       dir + " 2>/dev/null");
+    ASSERT_EQ(r.code, 0) << r.out;
+    FILE* f = std::fopen((dir + "/bench.csv").c_str(), "r");
+    ASSERT_TRUE(f);
+    char line[1024];
+    int rows = 0;
+    ASSERT_TRUE(std::fgets(line, sizeof line, f));
+    EXPECT_NE(std::string(line).find("trace_ms"), std::string::npos);
+    while (std::fgets(line, sizeof line, f)) {
+        ++rows;
+        // l2 and noise are positive and finite; no aborted rays.
+        const std::string row = line;
+        EXPECT_EQ(row.substr(row.rfind(',') + 1), "0\n") << row;
+    }
+    std::fclose(f);
+    EXPECT_EQ(rows, 4); // 2 height fields x 1 ray count x 2 hit modes
+    FILE* png = std::fopen((dir + "/bench.png").c_str(), "rb");
+    EXPECT_TRUE(png);
+    if (png) std::fclose(png);
+}
+
+TEST(Cli, BenchRejectsMalformedLists) {
+    EXPECT_EQ(run("bench --heightfields 300by200").code, 1);
+    EXPECT_EQ(run("bench --rays lots").code, 1);
+    EXPECT_EQ(run("bench --modes fast").code, 1);
+}
+
 } // namespace

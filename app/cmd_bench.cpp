@@ -1,0 +1,100 @@
+// fird bench: run time against error for the fast path (table, CSV, plot).
+#include <cstdio>
+#include <filesystem>
+#include <sstream>
+
+#include <fmt/format.h>
+
+#include "bench/bench.hpp"
+#include "commands.hpp"
+
+namespace fird::app {
+
+namespace {
+std::vector<std::string> split(const std::string& s) {
+    std::vector<std::string> out;
+    std::stringstream ss(s);
+    for (std::string item; std::getline(ss, item, ',');)
+        if (!item.empty()) out.push_back(item);
+    return out;
+}
+} // namespace
+
+void register_bench(CLI::App& app, const GlobalOptions& global, std::function<int()>& run) {
+    auto* cmd = app.add_subcommand("bench", "Run time against error of the fast path");
+    struct Args {
+        std::vector<std::string> scenes{"scenes/model_a.toml", "scenes/model_b.toml",
+                                        "scenes/model_c.toml"};
+        std::string heightfields = "300x200,600x400,1200x800,2400x1600";
+        std::string rays = "1e5,1e6,1e7";
+        std::string modes = "paper,refined";
+        double reference_rays = 2e6;
+        std::string out = "bench_out";
+    };
+    auto a = std::make_shared<Args>();
+    cmd->add_option("SCENES", a->scenes, "Scene files (default: the paper's three)");
+    cmd->add_option("--heightfields", a->heightfields, "Comma-separated WxH sizes");
+    cmd->add_option("--rays", a->rays, "Comma-separated ray counts (1e5 style allowed)");
+    cmd->add_option("--modes", a->modes, "paper, refined or both");
+    cmd->add_option("--reference-rays", a->reference_rays, "Rays of the CPU reference per scene");
+    cmd->add_option("--out", a->out, "Directory for bench.csv, bench.md and bench.png");
+    cmd->callback([&global, &run, a] {
+        run = [&global, a] {
+            BenchOptions o;
+            o.scenes = a->scenes;
+            o.heightfields.clear();
+            for (const auto& wh : split(a->heightfields)) {
+                unsigned w = 0, h = 0;
+                char x = 0;
+                std::istringstream is(wh);
+                if (!(is >> w >> x >> h) || x != 'x' || w == 0 || h == 0)
+                    throw std::invalid_argument(fmt::format("--heightfields: '{}' is not WxH", wh));
+                o.heightfields.emplace_back(w, h);
+            }
+            o.rays.clear();
+            for (const auto& r : split(a->rays)) {
+                double v = 0;
+                try {
+                    v = std::stod(r);
+                } catch (const std::exception&) {
+                    throw std::invalid_argument(fmt::format("--rays: '{}' is not a number", r));
+                }
+                if (!(v >= 1 && v < 4e9))
+                    throw std::invalid_argument(fmt::format("--rays: {} out of range", r));
+                o.rays.push_back(std::uint64_t(v));
+            }
+            o.modes.clear();
+            for (const auto& m : split(a->modes)) {
+                if (m != "paper" && m != "refined")
+                    throw std::invalid_argument(
+                        fmt::format("--modes: '{}' is not paper or refined", m));
+                o.modes.push_back(m == "paper" ? HitMode::Paper : HitMode::Refined);
+            }
+            if (!(a->reference_rays >= 1))
+                throw std::invalid_argument("--reference-rays must be >= 1");
+            o.reference_rays = std::uint64_t(a->reference_rays);
+            const auto ctx = vk::Context::create(
+                {.validation = global.validation, .device_name = global.device_name});
+            const auto rows = run_bench(ctx, o, [](const BenchRow& r) {
+                std::fprintf(stderr, "bench: %s %ux%u %.0e %s: trace %.1f ms, l2 %.4f lm\n",
+                             r.scene.c_str(), r.hf_w, r.hf_h, double(r.rays), r.mode.c_str(),
+                             r.trace_ms, r.l2_lm);
+            });
+            std::filesystem::create_directories(a->out);
+            const std::string md =
+                bench_markdown(rows, ctx.summary().name + " (" + ctx.summary().driver_info + ")");
+            std::printf("%s", md.c_str());
+            write_bench_csv(a->out + "/bench.csv", rows);
+            FILE* f = std::fopen((a->out + "/bench.md").c_str(), "w");
+            if (!f) throw std::runtime_error(a->out + "/bench.md: cannot open for writing");
+            std::fputs(md.c_str(), f);
+            std::fclose(f);
+            write_bench_plot(a->out + "/bench.png", rows);
+            std::fprintf(stderr, "bench: wrote %s/bench.csv, bench.md, bench.png\n",
+                         a->out.c_str());
+            return 0;
+        };
+    });
+}
+
+} // namespace fird::app

@@ -1,0 +1,155 @@
+#include "bench.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <functional>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+#include "fastpath/fast_tracer.hpp"
+#include "io/raster.hpp"
+#include "io/scene_file.hpp"
+#include "reference/reference_tracer.hpp"
+
+namespace fird {
+
+std::vector<BenchRow> run_bench(const vk::Context& ctx, const BenchOptions& o,
+                                const std::function<void(const BenchRow&)>& progress) {
+    std::vector<BenchRow> rows;
+    for (const std::string& path : o.scenes) {
+        const Scene base = load_scene(path);
+        // One reference per scene: its far field and the cell probabilities for the noise.
+        const auto ref = trace_reference(base.source, Surface::make(base.reflector, base.holder),
+                                         {.rays = o.reference_rays,
+                                          .seed = base.trace.seed + 1000,
+                                          .sampler = SamplerKind::Random,
+                                          .max_bounces = base.trace.max_bounces,
+                                          .bounce_policy = base.trace.bounce_policy,
+                                          .farfield_w = base.trace.farfield_w,
+                                          .farfield_h = base.trace.farfield_h});
+        double sum_p = 0.0;
+        for (double v : ref.farfield.lm) {
+            const double p = v / base.source.flux_lm;
+            sum_p += p * (1.0 - p);
+        }
+        for (const auto& [w, h] : o.heightfields)
+            for (std::uint64_t n : o.rays)
+                for (HitMode mode : o.modes) {
+                    Scene s = base;
+                    s.trace.heightfield_w = w;
+                    s.trace.heightfield_h = h;
+                    s.trace.rays = n;
+                    s.trace.hit_mode = mode;
+                    FastTracer tracer(ctx, s, s.trace.seed);
+                    tracer.set_reflector(s.reflector);
+                    const FastRun run = tracer.run();
+                    const FarField f{s.trace.farfield_w, s.trace.farfield_h,
+                                     tracer.read_farfield()};
+                    BenchRow r{.scene = base.name,
+                               .hf_w = w,
+                               .hf_h = h,
+                               .rays = n,
+                               .effective = run.tally.emitted - run.tally.discarded,
+                               .aborted = run.aborted,
+                               .mode = mode == HitMode::Paper ? "paper" : "refined",
+                               .rayset_ms = run.timings.rayset_ms,
+                               .heightfield_ms = run.timings.heightfield_ms,
+                               .trace_ms = run.timings.trace_ms,
+                               .histogram_ms = run.timings.histogram_ms};
+                    const ReducePass reduce(ctx);
+                    vk::Buffer ref_lm(ctx, ref.farfield.lm.size() * 4, vk::kStorageUsage,
+                                      vk::MemoryUse::Device, "fird.bench.reference");
+                    const std::vector<float> ref_f(ref.farfield.lm.begin(), ref.farfield.lm.end());
+                    ref_lm.upload(ctx, std::span<const float>(ref_f));
+                    r.l2_lm = device_l2(ctx, reduce, tracer.farfield_lm(), ref_lm,
+                                        tracer.farfield_cells(), &r.compare_ms);
+                    (void)f;
+                    r.noise_lm =
+                        base.source.flux_lm *
+                        std::sqrt(sum_p * (1.0 / double(n) + 1.0 / double(o.reference_rays)));
+                    r.rays_per_s = r.trace_ms > 0 ? double(r.effective) / (r.trace_ms * 1e-3) : 0.0;
+                    rows.push_back(r);
+                    if (progress) progress(r);
+                }
+    }
+    return rows;
+}
+
+std::string bench_markdown(const std::vector<BenchRow>& rows, const std::string& device) {
+    std::string s = fmt::format("Device: {}\n\n", device);
+    s += "| scene | height field | rays | mode | rayset ms | height field ms | trace ms | "
+         "histogram ms | compare ms | M rays/s | l2 lm | noise lm | l2/noise | aborted |\n";
+    s += "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+    for (const BenchRow& r : rows)
+        s += fmt::format(
+            "| {} | {}x{} | {:.0e} | {} | {:.1f} | {:.1f} | {:.1f} | {:.1f} | {:.1f} | "
+            "{:.2f} | {:.4f} | {:.4f} | {:.2f} | {} |\n",
+            r.scene, r.hf_w, r.hf_h, double(r.rays), r.mode, r.rayset_ms, r.heightfield_ms,
+            r.trace_ms, r.histogram_ms, r.compare_ms, r.rays_per_s * 1e-6, r.l2_lm, r.noise_lm,
+            r.noise_lm > 0 ? r.l2_lm / r.noise_lm : 0.0, r.aborted);
+    return s;
+}
+
+void write_bench_csv(const std::string& path, const std::vector<BenchRow>& rows) {
+    std::ofstream out(path);
+    if (!out) throw std::runtime_error(path + ": cannot open for writing");
+    out << "scene,heightfield_w,heightfield_h,rays,effective,mode,rayset_ms,heightfield_ms,"
+           "trace_ms,histogram_ms,compare_ms,rays_per_s,l2_lm,noise_lm,aborted\n";
+    for (const BenchRow& r : rows)
+        out << fmt::format(
+            "{},{},{},{},{},{},{:.3f},{:.3f},{:.3f},{:.3f},{:.3f},{:.1f},{:.6g},{:.6g},{}\n",
+            r.scene, r.hf_w, r.hf_h, r.rays, r.effective, r.mode, r.rayset_ms, r.heightfield_ms,
+            r.trace_ms, r.histogram_ms, r.compare_ms, r.rays_per_s, r.l2_lm, r.noise_lm, r.aborted);
+    if (!out) throw std::runtime_error(path + ": write failed");
+}
+
+void write_bench_plot(const std::string& path, const std::vector<BenchRow>& rows) {
+    constexpr int kW = 900, kH = 600, kL = 90, kB = 60, kT = 40, kR = 200;
+    Raster img(kW, kH, {255, 255, 255});
+    const Rgb ink{20, 20, 20};
+    double tmin = 1e300, tmax = 1e-300, emin = 1e300, emax = 1e-300;
+    for (const BenchRow& r : rows) {
+        const double t = std::max(r.trace_ms, 1e-3), e = std::max(r.l2_lm, 1e-9);
+        tmin = std::min(tmin, t), tmax = std::max(tmax, t);
+        emin = std::min(emin, e), emax = std::max(emax, e);
+    }
+    if (rows.empty()) tmin = emin = 1, tmax = emax = 10;
+    const double lt0 = std::floor(std::log10(tmin)),
+                 lt1 = std::ceil(std::log10(tmax)) + (tmin == tmax);
+    const double le0 = std::floor(std::log10(emin)),
+                 le1 = std::ceil(std::log10(emax)) + (emin == emax);
+    const auto px = [&](double t) {
+        return kL + int((std::log10(t) - lt0) / (lt1 - lt0) * (kW - kL - kR));
+    };
+    const auto py = [&](double e) {
+        return kH - kB - int((std::log10(e) - le0) / (le1 - le0) * (kH - kB - kT));
+    };
+    img.fill_rect(kL, kT, kL + 1, kH - kB, ink);
+    img.fill_rect(kL, kH - kB, kW - kR, kH - kB + 1, ink);
+    for (double d = lt0; d <= lt1; ++d) {
+        const int x = px(std::pow(10.0, d));
+        img.fill_rect(x, kH - kB, x + 1, kH - kB + 6, ink);
+        img.text(x - 12, kH - kB + 10, fmt::format("1e{}", int(d)), ink);
+    }
+    for (double d = le0; d <= le1; ++d) {
+        const int y = py(std::pow(10.0, d));
+        img.fill_rect(kL - 6, y, kL, y + 1, ink);
+        img.text(kL - 60, y - 6, fmt::format("1e{}", int(d)), ink);
+    }
+    img.text(kL + 150, kH - 24, "trace stage time (ms, log)", ink);
+    img.text(8, 10, "l2 to the reference far field (lm, log)", ink);
+    const Rgb paper{200, 60, 30}, refined{30, 90, 200};
+    for (const BenchRow& r : rows) {
+        const int x = px(std::max(r.trace_ms, 1e-3)), y = py(std::max(r.l2_lm, 1e-9));
+        img.fill_rect(x - 3, y - 3, x + 4, y + 4, r.mode == "paper" ? paper : refined);
+    }
+    img.fill_rect(kW - kR + 20, kT + 10, kW - kR + 30, kT + 20, paper);
+    img.text(kW - kR + 36, kT + 8, "paper hit mode", ink);
+    img.fill_rect(kW - kR + 20, kT + 34, kW - kR + 30, kT + 44, refined);
+    img.text(kW - kR + 36, kT + 32, "refined hit mode", ink);
+    img.write_png(path);
+}
+
+} // namespace fird

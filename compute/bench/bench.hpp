@@ -1,0 +1,45 @@
+// `fird bench`: run time against error for the fast path, over height-field sizes, ray
+// counts, hit modes and scenes, with l2 to a CPU reference and the noise expected.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "model/scene.hpp"
+#include "vk/context.hpp"
+
+namespace fird {
+
+struct BenchOptions {
+    std::vector<std::string> scenes;
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> heightfields{
+        {300, 200}, {600, 400}, {1200, 800}, {2400, 1600}};
+    std::vector<std::uint64_t> rays{100000, 1000000, 10000000};
+    std::vector<HitMode> modes{HitMode::Paper, HitMode::Refined};
+    std::uint64_t reference_rays = 2000000;
+};
+
+struct BenchRow {
+    std::string scene;
+    std::uint32_t hf_w = 0, hf_h = 0;
+    std::uint64_t rays = 0, effective = 0, aborted = 0;
+    std::string mode;
+    double rayset_ms = 0, heightfield_ms = 0, trace_ms = 0, histogram_ms = 0, compare_ms = 0;
+    double rays_per_s = 0; // effective rays per second of trace stage
+    double l2_lm = 0;      // to the reference far field
+    double noise_lm = 0;   // the l2 expected from Monte Carlo noise alone
+};
+
+// Runs every combination; `progress` (may be empty) is called after each row.
+std::vector<BenchRow> run_bench(const vk::Context& ctx, const BenchOptions& options,
+                                const std::function<void(const BenchRow&)>& progress);
+
+std::string bench_markdown(const std::vector<BenchRow>& rows, const std::string& device);
+void write_bench_csv(const std::string& path, const std::vector<BenchRow>& rows);
+// Trace time against l2 / noise, log-log, one colour per hit mode.
+void write_bench_plot(const std::string& path, const std::vector<BenchRow>& rows);
+
+} // namespace fird
