@@ -58,6 +58,16 @@ struct Walk {
 
 vec2 texel_pos(Walk w, float t) { return w.O + t * w.D; }
 
+// The texel under texel-space point q, never behind `current` along the direction of
+// travel: beyond 2048 texels a float's ulp (2.4e-4 texel) exceeds any small bias, and a
+// position re-derived at a face just crossed could otherwise put the ray back across it
+// (and cycle between a cell and its parent).
+ivec2 texel_ahead(Walk w, vec2 q, ivec2 current) {
+    const ivec2 f = ivec2(floor(q));
+    return ivec2(w.D.x > 0.0 ? max(f.x, current.x) : (w.D.x < 0.0 ? min(f.x, current.x) : f.x),
+                 w.D.y > 0.0 ? max(f.y, current.y) : (w.D.y < 0.0 ? min(f.y, current.y) : f.y));
+}
+
 // The first root of the ray against the bilinear surface over the texel `cell` within
 // [ta, tb], as a fraction-free t; returns -1 when there is none.
 float refine_in_texel(Walk w, ivec2 cell, float ta, float tb, float t_ignore) {
@@ -170,21 +180,20 @@ int rqrm(Walk w, float t_start, ivec2 skip_texel, out float t_hit, out ivec2 hit
             if (w.d.z < 0.0 && z_in > h) t = max(t, (h - w.o.z) / w.d.z);
             --level;
             const ivec2 child_lo = cell << 1;
-            const vec2 q = texel_pos(w, t) + bias;
+            const ivec2 ahead = texel_ahead(w, texel_pos(w, t) + bias, texel);
             const ivec2 span = ivec2(1 << level);
-            const ivec2 child = clamp(ivec2(floor(q / vec2(span))), child_lo, child_lo + 1);
+            const ivec2 child = clamp(ahead / span, child_lo, child_lo + 1);
             // Keep the texel inside the child cell (and inside the texture).
-            texel = clamp(ivec2(floor(q)), child * span, min((child + 1) * span, size) - 1);
+            texel = clamp(ahead, child * span, min((child + 1) * span, size) - 1);
             continue;
         }
         // Algorithm 4 lines 11-13: no hit under this node: move to the neighbour across
         // the face the ray leaves through, then go up a level.
         if (t_exit >= t_end) return kMiss;
         t = t_exit;
-        const vec2 q = texel_pos(w, t) + bias;
         const ivec2 cell_lo = cell << level;
         const ivec2 cell_hi = min((cell + 1) << level, size) - 1;
-        ivec2 next = clamp(ivec2(floor(q)), cell_lo, cell_hi);
+        ivec2 next = clamp(texel_ahead(w, texel_pos(w, t) + bias, texel), cell_lo, cell_hi);
         if (tx <= ty) next.x = w.D.x > 0.0 ? cell_hi.x + 1 : cell_lo.x - 1;
         if (ty <= tx) next.y = w.D.y > 0.0 ? cell_hi.y + 1 : cell_lo.y - 1;
         if (any(lessThan(next, ivec2(0))) || any(greaterThanEqual(next, size))) return kMiss;
