@@ -106,7 +106,7 @@ void write_bench_csv(const std::string& path, const std::vector<BenchRow>& rows)
 }
 
 void write_bench_plot(const std::string& path, const std::vector<BenchRow>& rows) {
-    constexpr int kW = 900, kH = 600, kL = 90, kB = 60, kT = 40, kR = 200;
+    constexpr int kW = 960, kH = 600, kL = 90, kB = 60, kT = 40, kR = 240;
     Raster img(kW, kH, {255, 255, 255});
     const Rgb ink{20, 20, 20};
     double tmin = 1e300, tmax = 1e-300, emin = 1e300, emax = 1e-300;
