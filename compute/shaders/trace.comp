@@ -143,62 +143,92 @@ int rqrm(Walk w, float t_start, ivec2 skip_texel, out float t_hit, out ivec2 hit
 
     const int top = int(P.levels) - 1;
     int level = top;
-    for (uint step = 0u; step < P.max_steps; ++step) {
-        const ivec2 cell = texel >> level;
-        const float cell_size = float(1 << level);
-        const vec2 lo = vec2(cell) * cell_size;
-        const vec2 hi = min(lo + cell_size, vec2(size));
-        const float tx = w.D.x > 0.0 ? (hi.x - w.O.x) / w.D.x : (w.D.x < 0.0 ? (lo.x - w.O.x) / w.D.x : 3.0e38);
-        const float ty = w.D.y > 0.0 ? (hi.y - w.O.y) / w.D.y : (w.D.y < 0.0 ? (lo.y - w.O.y) / w.D.y : 3.0e38);
-        const float t_exit = min(min(tx, ty), t_end);
-        const float h = pyramid[P.level_offset[level] + uint(cell.y) * P.level_w[level] + uint(cell.x)];
-        const float z_in = w.o.z + t * w.d.z;
-        const float z_out = w.o.z + max(t_exit, t) * w.d.z;
-        bool below = min(z_in, z_out) <= h;
-        if (below && level == 0) {
-            // Algorithm 1 lines 13-15 (paper) or the refined surface.
-            if (texel == skip_texel && P.hit_mode == kHitModePaper) {
-                below = false; // the texel the ray reflected from
-            } else if (P.hit_mode == kHitModePaper) {
+    // The node's row in the quadtree buffer follows the level by integer arithmetic
+    // (level l is ceil(W / 2^l) x ceil(H / 2^l) nodes, stored after the finer levels):
+    // indexing the parameter tables by a per-ray level costs a gather on CPU drivers.
+    uint level_offset = P.level_offset[top];
+    uint level_w = P.level_w[top];
+    // CPU drivers (lavapipe) run both sides of every branch under a lane mask, so the
+    // inner loop holds only the walk: it stops at a candidate texel (level 0, the ray
+    // dips below its height) and the leaf test runs outside it, once per candidate.
+    bool across = false; // the candidate was not a hit: leave the texel
+    uint step = 0u;
+    while (step < P.max_steps) {
+        bool candidate = false;
+        float cand_t_exit = t;
+        for (; step < P.max_steps; ++step) {
+            const ivec2 cell = texel >> level;
+            const float cell_size = float(1 << level);
+            const vec2 lo = vec2(cell) * cell_size;
+            const vec2 hi = min(lo + cell_size, vec2(size));
+            const float tx = w.D.x > 0.0 ? (hi.x - w.O.x) / w.D.x : (w.D.x < 0.0 ? (lo.x - w.O.x) / w.D.x : 3.0e38);
+            const float ty = w.D.y > 0.0 ? (hi.y - w.O.y) / w.D.y : (w.D.y < 0.0 ? (lo.y - w.O.y) / w.D.y : 3.0e38);
+            const float t_exit = min(min(tx, ty), t_end);
+            const float h = pyramid[level_offset + uint(cell.y) * level_w + uint(cell.x)];
+            const float z_in = w.o.z + t * w.d.z;
+            const float z_out = w.o.z + max(t_exit, t) * w.d.z;
+            const bool below = !across && min(z_in, z_out) <= h;
+            across = false;
+            if (below && level == 0) {
+                candidate = true;
+                cand_t_exit = max(t_exit, t);
+                ++step;
+                break;
+            }
+            if (below) {
+                // Algorithm 4 lines 1-6: the ray reaches the node's height inside the
+                // node: advance to that height and go down one level.
+                if (w.d.z < 0.0 && z_in > h) t = max(t, (h - w.o.z) / w.d.z);
+                --level;
+                const uint round_up = (1u << level) - 1u;
+                level_w = (P.hf_w + round_up) >> level;
+                level_offset -= level_w * ((P.hf_h + round_up) >> level);
+                const ivec2 child_lo = cell << 1;
+                const ivec2 ahead = texel_ahead(w, texel_pos(w, t) + bias, texel);
+                const ivec2 span = ivec2(1 << level);
+                const ivec2 child = clamp(ahead >> level, child_lo, child_lo + 1);
+                // Keep the texel inside the child cell (and inside the texture).
+                texel = clamp(ahead, child * span, min((child + 1) * span, size) - 1);
+                continue;
+            }
+            // Algorithm 4 lines 11-13: no hit under this node: move to the neighbour
+            // across the face the ray leaves through, then go up a level.
+            if (t_exit >= t_end) return kMiss;
+            t = t_exit;
+            const ivec2 cell_lo = cell << level;
+            const ivec2 cell_hi = min((cell + 1) << level, size) - 1;
+            ivec2 next = clamp(texel_ahead(w, texel_pos(w, t) + bias, texel), cell_lo, cell_hi);
+            if (tx <= ty) next.x = w.D.x > 0.0 ? cell_hi.x + 1 : cell_lo.x - 1;
+            if (ty <= tx) next.y = w.D.y > 0.0 ? cell_hi.y + 1 : cell_lo.y - 1;
+            if (any(lessThan(next, ivec2(0))) || any(greaterThanEqual(next, size))) return kMiss;
+            texel = next;
+            if (level < top) {
+                const uint round_up = (1u << level) - 1u;
+                level_offset += level_w * ((P.hf_h + round_up) >> level);
+                level_w = (level_w + 1u) >> 1;
+                ++level;
+            }
+        }
+        if (!candidate) break;
+        // Algorithm 1 lines 13-15 (paper) or the refined surface.
+        if (P.hit_mode == kHitModePaper) {
+            if (texel != skip_texel) { // not the texel the ray reflected from
+                const float h = heights[uint(texel.y) * P.hf_w + uint(texel.x)];
+                const float z_in = w.o.z + t * w.d.z;
                 t_hit = (w.d.z < 0.0 && z_in > h) ? max(t, (h - w.o.z) / w.d.z) : t;
                 hit_texel = texel;
                 return kHit;
-            } else {
-                const float t_ignore = texel == skip_texel ? t_start + 1e-3 : -1.0;
-                const float th = refine_in_texel(w, texel, t, max(t_exit, t), t_ignore);
-                if (th >= 0.0) {
-                    t_hit = th;
-                    hit_texel = texel;
-                    return kHit;
-                }
-                below = false;
+            }
+        } else {
+            const float t_ignore = texel == skip_texel ? t_start + 1e-3 : -1.0;
+            const float th = refine_in_texel(w, texel, t, cand_t_exit, t_ignore);
+            if (th >= 0.0) {
+                t_hit = th;
+                hit_texel = texel;
+                return kHit;
             }
         }
-        if (below) {
-            // Algorithm 4 lines 1-6: the ray reaches the node's height inside the node:
-            // advance to that height and go down one level.
-            if (w.d.z < 0.0 && z_in > h) t = max(t, (h - w.o.z) / w.d.z);
-            --level;
-            const ivec2 child_lo = cell << 1;
-            const ivec2 ahead = texel_ahead(w, texel_pos(w, t) + bias, texel);
-            const ivec2 span = ivec2(1 << level);
-            const ivec2 child = clamp(ahead / span, child_lo, child_lo + 1);
-            // Keep the texel inside the child cell (and inside the texture).
-            texel = clamp(ahead, child * span, min((child + 1) * span, size) - 1);
-            continue;
-        }
-        // Algorithm 4 lines 11-13: no hit under this node: move to the neighbour across
-        // the face the ray leaves through, then go up a level.
-        if (t_exit >= t_end) return kMiss;
-        t = t_exit;
-        const ivec2 cell_lo = cell << level;
-        const ivec2 cell_hi = min((cell + 1) << level, size) - 1;
-        ivec2 next = clamp(texel_ahead(w, texel_pos(w, t) + bias, texel), cell_lo, cell_hi);
-        if (tx <= ty) next.x = w.D.x > 0.0 ? cell_hi.x + 1 : cell_lo.x - 1;
-        if (ty <= tx) next.y = w.D.y > 0.0 ? cell_hi.y + 1 : cell_lo.y - 1;
-        if (any(lessThan(next, ivec2(0))) || any(greaterThanEqual(next, size))) return kMiss;
-        texel = next;
-        level = min(level + 1, top);
+        across = true;
     }
     return kAborted;
 }
