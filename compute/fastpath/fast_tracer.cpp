@@ -40,14 +40,15 @@ double ms_since(std::chrono::steady_clock::time_point t0) {
 FastTracer::FastTracer(const vk::Context& ctx, const Scene& scene, std::uint64_t seed,
                        std::uint64_t max_batch_rays)
     : ctx_(&ctx), scene_(scene), params_(scene_params(scene, seed)),
+      spec_(specialization(params_, scene.reflector.family)),
       rayset_pipeline_(ctx, fird_spv_rayset_comp, {kSB, kSB, kSB}, sizeof(gpu::RaysetPush),
-                       "fird.rayset"),
+                       "fird.rayset", spec_),
       heightfield_pipeline_(ctx, fird_spv_heightfield_comp, {kSB, kSB, kSB, kSB}, 0,
-                            "fird.heightfield"),
+                            "fird.heightfield", spec_),
       maxmip_pipeline_(ctx, fird_spv_maxmip_comp, {kSB, kSB, kSB}, sizeof(gpu::MaxMipPush),
                        "fird.maxmip"),
       trace_pipeline_(ctx, fird_spv_trace_comp, {kSB, kSB, kSB, kSB, kSB, kSB, kSB, kSB, kSB},
-                      sizeof(gpu::TracePush), "fird.trace"),
+                      sizeof(gpu::TracePush), "fird.trace", spec_),
       to_lm_pipeline_(ctx, fird_spv_counts_to_lm_comp, {kSB, kSB}, sizeof(ToLmPush),
                       "fird.counts_to_lm"),
       timer_(ctx) {
@@ -93,6 +94,8 @@ void FastTracer::upload_params() {
 
 void FastTracer::set_reflector(const ReflectorDesc& reflector) {
     if (reflector_ && *reflector_ == reflector) return; // height field is current
+    if (gpu_family(reflector.family) != spec_[FIRD_SPEC_FAMILY])
+        throw std::invalid_argument("the fast path's pipelines were built for another family");
     const std::vector<float> control = set_reflector_params(params_, reflector);
     if (!control.empty()) {
         control_ = vk::Buffer(*ctx_, control.size() * 4, vk::kStorageUsage, vk::MemoryUse::Device,

@@ -65,6 +65,7 @@ class FastTracer {
     std::uint64_t cached_effective_ = 0;
     bool heightfield_dirty_ = true;
 
+    std::array<std::uint32_t, FIRD_SPEC_COUNT> spec_; // the scene's fixed shader choices
     vk::ComputePipeline rayset_pipeline_, heightfield_pipeline_, maxmip_pipeline_, trace_pipeline_,
         to_lm_pipeline_;
     vk::Buffer params_buffer_, counters_, rays_cache_, rays_ping_, rays_pong_, hits_;

@@ -81,32 +81,47 @@ gpu::SceneParams scene_params(const Scene& s, std::uint64_t seed) {
     return p;
 }
 
+std::uint32_t gpu_family(Family family) {
+    switch (family) {
+    case Family::Plane:
+        return gpu::kFamilyPlane;
+    case Family::Paraboloid:
+        return gpu::kFamilyParaboloid;
+    case Family::Cup:
+        return gpu::kFamilyCup;
+    case Family::FlutedCup:
+        return gpu::kFamilyFlutedCup;
+    case Family::BSpline:
+        return gpu::kFamilyBSpline;
+    case Family::Mesh:
+        return gpu::kFamilyTexture;
+    }
+    throw std::invalid_argument("unknown reflector family");
+}
+
+std::array<std::uint32_t, FIRD_SPEC_COUNT> specialization(const gpu::SceneParams& p,
+                                                          Family family) {
+    std::array<std::uint32_t, FIRD_SPEC_COUNT> spec{};
+    spec[FIRD_SPEC_SOURCE_KIND] = p.source_kind;
+    spec[FIRD_SPEC_SAMPLER_KIND] = p.sampler_kind;
+    spec[FIRD_SPEC_FAMILY] = gpu_family(family);
+    spec[FIRD_SPEC_HIT_MODE] = p.hit_mode;
+    spec[FIRD_SPEC_STRICT_POLICY] = p.strict_policy;
+    return spec;
+}
+
 std::vector<float> set_reflector_params(gpu::SceneParams& p, const ReflectorDesc& r) {
     const auto get = [&](const char* name) { return float(r.parameters.at(name)); };
     std::fill(std::begin(p.params), std::end(p.params), 0.0f);
     const auto names = family_parameters(r.family);
-    switch (r.family) {
-    case Family::Plane:
-        p.family = gpu::kFamilyPlane;
-        break;
-    case Family::Paraboloid:
-        p.family = gpu::kFamilyParaboloid;
-        break;
-    case Family::Cup:
-        p.family = gpu::kFamilyCup;
-        break;
-    case Family::FlutedCup:
-        p.family = gpu::kFamilyFlutedCup;
-        break;
-    case Family::BSpline: {
-        p.family = gpu::kFamilyBSpline;
+    p.family = gpu_family(r.family);
+    if (r.family == Family::Mesh)
+        throw std::invalid_argument("mesh reflectors are rasterized, not evaluated");
+    if (r.family == Family::BSpline) {
         p.bspline_nx = std::uint32_t(r.bspline.nx);
         p.bspline_ny = std::uint32_t(r.bspline.ny);
         const auto h = bspline_heights(r.bspline, r.parameters);
         return {h.begin(), h.end()};
-    }
-    case Family::Mesh:
-        throw std::invalid_argument("mesh reflectors are rasterized, not evaluated");
     }
     for (std::size_t k = 0; k < names.size(); ++k)
         p.params[k] = get(names[k].c_str());

@@ -10,6 +10,13 @@
 
 layout(std430, binding = kBindParams) readonly buffer Params { SceneParams P; };
 
+// The scene's fixed choices (SceneParams holds the same values for the host).
+layout(constant_id = FIRD_SPEC_SOURCE_KIND) const uint kSourceKind = 0u;
+layout(constant_id = FIRD_SPEC_SAMPLER_KIND) const uint kSamplerKind = 0u;
+layout(constant_id = FIRD_SPEC_FAMILY) const uint kFamily = 0u;
+layout(constant_id = FIRD_SPEC_HIT_MODE) const uint kHitMode = 0u;
+layout(constant_id = FIRD_SPEC_STRICT_POLICY) const uint kStrictPolicy = 0u;
+
 const float kPi = 3.14159265358979;
 
 struct Ray {
@@ -43,7 +50,7 @@ uint lk_permute(uint x, uint seed) {
 uint owen_scramble(uint x, uint seed) { return bitfieldReverse(lk_permute(bitfieldReverse(x), seed)); }
 
 vec4 ray_uniforms(uint index_lo, uint index_hi) {
-    if (P.sampler_kind == 0u) return to_unit(philox(uvec4(index_lo, index_hi, 0u, 0u), uvec2(P.seed_lo, P.seed_hi)));
+    if (kSamplerKind == 0u) return to_unit(philox(uvec4(index_lo, index_hi, 0u, 0u), uvec2(P.seed_lo, P.seed_hi)));
     const uint i = owen_scramble(index_lo, P.sobol_scramble[4]);
     uvec4 x = uvec4(0u);
     for (uint b = 0u; b < 32u; ++b) {
@@ -84,18 +91,18 @@ Ray sample_source(vec4 u) {
     const vec3 c = vec3(P.source_center[0], P.source_center[1], P.source_center[2]);
     const vec3 axis = normalize(vec3(P.source_axis[0], P.source_axis[1], P.source_axis[2]));
     Ray r;
-    if (P.source_kind == kSourceCylinder) {
+    if (kSourceKind == kSourceCylinder) {
         vec3 t, b;
         onb(axis, t, b);
         const float phi = 2.0 * kPi * u.y;
         const vec3 n = cos(phi) * t + sin(phi) * b;
         r.origin = vec4(c + (u.x - 0.5) * P.source_length * axis + P.source_radius * n, 0.0);
         r.direction = vec4(cosine_direction(n, u.z, u.w), 0.0);
-    } else if (P.source_kind == kSourceSphere) {
+    } else if (kSourceKind == kSourceSphere) {
         const vec3 n = uniform_sphere(u.x, u.y);
         r.origin = vec4(c + P.source_radius * n, 0.0);
         r.direction = vec4(cosine_direction(n, u.z, u.w), 0.0);
-    } else if (P.source_kind == kSourcePointCosine) {
+    } else if (kSourceKind == kSourcePointCosine) {
         r.origin = vec4(c, 0.0);
         r.direction = vec4(cosine_direction(axis, u.x, u.y), 0.0);
     } else {

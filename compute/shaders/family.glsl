@@ -8,7 +8,7 @@ float spow(float x, float p) { return x <= 0.0 ? 0.0 : pow(x, p); }
 // params: plane (z0, sx, sy, cx, cy); paraboloid (fx, fy, z0, cx, cy);
 // cup (a, b, p, h, z0, cx, cy); fluted cup (a, p, h, w, z0, cx, cy).
 vec3 family_height_gradient(float x, float y) {
-    const uint f = P.family;
+    const uint f = kFamily;
     if (f == kFamilyPlane) {
         return vec3(P.params[0] + P.params[1] * (x - P.params[3]) + P.params[2] * (y - P.params[4]),
                     P.params[1], P.params[2]);

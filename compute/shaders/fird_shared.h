@@ -62,6 +62,16 @@ FIRD_CONSTANT(uint, kSourcePointCosine, 3u);
 FIRD_CONSTANT(uint, kHitModePaper, 0u);
 FIRD_CONSTANT(uint, kHitModeRefined, 1u);
 
+// Specialization constant ids: what a scene fixes for the life of its pipelines. The
+// shaders branch on these, not on SceneParams' copies, so the driver folds the branches
+// away (CPU drivers such as lavapipe otherwise run every side of a branch, masked).
+#define FIRD_SPEC_SOURCE_KIND 0
+#define FIRD_SPEC_SAMPLER_KIND 1
+#define FIRD_SPEC_FAMILY 2
+#define FIRD_SPEC_HIT_MODE 3
+#define FIRD_SPEC_STRICT_POLICY 4
+#define FIRD_SPEC_COUNT 5
+
 // Bindings of the fast-path passes.
 FIRD_CONSTANT(uint, kBindParams, 0u);
 FIRD_CONSTANT(uint, kRaysetBindRays, 1u);

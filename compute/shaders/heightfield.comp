@@ -42,7 +42,7 @@ void main() {
     const vec3 lo = holder_min(), hi = holder_max();
     const vec2 texel = (hi.xy - lo.xy) / vec2(P.hf_w, P.hf_h);
     const uint index = p.y * P.hf_w + p.x;
-    if (P.family == kFamilyTexture) {
+    if (kFamily == kFamilyTexture) {
         const uint x0 = p.x > 0u ? p.x - 1u : p.x, x1 = min(p.x + 1u, P.hf_w - 1u);
         const uint y0 = p.y > 0u ? p.y - 1u : p.y, y1 = min(p.y + 1u, P.hf_h - 1u);
         const float gx = (heights[p.y * P.hf_w + x1] - heights[p.y * P.hf_w + x0]) / (max(float(x1 - x0), 1.0) * texel.x);
@@ -51,7 +51,7 @@ void main() {
         return;
     }
     const vec2 xy = lo.xy + (vec2(p) + 0.5) * texel;
-    const vec3 zg = P.family == kFamilyBSpline ? bspline(xy.x, xy.y) : family_height_gradient(xy.x, xy.y);
+    const vec3 zg = kFamily == kFamilyBSpline ? bspline(xy.x, xy.y) : family_height_gradient(xy.x, xy.y);
     const bool plateau = zg.x <= lo.z || zg.x >= hi.z; // clamped: flat
     heights[index] = clamp(zg.x, lo.z, hi.z);
     gradients[index] = plateau ? vec2(0.0) : zg.yz;

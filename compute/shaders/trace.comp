@@ -211,7 +211,7 @@ int rqrm(Walk w, float t_start, ivec2 skip_texel, out float t_hit, out ivec2 hit
         }
         if (!candidate) break;
         // Algorithm 1 lines 13-15 (paper) or the refined surface.
-        if (P.hit_mode == kHitModePaper) {
+        if (kHitMode == kHitModePaper) {
             if (texel != skip_texel) { // not the texel the ray reflected from
                 const float h = heights[uint(texel.y) * P.hf_w + uint(texel.x)];
                 const float z_in = w.o.z + t * w.d.z;
@@ -288,11 +288,11 @@ void main() {
                 vec3 p = w.o + t_hit * w.d;
                 if (pc.record_hits != 0u) hits[i] = vec4(p, t_hit);
                 const vec2 q = texel_pos(w, t_hit);
-                const vec2 g = P.hit_mode == kHitModePaper ? gradient_at(hit_texel) : bilinear_gradient(q);
+                const vec2 g = kHitMode == kHitModePaper ? gradient_at(hit_texel) : bilinear_gradient(q);
                 const vec3 n = normalize(vec3(-g, 1.0));
                 const vec3 r = normalize(w.d - 2.0 * dot(w.d, n) * n);
-                if (P.hit_mode == kHitModePaper) p.z = max(p.z, height_at(hit_texel)); // on the texel top
-                if (pc.bounce + 1u == P.max_bounces && P.strict_policy == 0u) {
+                if (kHitMode == kHitModePaper) p.z = max(p.z, height_at(hit_texel)); // on the texel top
+                if (pc.bounce + 1u == P.max_bounces && kStrictPolicy == 0u) {
                     far_final = true; // "paper": leave with the last reflected direction
                     far_dir = r;
                 } else {

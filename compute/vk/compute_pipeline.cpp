@@ -8,7 +8,8 @@ namespace fird::vk {
 
 ComputePipeline::ComputePipeline(const Context& ctx, std::span<const std::uint32_t> spirv,
                                  std::initializer_list<VkDescriptorType> binding_types,
-                                 std::uint32_t push_constant_bytes, std::string_view name)
+                                 std::uint32_t push_constant_bytes, std::string_view name,
+                                 std::span<const std::uint32_t> specialization)
     : types_(binding_types), push_bytes_(push_constant_bytes) {
     const VkDevice dev = ctx.device();
     std::vector<VkDescriptorSetLayoutBinding> bindings;
@@ -47,12 +48,22 @@ ComputePipeline::ComputePipeline(const Context& ctx, std::span<const std::uint32
     FIRD_VK_CHECK(vkCreateShaderModule(dev, &module_info, nullptr, &module_handle));
     const Owned<VkShaderModule> module(dev, module_handle);
 
+    std::vector<VkSpecializationMapEntry> entries;
+    for (std::uint32_t i = 0; i < specialization.size(); ++i)
+        entries.push_back({.constantID = i,
+                           .offset = i * std::uint32_t(sizeof(std::uint32_t)),
+                           .size = sizeof(std::uint32_t)});
+    const VkSpecializationInfo spec_info{.mapEntryCount = std::uint32_t(entries.size()),
+                                         .pMapEntries = entries.data(),
+                                         .dataSize = specialization.size_bytes(),
+                                         .pData = specialization.data()};
     const VkComputePipelineCreateInfo info{
         .sType = VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO,
         .stage = {.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO,
                   .stage = VK_SHADER_STAGE_COMPUTE_BIT,
                   .module = module_handle,
-                  .pName = "main"},
+                  .pName = "main",
+                  .pSpecializationInfo = specialization.empty() ? nullptr : &spec_info},
         .layout = layout};
     VkPipeline pipeline = VK_NULL_HANDLE;
     FIRD_VK_CHECK(vkCreateComputePipelines(dev, VK_NULL_HANDLE, 1, &info, nullptr, &pipeline));

@@ -33,10 +33,12 @@ inline Binding storage(const Image& i) {
 class ComputePipeline {
   public:
     ComputePipeline() = default;
-    // binding_types[i] is the descriptor type at binding i of set 0.
+    // binding_types[i] is the descriptor type at binding i of set 0; specialization[i]
+    // is the value of the 32-bit specialization constant with constant_id i.
     ComputePipeline(const Context& ctx, std::span<const std::uint32_t> spirv,
                     std::initializer_list<VkDescriptorType> binding_types,
-                    std::uint32_t push_constant_bytes, std::string_view name);
+                    std::uint32_t push_constant_bytes, std::string_view name,
+                    std::span<const std::uint32_t> specialization = {});
 
     // Binds the pipeline, pushes bindings 0..n-1 and the push constants, dispatches.
     void dispatch(VkCommandBuffer cb, std::span<const Binding> bindings, const void* push,
