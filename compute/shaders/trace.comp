@@ -175,38 +175,39 @@ int rqrm(Walk w, float t_start, ivec2 skip_texel, out float t_hit, out ivec2 hit
                 ++step;
                 break;
             }
+            // One position update serves both moves (CPU drivers run both branches):
+            // Algorithm 4 lines 1-6, the ray reaches the node's height inside the node:
+            // advance to that height and go down one level; lines 11-13, no hit under
+            // this node: move to the neighbour across the face the ray leaves through,
+            // then go up a level.
+            if (!below && t_exit >= t_end) return kMiss;
+            const float t_descend = (w.d.z < 0.0 && z_in > h) ? max(t, (h - w.o.z) / w.d.z) : t;
+            t = below ? t_descend : t_exit;
+            const ivec2 ahead = texel_ahead(w, texel_pos(w, t) + bias, texel);
             if (below) {
-                // Algorithm 4 lines 1-6: the ray reaches the node's height inside the
-                // node: advance to that height and go down one level.
-                if (w.d.z < 0.0 && z_in > h) t = max(t, (h - w.o.z) / w.d.z);
                 --level;
                 const uint round_up = (1u << level) - 1u;
                 level_w = (P.hf_w + round_up) >> level;
                 level_offset -= level_w * ((P.hf_h + round_up) >> level);
-                const ivec2 child_lo = cell << 1;
-                const ivec2 ahead = texel_ahead(w, texel_pos(w, t) + bias, texel);
                 const ivec2 span = ivec2(1 << level);
+                const ivec2 child_lo = cell << 1;
                 const ivec2 child = clamp(ahead >> level, child_lo, child_lo + 1);
                 // Keep the texel inside the child cell (and inside the texture).
                 texel = clamp(ahead, child * span, min((child + 1) * span, size) - 1);
-                continue;
-            }
-            // Algorithm 4 lines 11-13: no hit under this node: move to the neighbour
-            // across the face the ray leaves through, then go up a level.
-            if (t_exit >= t_end) return kMiss;
-            t = t_exit;
-            const ivec2 cell_lo = cell << level;
-            const ivec2 cell_hi = min((cell + 1) << level, size) - 1;
-            ivec2 next = clamp(texel_ahead(w, texel_pos(w, t) + bias, texel), cell_lo, cell_hi);
-            if (tx <= ty) next.x = w.D.x > 0.0 ? cell_hi.x + 1 : cell_lo.x - 1;
-            if (ty <= tx) next.y = w.D.y > 0.0 ? cell_hi.y + 1 : cell_lo.y - 1;
-            if (any(lessThan(next, ivec2(0))) || any(greaterThanEqual(next, size))) return kMiss;
-            texel = next;
-            if (level < top) {
-                const uint round_up = (1u << level) - 1u;
-                level_offset += level_w * ((P.hf_h + round_up) >> level);
-                level_w = (level_w + 1u) >> 1;
-                ++level;
+            } else {
+                const ivec2 cell_lo = cell << level;
+                const ivec2 cell_hi = min((cell + 1) << level, size) - 1;
+                ivec2 next = clamp(ahead, cell_lo, cell_hi);
+                if (tx <= ty) next.x = w.D.x > 0.0 ? cell_hi.x + 1 : cell_lo.x - 1;
+                if (ty <= tx) next.y = w.D.y > 0.0 ? cell_hi.y + 1 : cell_lo.y - 1;
+                if (any(lessThan(next, ivec2(0))) || any(greaterThanEqual(next, size))) return kMiss;
+                texel = next;
+                if (level < top) {
+                    const uint round_up = (1u << level) - 1u;
+                    level_offset += level_w * ((P.hf_h + round_up) >> level);
+                    level_w = (level_w + 1u) >> 1;
+                    ++level;
+                }
             }
         }
         if (!candidate) break;
