@@ -102,6 +102,11 @@ void FastTracer::set_reflector(const ReflectorDesc& reflector) {
                               "fird.bspline.control");
         control_.upload(*ctx_, std::span<const float>(control));
     }
+    if (reflector.family == Family::Mesh &&
+        (!mesh_ || !reflector_ || reflector_->mesh != reflector.mesh)) {
+        mesh_ = load_mesh(reflector.mesh.resolved_path, reflector.mesh.unit_mm);
+        if (!mesh_rasterizer_) mesh_rasterizer_.emplace(*ctx_);
+    }
     upload_params();
     reflector_ = reflector;
     heightfield_dirty_ = true;
@@ -113,14 +118,23 @@ void FastTracer::build_heightfield(FastRun& run) {
         return;
     }
     const auto t0 = std::chrono::steady_clock::now();
+    // The paper's z-buffer step for meshes (its own submission: a render pass).
+    double raster_ms = 0.0;
+    if (mesh_) {
+        mesh_rasterizer_->rasterize(*mesh_, scene_.holder, params_.hf_w, params_.hf_h, paper_tree_,
+                                    gradients_);
+        raster_ms = ms_since(t0);
+    }
     ctx_->submit_and_wait([&](VkCommandBuffer cb) {
         timer_.begin(cb);
-        const vk::Binding hf[] = {vk::storage(params_buffer_), vk::storage(paper_tree_),
-                                  vk::storage(gradients_), vk::storage(control_)};
         constexpr std::uint32_t g = FIRD_HEIGHTFIELD_WORKGROUP_SIZE;
-        heightfield_pipeline_.dispatch(cb, hf, nullptr, groups(params_.hf_w, g),
-                                       groups(params_.hf_h, g));
-        vk::barrier_all(cb);
+        if (!mesh_) {
+            const vk::Binding hf[] = {vk::storage(params_buffer_), vk::storage(paper_tree_),
+                                      vk::storage(gradients_), vk::storage(control_)};
+            heightfield_pipeline_.dispatch(cb, hf, nullptr, groups(params_.hf_w, g),
+                                           groups(params_.hf_h, g));
+            vk::barrier_all(cb);
+        }
         const vk::Binding mm[] = {vk::storage(params_buffer_), vk::storage(paper_tree_),
                                   vk::storage(refined_tree_)};
         for (std::uint32_t level = 0; level < params_.levels; ++level) {
@@ -131,7 +145,8 @@ void FastTracer::build_heightfield(FastRun& run) {
         }
         timer_.end(cb);
     });
-    run.timings.heightfield_ms = timer_.supported() ? timer_.elapsed_ms() : ms_since(t0);
+    run.timings.heightfield_ms =
+        timer_.supported() ? raster_ms + timer_.elapsed_ms() : ms_since(t0);
     heightfield_dirty_ = false;
 }
 
@@ -298,10 +313,6 @@ double device_l2(const vk::Context& ctx, const ReducePass& reduce, const vk::Buf
 }
 
 Evaluation evaluate_fast(const vk::Context& ctx, const Scene& scene) {
-    if (scene.reflector.family == Family::Mesh)
-        throw std::invalid_argument(scene.path +
-                                    ": [reflector] family = \"mesh\": the fast path "
-                                    "does not rasterize meshes yet; use --backend cpu");
     if (scene.target.kind == TargetDesc::Kind::Photometric)
         throw std::invalid_argument(scene.path +
                                     ": [target] file: photometric targets are not supported yet");

@@ -9,6 +9,7 @@
 #include <glm/vec4.hpp>
 
 #include "evaluation/evaluation.hpp"
+#include "fastpath/mesh_raster.hpp"
 #include "fird_shared.h"
 #include "model/scene.hpp"
 #include "model/source.hpp"
@@ -72,6 +73,8 @@ class FastTracer {
     vk::Buffer paper_tree_, refined_tree_, gradients_, control_;
     vk::Buffer farfield_counts_, farfield_lm_;
     vk::GpuTimer timer_;
+    std::optional<MeshRasterizer> mesh_rasterizer_; // mesh reflectors only
+    std::optional<TriangleMesh> mesh_;              // the reflector's, loaded once per file
 };
 
 // l2 between two far fields on the device (reduction; only the number is read back).

@@ -115,8 +115,7 @@ std::vector<float> set_reflector_params(gpu::SceneParams& p, const ReflectorDesc
     std::fill(std::begin(p.params), std::end(p.params), 0.0f);
     const auto names = family_parameters(r.family);
     p.family = gpu_family(r.family);
-    if (r.family == Family::Mesh)
-        throw std::invalid_argument("mesh reflectors are rasterized, not evaluated");
+    if (r.family == Family::Mesh) return {}; // rasterized: no parameters
     if (r.family == Family::BSpline) {
         p.bspline_nx = std::uint32_t(r.bspline.nx);
         p.bspline_ny = std::uint32_t(r.bspline.ny);

@@ -52,7 +52,7 @@ FIRD_CONSTANT(uint, kFamilyParaboloid, 1u);
 FIRD_CONSTANT(uint, kFamilyCup, 2u);
 FIRD_CONSTANT(uint, kFamilyFlutedCup, 3u);
 FIRD_CONSTANT(uint, kFamilyBSpline, 4u);
-FIRD_CONSTANT(uint, kFamilyTexture, 5u); // heights uploaded (meshes, tests)
+FIRD_CONSTANT(uint, kFamilyTexture, 5u); // heights rasterized from a triangle mesh
 
 FIRD_CONSTANT(uint, kSourceCylinder, 0u);
 FIRD_CONSTANT(uint, kSourceSphere, 1u);
@@ -147,6 +147,15 @@ struct TracePush {
     uint final_check;  // strict policy: only test for another hit
     uint active_count; // rays in rays_in (read back by the host after the previous pass)
     uint record_hits;  // write hits[i] = (hit point, t) or t = -1 for input ray i
+};
+
+struct MeshRasterPush {
+    float holder_min[4];
+    float holder_max[4];
+    float depth_z0_mm; // heights mapped to depth 0 .. 1
+    float depth_z1_mm;
+    float pad0;
+    float pad1;
 };
 
 struct MaxMipPush {

@@ -1,8 +1,8 @@
 #version 450
 // The height texture (§4.2): the reflector evaluated at each texel centre of a W x H
 // grid over the holder rectangle, clamped to the holder's z range, with its gradient
-// (the normal texture). B-splines read their control heights; kFamilyTexture keeps the
-// uploaded heights (meshes rasterized elsewhere) and takes gradients by differences.
+// (the normal texture). B-splines read their control heights. Meshes are rasterized
+// instead (fastpath/mesh_raster.cpp).
 #extension GL_GOOGLE_include_directive : require
 #include "family.glsl"
 
@@ -42,14 +42,6 @@ void main() {
     const vec3 lo = holder_min(), hi = holder_max();
     const vec2 texel = (hi.xy - lo.xy) / vec2(P.hf_w, P.hf_h);
     const uint index = p.y * P.hf_w + p.x;
-    if (kFamily == kFamilyTexture) {
-        const uint x0 = p.x > 0u ? p.x - 1u : p.x, x1 = min(p.x + 1u, P.hf_w - 1u);
-        const uint y0 = p.y > 0u ? p.y - 1u : p.y, y1 = min(p.y + 1u, P.hf_h - 1u);
-        const float gx = (heights[p.y * P.hf_w + x1] - heights[p.y * P.hf_w + x0]) / (max(float(x1 - x0), 1.0) * texel.x);
-        const float gy = (heights[y1 * P.hf_w + p.x] - heights[y0 * P.hf_w + p.x]) / (max(float(y1 - y0), 1.0) * texel.y);
-        gradients[index] = vec2(gx, gy);
-        return;
-    }
     const vec2 xy = lo.xy + (vec2(p) + 0.5) * texel;
     const vec3 zg = kFamily == kFamilyBSpline ? bspline(xy.x, xy.y) : family_height_gradient(xy.x, xy.y);
     const bool plateau = zg.x <= lo.z || zg.x >= hi.z; // clamped: flat

@@ -97,7 +97,7 @@ TEST_P(HitPoints, PaperModeWithinATexelRefinedModeFarCloser) {
 
 INSTANTIATE_TEST_SUITE_P(Scenes, HitPoints,
                          ::testing::Values("test/flat_mirror.toml", "model_a.toml", "model_b.toml",
-                                           "model_c.toml"));
+                                           "model_c.toml", "test/mesh_dish.toml"));
 
 // l2(fast, reference) for independent runs of N and M rays is, from noise alone,
 // F sqrt(sum p (1 - p) (1/N + 1/M)); the fast path may add only a little bias.
@@ -131,7 +131,8 @@ TEST_P(FarFieldAccuracy, L2ToAFourTimesLargerReferenceIsWithinTheMonteCarloNoise
 }
 
 INSTANTIATE_TEST_SUITE_P(Scenes, FarFieldAccuracy,
-                         ::testing::Values("model_a.toml", "model_b.toml", "model_c.toml"));
+                         ::testing::Values("model_a.toml", "model_b.toml", "model_c.toml",
+                                           "test/mesh_dish.toml"));
 
 TEST_F(VulkanTest, FastPathBalancesEnergyForBothPoliciesAndIgnoresBatching) {
     for (BouncePolicy policy : {BouncePolicy::Paper, BouncePolicy::Strict}) {

@@ -1,0 +1,33 @@
+// Triangle-mesh reflectors into the height texture by the graphics pipeline: the
+// paper's z-buffer step (§4.2), an orthographic view from above on the shared device.
+#pragma once
+
+#include <cstdint>
+
+#include "model/mesh.hpp"
+#include "model/scene.hpp"
+#include "vk/buffer.hpp"
+#include "vk/context.hpp"
+#include "vk/owned.hpp"
+
+namespace fird {
+
+class MeshRasterizer {
+  public:
+    explicit MeshRasterizer(const vk::Context& ctx);
+
+    // Draws `mesh` over the holder rectangle into a width x height texture (texel
+    // centres sampled, highest surface kept) and copies the heights (mm, clamped to the
+    // holder's z range) into the first width * height floats of `heights` and the face
+    // gradients (dz/dx, dz/dy) into `gradients`. Waits for the device.
+    void rasterize(const TriangleMesh& mesh, const Holder& holder, std::uint32_t width,
+                   std::uint32_t height, const vk::Buffer& heights,
+                   const vk::Buffer& gradients) const;
+
+  private:
+    const vk::Context* ctx_;
+    vk::Owned<VkPipelineLayout> layout_;
+    vk::Owned<VkPipeline> pipeline_;
+};
+
+} // namespace fird
