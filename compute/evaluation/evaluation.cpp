@@ -9,6 +9,8 @@
 
 #include "io/farfield_png.hpp"
 #include "io/npy.hpp"
+#include "photometry/farfield_photometry.hpp"
+#include "photometry/photometry_file.hpp"
 
 namespace fird {
 
@@ -59,8 +61,7 @@ Evaluation evaluate_reference(const Scene& scene, unsigned threads) {
         options.seed = scene.target.seed;
         e.target_farfield = trace_reference(scene.source, target, options).farfield;
     } else if (scene.target.kind == TargetDesc::Kind::Photometric) {
-        throw std::invalid_argument(scene.path + ": [target] file: photometric targets are not "
-                                                 "supported yet");
+        e.target_farfield = photometric_target(scene, e.farfield.total_lm());
     }
     if (e.target_farfield) {
         const auto tc = std::chrono::steady_clock::now();
@@ -69,6 +70,25 @@ Evaluation evaluate_reference(const Scene& scene, unsigned threads) {
     }
     e.timings.total_ms = ms_since(t0);
     return e;
+}
+
+FarField photometric_target(const Scene& scene, double reflector_farfield_lm) {
+    CandelaTable table;
+    try {
+        table = read_photometry(scene.target.resolved_path);
+    } catch (const std::exception& ex) {
+        throw std::invalid_argument(fmt::format("{}: [target] file: {}", scene.path, ex.what()));
+    }
+    FarField ff = farfield_from_table(table, scene.trace.farfield_w, scene.trace.farfield_h);
+    const double total = ff.total_lm();
+    if (!scene.target.absolute) {
+        if (!(total > 0.0))
+            throw std::invalid_argument(fmt::format("{}: [target] file: {} emits no light to scale",
+                                                    scene.path, table.path));
+        for (double& v : ff.lm)
+            v *= reflector_farfield_lm / total;
+    }
+    return ff;
 }
 
 nlohmann::json evaluation_json(const Evaluation& e) {

@@ -56,4 +56,9 @@ nlohmann::json evaluation_json(const Evaluation& evaluation);
 void write_evaluation_outputs(const std::string& directory, const Scene& scene,
                               const Evaluation& evaluation);
 
+// The far field of a photometric [target] (IES / LDT) on the scene's grid, integrated
+// over each cell; scaled to `reflector_farfield_lm` unless [target] absolute = true.
+// Errors name the scene, the key and the photometric file's line.
+FarField photometric_target(const Scene& scene, double reflector_farfield_lm);
+
 } // namespace fird

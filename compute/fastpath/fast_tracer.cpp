@@ -313,9 +313,6 @@ double device_l2(const vk::Context& ctx, const ReducePass& reduce, const vk::Buf
 }
 
 Evaluation evaluate_fast(const vk::Context& ctx, const Scene& scene) {
-    if (scene.target.kind == TargetDesc::Kind::Photometric)
-        throw std::invalid_argument(scene.path +
-                                    ": [target] file: photometric targets are not supported yet");
     const auto t0 = std::chrono::steady_clock::now();
     FastTracer tracer(ctx, scene, scene.trace.seed);
     tracer.set_reflector(scene.reflector);
@@ -340,6 +337,17 @@ Evaluation evaluate_fast(const vk::Context& ctx, const Scene& scene) {
         e.timings.compare_ms = compare_ms;
         e.target_farfield =
             FarField{scene.trace.farfield_w, scene.trace.farfield_h, target.read_farfield()};
+    } else if (scene.target.kind == TargetDesc::Kind::Photometric) {
+        // Integrated on the host once per evaluation, compared on the device.
+        e.target_farfield = photometric_target(scene, e.farfield.total_lm());
+        const std::vector<float> values(e.target_farfield->lm.begin(), e.target_farfield->lm.end());
+        vk::Buffer target(ctx, values.size() * 4, vk::kStorageUsage, vk::MemoryUse::Upload,
+                          "fird.target.farfield");
+        target.upload(ctx, std::span<const float>(values));
+        const ReducePass reduce(ctx);
+        double compare_ms = 0.0;
+        e.l2_lm = device_l2(ctx, reduce, tracer.farfield_lm(), target, cells, &compare_ms);
+        e.timings.compare_ms = compare_ms;
     }
     e.timings.total_ms = ms_since(t0);
     return e;

@@ -121,10 +121,10 @@ CandelaTable read_ldt_bytes(const std::string& path, std::string_view bytes) {
         t.symmetry = Symmetry::C0C180;
         stored = std::size_t(mc) / 2 + 1;
         break;
-    case 3:
+    case 3: // C270 through C0 to C90 (Mc1 = 3 Mc / 4 + 1 in EULUMDAT's 1-based terms)
         t.symmetry = Symmetry::C90C270;
         stored = std::size_t(mc) / 2 + 1;
-        first_plane = std::size_t(mc) / 4;
+        first_plane = 3 * std::size_t(mc) / 4;
         break;
     default:
         t.symmetry = Symmetry::Quadrant;
@@ -163,7 +163,7 @@ CandelaTable read_ldt_bytes(const std::string& path, std::string_view bytes) {
     std::vector<std::vector<double>> planes(stored, std::vector<double>(std::size_t(ng)));
     std::vector<double> stored_c(stored);
     for (std::size_t p = 0; p < stored; ++p) {
-        stored_c[p] = c[std::min(first_plane + p, c.size() - 1)];
+        stored_c[p] = c[(first_plane + p) % c.size()];
         for (auto& value : planes[p]) {
             const std::size_t line = in.line();
             const double v = in.number("luminous intensity (cd/klm)");
