@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Installs what FIRD needs from Debian 12's packages (only what is missing), then
 # configures and builds. Idempotent: a second run installs and rebuilds nothing that
-# is up to date. Usage: scripts/setup.sh [release|sanitize]   (default: release)
+# is up to date. Usage: scripts/setup.sh [release|sanitize|fuzz]   (default: release)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -14,6 +14,7 @@ packages=(
   libtomlplusplus-dev libcli11-dev nlohmann-json3-dev libfmt-dev libnlopt-cxx-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   xvfb xauth
+  clang libclang-rt-14-dev
 )
 missing=()
 for p in "${packages[@]}"; do
@@ -28,8 +29,9 @@ fi
 
 case "$flavour" in
   release) dir=build/release; flags=(-DCMAKE_BUILD_TYPE=Release) ;;
+  fuzz) dir=build/fuzz; export CC=clang CXX=clang++; flags=(-DFIRD_FUZZ=ON) ;;
   sanitize) dir=build/sanitize; flags=(-DCMAKE_BUILD_TYPE=RelWithDebInfo -DFIRD_SANITIZE=ON -DFIRD_BUILD_UI=OFF -DFIRD_BUILD_BENCH=OFF) ;;
-  *) echo "setup: unknown flavour '$flavour' (release or sanitize)" >&2; exit 2 ;;
+  *) echo "setup: unknown flavour '$flavour' (release, sanitize or fuzz)" >&2; exit 2 ;;
 esac
 [ -f "$dir/build.ninja" ] || cmake -S . -B "$dir" -G Ninja "${flags[@]}"
 cmake --build "$dir" --parallel "$(nproc)"

@@ -156,4 +156,50 @@ TEST(Cli, BenchRejectsMalformedLists) {
     EXPECT_EQ(run("bench --modes fast").code, 1);
 }
 
+TEST(Cli, PhotometryInfoJsonHasEveryContractField) {
+    const std::string file =
+        std::string(FIRD_SOURCE_DIR) + "/tests/photometry/data/corpus/luxpy_pair_quadrant.ldt";
+    const auto r = run("photometry info --json " + file);
+    ASSERT_EQ(r.code, 0) << r.out;
+    const auto j = nlohmann::json::parse(r.out);
+    for (const char* key : {"format", "version", "photometric_type", "symmetry", "n_vertical",
+                            "n_horizontal", "flux_declared_lm", "flux_integrated_lm", "peak_cd"})
+        EXPECT_TRUE(j.contains(key)) << key;
+    EXPECT_EQ(j["format"], "ldt");
+    EXPECT_EQ(j["symmetry"], "quadrant");
+    EXPECT_NEAR(j["flux_integrated_lm"].get<double>(), 5280.7, 0.1);
+}
+
+TEST(Cli, PhotometryConvertWritesEveryFormatAndRefusesBadInputInOneLine) {
+    const std::string src =
+        std::string(FIRD_SOURCE_DIR) + "/tests/photometry/data/corpus/cu_3_indoor_asym360.ies";
+    const std::string dir = ::testing::TempDir();
+    for (const char* out : {"c.ldt", "c.ies", "c.npy", "c.png"}) {
+        const auto r = run("photometry convert " + src + " " + dir + out);
+        EXPECT_EQ(r.code, 0) << out << ": " << r.out;
+    }
+    // The LDT written back holds the same flux.
+    const auto j = nlohmann::json::parse(run("photometry info --json " + dir + "c.ldt").out);
+    EXPECT_NEAR(j["flux_integrated_lm"].get<double>(), 13359.57, 13.4);
+    const auto bad = run("photometry info " + dir + "c.npy");
+    EXPECT_EQ(bad.code, 1) << bad.out;
+    EXPECT_EQ(std::count(bad.out.begin(), bad.out.end(), '\n'), 1) << bad.out;
+    const auto missing = run("photometry info /nonexistent/x.ies");
+    EXPECT_EQ(missing.code, 1);
+    EXPECT_NE(missing.out.find("/nonexistent/x.ies: cannot open"), std::string::npos)
+        << missing.out;
+}
+
+TEST(Cli, TraceAgainstAnIesTargetGivesL2OnBothBackends) {
+    const std::string scene = std::string(FIRD_SOURCE_DIR) + "/scenes/model_a_ies.toml";
+    const auto gpu = run("trace " + scene + " --rays 200000 --json");
+    ASSERT_EQ(gpu.code, 0) << gpu.out;
+    const auto cpu = run("trace " + scene + " --rays 200000 --backend cpu --json");
+    ASSERT_EQ(cpu.code, 0) << cpu.out;
+    const double l2_gpu = nlohmann::json::parse(gpu.out)["l2"].get<double>();
+    const double l2_cpu = nlohmann::json::parse(cpu.out)["l2"].get<double>();
+    // Same scene and rays: the two tracers' distances to the same target agree closely.
+    EXPECT_NEAR(l2_gpu, l2_cpu, 0.05 * l2_cpu);
+}
+
 } // namespace
