@@ -131,6 +131,17 @@ void write_evaluation_outputs(const std::string& dir, const Scene& scene, const 
     const FarField& f = e.farfield;
     write_npy_f32(path("farfield.npy"), f.lm, f.height, f.width);
     write_farfield_png(path("farfield.png"), f, {.title = scene.name + ": far field"});
+    // The far field as luminaire files (5 deg C planes, 1 deg gamma) for photometric
+    // tools, when it holds light and its cells are no coarser than that grid.
+    if (f.total_lm() > 0.0 && f.width >= 72 && f.height >= 180) {
+        const CandelaTable table = table_from_farfield(f, 5.0, 1.0);
+        const PhotometryLabels labels{
+            .luminaire = scene.name,
+            .test = fmt::format("fird trace, {} backend, {} rays", e.backend, e.tally.emitted),
+            .other = scene.path};
+        write_photometry(path("farfield.ies"), table, labels);
+        write_photometry(path("farfield.ldt"), table, labels);
+    }
     if (e.target_farfield) {
         const FarField& t = *e.target_farfield;
         write_npy_f32(path("target.npy"), t.lm, t.height, t.width);

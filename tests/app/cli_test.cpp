@@ -2,6 +2,8 @@
 #include <algorithm>
 #include <array>
 #include <cstdio>
+#include <fstream>
+#include <iterator>
 #include <string>
 #include <sys/wait.h>
 
@@ -111,16 +113,25 @@ TEST(Cli, TraceJsonHasEveryContractField) {
     EXPECT_NEAR(sum, j["energy_emitted_lm"].get<double>(), 1e-9);
 }
 
-TEST(Cli, TraceOutWritesNpyAndPictures) {
+TEST(Cli, TraceOutWritesNpyPicturesAndLuminaireFiles) {
     const std::string dir = ::testing::TempDir() + "/fird_out";
     const auto r = run("trace " + std::string(FIRD_SOURCE_DIR) +
-                       "/scenes/model_b.toml --backend cpu --rays 5000 --out " + dir);
+                       "/scenes/model_b.toml --backend cpu --rays 5000 --json --out " + dir);
     ASSERT_EQ(r.code, 0) << r.out;
-    for (const char* name :
-         {"farfield.npy", "farfield.png", "target.npy", "target.png", "difference.png"}) {
+    for (const char* name : {"farfield.npy", "farfield.png", "target.npy", "target.png",
+                             "difference.png", "farfield.ies", "farfield.ldt"}) {
         FILE* f = std::fopen((dir + "/" + name).c_str(), "rb");
         EXPECT_TRUE(f) << name;
         if (f) std::fclose(f);
+    }
+    // The luminaire files hold the far field's flux.
+    const double farfield_lm = nlohmann::json::parse(r.out)["energy_farfield_lm"].get<double>();
+    for (const char* name : {"farfield.ies", "farfield.ldt"}) {
+        const auto info = run("photometry info --json " + dir + "/" + name);
+        ASSERT_EQ(info.code, 0) << info.out;
+        EXPECT_NEAR(nlohmann::json::parse(info.out)["flux_integrated_lm"].get<double>(),
+                    farfield_lm, 1e-3 * farfield_lm)
+            << name;
     }
 }
 
@@ -200,6 +211,26 @@ TEST(Cli, TraceAgainstAnIesTargetGivesL2OnBothBackends) {
     const double l2_cpu = nlohmann::json::parse(cpu.out)["l2"].get<double>();
     // Same scene and rays: the two tracers' distances to the same target agree closely.
     EXPECT_NEAR(l2_gpu, l2_cpu, 0.05 * l2_cpu);
+}
+
+TEST(Cli, MissingOrBrokenIesTargetIsOneLineNamingSceneKeyAndFile) {
+    std::ifstream in(std::string(FIRD_SOURCE_DIR) + "/scenes/model_a_ies.toml");
+    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const std::string from = "targets/model_a_target.ies";
+    text.replace(text.find(from), from.size(), "broken.ies");
+    const std::string scene = ::testing::TempDir() + "/ies_target_scene.toml";
+    std::ofstream(scene) << text;
+    std::remove((::testing::TempDir() + "/broken.ies").c_str());
+    auto r = run("trace " + scene + " --rays 1000");
+    EXPECT_EQ(r.code, 1) << r.out;
+    EXPECT_NE(r.out.find(scene + ": [target] file: "), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("broken.ies: cannot open"), std::string::npos) << r.out;
+    std::ofstream(::testing::TempDir() + "/broken.ies")
+        << "IESNA:LM-63-2002\nTILT=NONE\n1 1000 1 3";
+    r = run("trace " + scene + " --rays 1000 --backend cpu");
+    EXPECT_EQ(r.code, 1) << r.out;
+    EXPECT_NE(r.out.find("broken.ies:3: "), std::string::npos) << r.out;
+    EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << r.out;
 }
 
 } // namespace
