@@ -5,19 +5,9 @@
 #include "flat_frag.h"
 #include "flat_vert.h"
 #include "vk/check.hpp"
+#include "vk/shader_module.hpp"
 
 namespace fird::render {
-
-namespace {
-vk::Owned<VkShaderModule> make_module(VkDevice dev, std::span<const std::uint32_t> code) {
-    const VkShaderModuleCreateInfo info{.sType = VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO,
-                                        .codeSize = code.size_bytes(),
-                                        .pCode = code.data()};
-    VkShaderModule m = VK_NULL_HANDLE;
-    FIRD_VK_CHECK(vkCreateShaderModule(dev, &info, nullptr, &m));
-    return {dev, m};
-}
-} // namespace
 
 FlatPipeline::FlatPipeline(const vk::Context& ctx, VkPrimitiveTopology topology,
                            std::string_view name) {
@@ -33,8 +23,8 @@ FlatPipeline::FlatPipeline(const vk::Context& ctx, VkPrimitiveTopology topology,
     layout_ = vk::Owned<VkPipelineLayout>(dev, layout);
     ctx.name(layout, VK_OBJECT_TYPE_PIPELINE_LAYOUT, name);
 
-    const auto vert = make_module(dev, fird_spv_flat_vert);
-    const auto frag = make_module(dev, fird_spv_flat_frag);
+    const auto vert = vk::make_shader_module(dev, fird_spv_flat_vert);
+    const auto frag = vk::make_shader_module(dev, fird_spv_flat_frag);
     const VkPipelineShaderStageCreateInfo stages[] = {
         {.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO,
          .stage = VK_SHADER_STAGE_VERTEX_BIT,

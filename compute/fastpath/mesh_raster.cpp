@@ -12,6 +12,7 @@
 #include "mesh_height_vert.h"
 #include "vk/check.hpp"
 #include "vk/image.hpp"
+#include "vk/shader_module.hpp"
 
 namespace fird {
 
@@ -25,15 +26,6 @@ struct MeshVertex {
     float position_mm[3];
     float gradient[2]; // of the triangle's plane, the same at its three corners
 };
-
-vk::Owned<VkShaderModule> make_module(VkDevice dev, std::span<const std::uint32_t> code) {
-    const VkShaderModuleCreateInfo info{.sType = VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO,
-                                        .codeSize = code.size_bytes(),
-                                        .pCode = code.data()};
-    VkShaderModule m = VK_NULL_HANDLE;
-    FIRD_VK_CHECK(vkCreateShaderModule(dev, &info, nullptr, &m));
-    return {dev, m};
-}
 
 // Every triangle that is not vertical, as three vertices carrying its plane's gradient
 // (a vertical triangle covers no texel centre of a height field).
@@ -86,8 +78,8 @@ MeshRasterizer::MeshRasterizer(const vk::Context& ctx) : ctx_(&ctx) {
     layout_ = vk::Owned<VkPipelineLayout>(dev, layout);
     ctx.name(layout, VK_OBJECT_TYPE_PIPELINE_LAYOUT, "fird.mesh_raster");
 
-    const auto vert = make_module(dev, fird_spv_mesh_height_vert);
-    const auto frag = make_module(dev, fird_spv_mesh_height_frag);
+    const auto vert = vk::make_shader_module(dev, fird_spv_mesh_height_vert);
+    const auto frag = vk::make_shader_module(dev, fird_spv_mesh_height_frag);
     const VkPipelineShaderStageCreateInfo stages[] = {
         {.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO,
          .stage = VK_SHADER_STAGE_VERTEX_BIT,

@@ -3,6 +3,7 @@
 #include <stdexcept>
 
 #include "check.hpp"
+#include "shader_module.hpp"
 
 namespace fird::vk {
 
@@ -41,12 +42,7 @@ ComputePipeline::ComputePipeline(const Context& ctx, std::span<const std::uint32
     layout_ = Owned<VkPipelineLayout>(dev, layout);
     ctx.name(layout, VK_OBJECT_TYPE_PIPELINE_LAYOUT, name);
 
-    const VkShaderModuleCreateInfo module_info{.sType = VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO,
-                                               .codeSize = spirv.size_bytes(),
-                                               .pCode = spirv.data()};
-    VkShaderModule module_handle = VK_NULL_HANDLE;
-    FIRD_VK_CHECK(vkCreateShaderModule(dev, &module_info, nullptr, &module_handle));
-    const Owned<VkShaderModule> module(dev, module_handle);
+    const Owned<VkShaderModule> module = make_shader_module(dev, spirv);
 
     std::vector<VkSpecializationMapEntry> entries;
     for (std::uint32_t i = 0; i < specialization.size(); ++i)
@@ -61,7 +57,7 @@ ComputePipeline::ComputePipeline(const Context& ctx, std::span<const std::uint32
         .sType = VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO,
         .stage = {.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO,
                   .stage = VK_SHADER_STAGE_COMPUTE_BIT,
-                  .module = module_handle,
+                  .module = module.get(),
                   .pName = "main",
                   .pSpecializationInfo = specialization.empty() ? nullptr : &spec_info},
         .layout = layout};
