@@ -7,11 +7,13 @@
 
 #include <fmt/format.h>
 
+#include "bucket_scan_comp.h"
 #include "counts_to_lm_comp.h"
 #include "fastpath/scene_params.hpp"
 #include "heightfield_comp.h"
 #include "maxmip_comp.h"
 #include "rayset_comp.h"
+#include "rayset_order_comp.h"
 #include "trace_comp.h"
 #include "vk/check.hpp"
 
@@ -41,7 +43,7 @@ FastTracer::FastTracer(const vk::Context& ctx, const Scene& scene, std::uint64_t
                        std::uint64_t max_batch_rays)
     : ctx_(&ctx), scene_(scene), params_(scene_params(scene, seed)),
       spec_(specialization(params_, scene.reflector.family)),
-      rayset_pipeline_(ctx, fird_spv_rayset_comp, {kSB, kSB, kSB}, sizeof(gpu::RaysetPush),
+      rayset_pipeline_(ctx, fird_spv_rayset_comp, {kSB, kSB, kSB, kSB}, sizeof(gpu::RaysetPush),
                        "fird.rayset", spec_),
       heightfield_pipeline_(ctx, fird_spv_heightfield_comp, {kSB, kSB, kSB, kSB}, 0,
                             "fird.heightfield", spec_),
@@ -51,6 +53,9 @@ FastTracer::FastTracer(const vk::Context& ctx, const Scene& scene, std::uint64_t
                       sizeof(gpu::TracePush), "fird.trace", spec_),
       to_lm_pipeline_(ctx, fird_spv_counts_to_lm_comp, {kSB, kSB}, sizeof(ToLmPush),
                       "fird.counts_to_lm"),
+      order_pipeline_(ctx, fird_spv_rayset_order_comp, {kSB, kSB, kSB, kSB},
+                      sizeof(gpu::RaysetOrderPush), "fird.rayset.order"),
+      bucket_scan_pipeline_(ctx, fird_spv_bucket_scan_comp, {kSB}, 0, "fird.rayset.bucket_scan"),
       timer_(ctx) {
     if (scene.trace.max_bounces > FIRD_MAX_REFLECTIONS)
         throw std::invalid_argument(fmt::format(
@@ -82,6 +87,8 @@ FastTracer::FastTracer(const vk::Context& ctx, const Scene& scene, std::uint64_t
     gradients_ = vk::Buffer(ctx, std::uint64_t(params_.hf_w) * params_.hf_h * 8, storage,
                             vk::MemoryUse::Device, "fird.normals");
     control_ = vk::Buffer(ctx, 4, storage, vk::MemoryUse::Device, "fird.bspline.control");
+    order_buckets_ = vk::Buffer(ctx, gpu::kRaysetOrderBuckets * 4, storage, vk::MemoryUse::Device,
+                                "fird.rayset.order_buckets");
     const std::uint64_t cells = std::uint64_t(params_.ff_w) * params_.ff_h;
     farfield_counts_ =
         vk::Buffer(ctx, cells * 4, storage, vk::MemoryUse::Device, "fird.farfield.counts");
@@ -110,6 +117,23 @@ void FastTracer::set_reflector(const ReflectorDesc& reflector) {
     upload_params();
     reflector_ = reflector;
     heightfield_dirty_ = true;
+}
+
+double FastTracer::order_rayset(std::uint64_t effective) {
+    if (effective == 0) return 0.0;
+    const auto t0 = std::chrono::steady_clock::now();
+    ctx_->submit_and_wait([&](VkCommandBuffer cb) {
+        timer_.begin(cb);
+        const vk::Binding scan[] = {vk::storage(order_buckets_)};
+        bucket_scan_pipeline_.dispatch(cb, scan, nullptr, 1);
+        vk::barrier_all(cb);
+        const vk::Binding b[] = {vk::storage(params_buffer_), vk::storage(rays_ping_),
+                                 vk::storage(rays_cache_), vk::storage(order_buckets_)};
+        const gpu::RaysetOrderPush push{.count = std::uint32_t(effective)};
+        order_pipeline_.dispatch(cb, b, &push, groups(effective, FIRD_RAYSET_WORKGROUP_SIZE));
+        timer_.end(cb);
+    });
+    return timer_.supported() ? timer_.elapsed_ms() : ms_since(t0);
 }
 
 void FastTracer::build_heightfield(FastRun& run) {
@@ -242,9 +266,11 @@ FastRun FastTracer::run() {
             ctx_->submit_and_wait([&](VkCommandBuffer cb) {
                 timer_.begin(cb);
                 vkCmdFillBuffer(cb, counters_.get(), 0, VK_WHOLE_SIZE, 0);
+                vkCmdFillBuffer(cb, order_buckets_.get(), 0, VK_WHOLE_SIZE, 0);
                 vk::barrier_all(cb);
-                const vk::Binding b[] = {vk::storage(params_buffer_), vk::storage(rays_cache_),
-                                         vk::storage(counters_)};
+                // Generated into the ping buffer, ordered into the rayset buffer.
+                const vk::Binding b[] = {vk::storage(params_buffer_), vk::storage(rays_ping_),
+                                         vk::storage(counters_), vk::storage(order_buckets_)};
                 const gpu::RaysetPush push{.first_lo = std::uint32_t(first),
                                            .first_hi = std::uint32_t(first >> 32),
                                            .count = std::uint32_t(n)};
@@ -253,6 +279,7 @@ FastRun FastTracer::run() {
             });
             run.timings.rayset_ms += timer_.supported() ? timer_.elapsed_ms() : ms_since(tr);
             cached_effective = counters[gpu::kCounterEffective];
+            run.timings.rayset_ms += order_rayset(cached_effective);
             if (one_batch) {
                 rayset_cached_ = true;
                 cached_effective_ = cached_effective;
@@ -297,6 +324,17 @@ FastRun FastTracer::run_rays(const std::vector<Ray>& rays, std::vector<glm::vec4
         hits_ = vk::Buffer(*ctx_, 16, vk::kStorageUsage, vk::MemoryUse::Device, "fird.hits.unused");
     }
     return run;
+}
+
+std::vector<Ray> FastTracer::rayset() const {
+    if (!rayset_cached_) throw std::logic_error("FastTracer::rayset: no single-batch rayset");
+    const auto packed = rays_cache_.download_as<float>(*ctx_, cached_effective_ * 8);
+    std::vector<Ray> rays(cached_effective_);
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+        const float* r = &packed[i * 8];
+        rays[i] = Ray{{r[0], r[1], r[2]}, {r[4], r[5], r[6]}};
+    }
+    return rays;
 }
 
 std::vector<double> FastTracer::read_farfield() const {

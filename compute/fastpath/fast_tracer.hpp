@@ -47,6 +47,10 @@ class FastTracer {
     // ray, its first hit point and t (t < 0: no hit). For comparisons with the reference.
     FastRun run_rays(const std::vector<Ray>& rays, std::vector<glm::vec4>* hits);
 
+    // The rayset of the last run() as traced (ordered by direction), when it fitted in
+    // one batch; for tests and views of the rays.
+    std::vector<Ray> rayset() const;
+
     const vk::Buffer& farfield_lm() const { return farfield_lm_; }
     std::vector<double> read_farfield() const;
     std::uint32_t farfield_cells() const { return params_.ff_w * params_.ff_h; }
@@ -55,6 +59,8 @@ class FastTracer {
     void trace_batch(std::uint64_t effective, FastRun& run, bool record_hits);
     void build_heightfield(FastRun& run);
     void upload_params();
+    // Sorts the rayset by direction (rayset_order.comp); returns its time in ms.
+    double order_rayset(std::uint64_t effective);
     void finish(FastRun& run);
 
     const vk::Context* ctx_;
@@ -68,9 +74,9 @@ class FastTracer {
 
     std::array<std::uint32_t, FIRD_SPEC_COUNT> spec_; // the scene's fixed shader choices
     vk::ComputePipeline rayset_pipeline_, heightfield_pipeline_, maxmip_pipeline_, trace_pipeline_,
-        to_lm_pipeline_;
+        to_lm_pipeline_, order_pipeline_, bucket_scan_pipeline_;
     vk::Buffer params_buffer_, counters_, rays_cache_, rays_ping_, rays_pong_, hits_;
-    vk::Buffer paper_tree_, refined_tree_, gradients_, control_;
+    vk::Buffer paper_tree_, refined_tree_, gradients_, control_, order_buckets_;
     vk::Buffer farfield_counts_, farfield_lm_;
     vk::GpuTimer timer_;
     std::optional<MeshRasterizer> mesh_rasterizer_; // mesh reflectors only

@@ -115,10 +115,8 @@ Ray sample_source(vec4 u) {
 vec3 holder_min() { return vec3(P.holder_min[0], P.holder_min[1], P.holder_min[2]); }
 vec3 holder_max() { return vec3(P.holder_max[0], P.holder_max[1], P.holder_max[2]); }
 
-// Slab test of the forward half-line against the holder box; t range in t01.
-bool clip_to_box(vec3 o, vec3 d, out vec2 t01) {
-    const vec3 lo = holder_min();
-    const vec3 hi = holder_max();
+// Slab test of the forward half-line against the box lo..hi; t range in t01.
+bool clip_to_box(vec3 o, vec3 d, vec3 lo, vec3 hi, out vec2 t01) {
     float t0 = 0.0;
     float t1 = 3.0e38;
     for (int k = 0; k < 3; ++k) {

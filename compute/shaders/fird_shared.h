@@ -76,6 +76,7 @@ FIRD_CONSTANT(uint, kHitModeRefined, 1u);
 FIRD_CONSTANT(uint, kBindParams, 0u);
 FIRD_CONSTANT(uint, kRaysetBindRays, 1u);
 FIRD_CONSTANT(uint, kRaysetBindCounters, 2u);
+FIRD_CONSTANT(uint, kRaysetBindBuckets, 3u); // rays per direction bucket (rayset_order.comp)
 FIRD_CONSTANT(uint, kHeightfieldBindHeights, 1u);
 FIRD_CONSTANT(uint, kHeightfieldBindGradients, 2u);
 FIRD_CONSTANT(uint, kHeightfieldBindControl, 3u);
@@ -140,6 +141,18 @@ struct RaysetPush {
     uint first_hi;
     uint count;
     uint pad;
+};
+
+// rayset_order.comp and bucket_scan.comp: the rayset sorted by direction.
+#define FIRD_BUCKET_SCAN_WORKGROUP_SIZE 256
+FIRD_CONSTANT(uint, kRaysetOrderBits, 8u); // octahedral grid of 2^bits x 2^bits directions
+FIRD_CONSTANT(uint, kRaysetOrderBuckets, 1u << (2u * kRaysetOrderBits));
+FIRD_CONSTANT(uint, kOrderBindRaysIn, 1u);  // (binding 0: the scene parameters)
+FIRD_CONSTANT(uint, kOrderBindRaysOut, 2u);
+FIRD_CONSTANT(uint, kOrderBindBuckets, 3u); // uint[kRaysetOrderBuckets]: offsets (scanned counts)
+FIRD_CONSTANT(uint, kScanBindBuckets, 0u);  // bucket_scan.comp's only binding
+struct RaysetOrderPush {
+    uint count;
 };
 
 struct TracePush {

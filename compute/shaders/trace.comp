@@ -35,12 +35,37 @@ vec2 gradient_at(ivec2 t) {
     return gradients[uint(t.y) * P.hf_w + uint(t.x)];
 }
 
-// Bilinear interpolation of the texel-centre samples at texel-space (X, Y), using the
-// patch whose lower-left sample is `base` (fixed over a sub-interval: exactly quadratic).
-float bilinear(vec2 q, ivec2 base) {
+// The bilinear surface through the texel-centre samples around one texel: its 3 x 3
+// neighbourhood, loaded once per candidate (CPU drivers turn every storage-buffer load
+// into a per-lane loop, so the leaf test's many interpolations read registers instead).
+struct Neighbourhood {
+    vec3 r0, r1, r2; // rows y-1, y, y+1 of heights at x-1, x, x+1 (clamped to the texture)
+    ivec2 cell;
+};
+
+Neighbourhood load_neighbourhood(ivec2 cell) {
+    Neighbourhood n;
+    n.cell = cell;
+    n.r0 = vec3(height_at(cell + ivec2(-1, -1)), height_at(cell + ivec2(0, -1)), height_at(cell + ivec2(1, -1)));
+    n.r1 = vec3(height_at(cell + ivec2(-1, 0)), height_at(cell), height_at(cell + ivec2(1, 0)));
+    n.r2 = vec3(height_at(cell + ivec2(-1, 1)), height_at(cell + ivec2(0, 1)), height_at(cell + ivec2(1, 1)));
+    return n;
+}
+
+// The patch whose lower-left sample is `base` (cell - 1 or cell on each axis): its
+// corner heights (x0y0, x1y0, x0y1, x1y1).
+vec4 patch_corners(Neighbourhood n, ivec2 base) {
+    const ivec2 o = clamp(base - n.cell + 1, ivec2(0), ivec2(1));
+    const vec3 lo = o.y == 0 ? n.r0 : n.r1;
+    const vec3 hi = o.y == 0 ? n.r1 : n.r2;
+    return o.x == 0 ? vec4(lo.x, lo.y, hi.x, hi.y) : vec4(lo.y, lo.z, hi.y, hi.z);
+}
+
+// Bilinear interpolation at texel-space (X, Y) over the patch with lower-left sample
+// `base` and corners c (fixed over a sub-interval: exactly quadratic along the ray).
+float bilinear(vec2 q, ivec2 base, vec4 c) {
     const vec2 f = q - 0.5 - vec2(base);
-    return mix(mix(height_at(base), height_at(base + ivec2(1, 0)), f.x),
-               mix(height_at(base + ivec2(0, 1)), height_at(base + ivec2(1, 1)), f.x), f.y);
+    return mix(mix(c.x, c.y, f.x), mix(c.z, c.w, f.x), f.y);
 }
 vec2 bilinear_gradient(vec2 q) {
     const ivec2 base = ivec2(floor(q - 0.5));
@@ -82,14 +107,16 @@ float refine_in_texel(Walk w, ivec2 cell, float ta, float tb, float t_ignore) {
     if (sx > ta && sx < tb) cuts[n++] = sx;
     if (sy > ta && sy < tb) cuts[n++] = sy;
     cuts[n++] = tb;
+    const Neighbourhood nb = load_neighbourhood(cell);
     for (int k = 0; k + 1 < n; ++k) {
         const float a = cuts[k], b = cuts[k + 1];
         if (b <= t_ignore) continue;
         const vec2 qm = texel_pos(w, 0.5 * (a + b));
-        const ivec2 base = ivec2(floor(qm - 0.5));
-        const float g0 = w.o.z + a * w.d.z - bilinear(texel_pos(w, a), base);
-        const float gm = w.o.z + 0.5 * (a + b) * w.d.z - bilinear(qm, base);
-        const float g1 = w.o.z + b * w.d.z - bilinear(texel_pos(w, b), base);
+        const ivec2 base = clamp(ivec2(floor(qm - 0.5)), cell - 1, cell);
+        const vec4 c = patch_corners(nb, base);
+        const float g0 = w.o.z + a * w.d.z - bilinear(texel_pos(w, a), base, c);
+        const float gm = w.o.z + 0.5 * (a + b) * w.d.z - bilinear(qm, base, c);
+        const float g1 = w.o.z + b * w.d.z - bilinear(texel_pos(w, b), base, c);
         if (g0 <= 0.0 && a > t_ignore) return a; // already below: entered through an edge
         // g(s) = qa s^2 + qb s + qc on s in [0, 1].
         const float qa = 2.0 * (g0 - 2.0 * gm + g1);
@@ -114,7 +141,7 @@ float refine_in_texel(Walk w, ivec2 cell, float ta, float tb, float t_ignore) {
         if (s <= 1.0) {
             const float t = a + clamp(s, 0.0, 1.0) * (b - a);
             // Accept only a crossing from above to below (not a graze upwards).
-            const float gs = w.o.z + t * w.d.z - bilinear(texel_pos(w, t), base);
+            const float gs = w.o.z + t * w.d.z - bilinear(texel_pos(w, t), base, c);
             if (g1 <= 0.0 || gs <= 1e-5) return t;
         }
     }
@@ -126,7 +153,7 @@ int rqrm(Walk w, float t_start, ivec2 skip_texel, out float t_hit, out ivec2 hit
     t_hit = 0.0;
     hit_texel = ivec2(0);
     vec2 t01;
-    if (!clip_to_box(w.o, w.d, t01)) return kMiss;
+    if (!clip_to_box(w.o, w.d, holder_min(), holder_max(), t01)) return kMiss;
     float t = max(t01.x, t_start);
     const float t_end = t01.y;
     if (t >= t_end) return kMiss;
@@ -142,15 +169,21 @@ int rqrm(Walk w, float t_start, ivec2 skip_texel, out float t_hit, out ivec2 hit
     }
 
     const int top = int(P.levels) - 1;
-    int level = top;
+    // A ray leaving the surface after a reflection lies under every node above its texel,
+    // so a walk from the root would only descend to that texel: start there instead.
+    const bool from_surface = skip_texel.x >= 0;
+    int level = from_surface ? 0 : top;
     // The node's row in the quadtree buffer follows the level by integer arithmetic
     // (level l is ceil(W / 2^l) x ceil(H / 2^l) nodes, stored after the finer levels):
     // indexing the parameter tables by a per-ray level costs a gather on CPU drivers.
-    uint level_offset = P.level_offset[top];
-    uint level_w = P.level_w[top];
+    uint level_offset = from_surface ? 0u : P.level_offset[top];
+    uint level_w = from_surface ? P.hf_w : P.level_w[top];
     // CPU drivers (lavapipe) run both sides of every branch under a lane mask, so the
     // inner loop holds only the walk: it stops at a candidate texel (level 0, the ray
     // dips below its height) and the leaf test runs outside it, once per candidate.
+    // Reciprocals once per ray: the walk multiplies (a division per lane is slow on CPUs).
+    const vec2 inv_D = vec2(w.D.x != 0.0 ? 1.0 / w.D.x : 0.0, w.D.y != 0.0 ? 1.0 / w.D.y : 0.0);
+    const float inv_dz = w.d.z != 0.0 ? 1.0 / w.d.z : 0.0;
     bool across = false; // the candidate was not a hit: leave the texel
     uint step = 0u;
     while (step < P.max_steps) {
@@ -161,8 +194,8 @@ int rqrm(Walk w, float t_start, ivec2 skip_texel, out float t_hit, out ivec2 hit
             const float cell_size = float(1 << level);
             const vec2 lo = vec2(cell) * cell_size;
             const vec2 hi = min(lo + cell_size, vec2(size));
-            const float tx = w.D.x > 0.0 ? (hi.x - w.O.x) / w.D.x : (w.D.x < 0.0 ? (lo.x - w.O.x) / w.D.x : 3.0e38);
-            const float ty = w.D.y > 0.0 ? (hi.y - w.O.y) / w.D.y : (w.D.y < 0.0 ? (lo.y - w.O.y) / w.D.y : 3.0e38);
+            const float tx = w.D.x != 0.0 ? ((w.D.x > 0.0 ? hi.x : lo.x) - w.O.x) * inv_D.x : 3.0e38;
+            const float ty = w.D.y != 0.0 ? ((w.D.y > 0.0 ? hi.y : lo.y) - w.O.y) * inv_D.y : 3.0e38;
             const float t_exit = min(min(tx, ty), t_end);
             const float h = pyramid[level_offset + uint(cell.y) * level_w + uint(cell.x)];
             const float z_in = w.o.z + t * w.d.z;
@@ -181,7 +214,7 @@ int rqrm(Walk w, float t_start, ivec2 skip_texel, out float t_hit, out ivec2 hit
             // this node: move to the neighbour across the face the ray leaves through,
             // then go up a level.
             if (!below && t_exit >= t_end) return kMiss;
-            const float t_descend = (w.d.z < 0.0 && z_in > h) ? max(t, (h - w.o.z) / w.d.z) : t;
+            const float t_descend = (w.d.z < 0.0 && z_in > h) ? max(t, (h - w.o.z) * inv_dz) : t;
             t = below ? t_descend : t_exit;
             const ivec2 ahead = texel_ahead(w, texel_pos(w, t) + bias, texel);
             if (below) {
