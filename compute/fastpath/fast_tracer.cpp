@@ -23,6 +23,8 @@ namespace {
 
 constexpr VkDescriptorType kSB = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
 constexpr std::uint64_t kRayBytes = 32;
+// Below this many rays a bounce's output is traced in the order it was appended.
+constexpr std::uint64_t kOrderMinRays = 1u << 16;
 
 struct ToLmPush {
     std::uint32_t count;
@@ -49,7 +51,7 @@ FastTracer::FastTracer(const vk::Context& ctx, const Scene& scene, std::uint64_t
                             "fird.heightfield", spec_),
       maxmip_pipeline_(ctx, fird_spv_maxmip_comp, {kSB, kSB, kSB}, sizeof(gpu::MaxMipPush),
                        "fird.maxmip"),
-      trace_pipeline_(ctx, fird_spv_trace_comp, {kSB, kSB, kSB, kSB, kSB, kSB, kSB, kSB, kSB},
+      trace_pipeline_(ctx, fird_spv_trace_comp, {kSB, kSB, kSB, kSB, kSB, kSB, kSB, kSB, kSB, kSB},
                       sizeof(gpu::TracePush), "fird.trace", spec_),
       to_lm_pipeline_(ctx, fird_spv_counts_to_lm_comp, {kSB, kSB}, sizeof(ToLmPush),
                       "fird.counts_to_lm"),
@@ -119,18 +121,20 @@ void FastTracer::set_reflector(const ReflectorDesc& reflector) {
     heightfield_dirty_ = true;
 }
 
-double FastTracer::order_rayset(std::uint64_t effective) {
-    if (effective == 0) return 0.0;
+double FastTracer::order_rays(const vk::Buffer& from, const vk::Buffer& to, std::uint64_t count,
+                              bool reflected) {
+    if (count == 0) return 0.0;
     const auto t0 = std::chrono::steady_clock::now();
     ctx_->submit_and_wait([&](VkCommandBuffer cb) {
         timer_.begin(cb);
         const vk::Binding scan[] = {vk::storage(order_buckets_)};
         bucket_scan_pipeline_.dispatch(cb, scan, nullptr, 1);
         vk::barrier_all(cb);
-        const vk::Binding b[] = {vk::storage(params_buffer_), vk::storage(rays_ping_),
-                                 vk::storage(rays_cache_), vk::storage(order_buckets_)};
-        const gpu::RaysetOrderPush push{.count = std::uint32_t(effective)};
-        order_pipeline_.dispatch(cb, b, &push, groups(effective, FIRD_RAYSET_WORKGROUP_SIZE));
+        const vk::Binding b[] = {vk::storage(params_buffer_), vk::storage(from), vk::storage(to),
+                                 vk::storage(order_buckets_)};
+        const gpu::RaysetOrderPush push{.count = std::uint32_t(count),
+                                        .reflected = reflected ? 1u : 0u};
+        order_pipeline_.dispatch(cb, b, &push, groups(count, FIRD_RAYSET_WORKGROUP_SIZE));
         timer_.end(cb);
     });
     return timer_.supported() ? timer_.elapsed_ms() : ms_since(t0);
@@ -182,10 +186,14 @@ void FastTracer::trace_batch(std::uint64_t effective, FastRun& run, bool record_
     const std::uint32_t passes = params_.max_bounces + (params_.strict_policy ? 1u : 0u);
     for (std::uint32_t bounce = 0; bounce < passes && active > 0; ++bounce) {
         // No dispatch for a bounce with no active rays (the loop condition).
+        // The rays reflected here are ordered by direction for the next bounce, as the
+        // rayset is, unless there are too few for the ordering to pay.
+        const bool order = bounce + 1 < passes && active >= kOrderMinRays;
         const auto t0 = std::chrono::steady_clock::now();
         ctx_->submit_and_wait([&](VkCommandBuffer cb) {
             timer_.begin(cb);
             vkCmdFillBuffer(cb, counters_.get(), gpu::kCounterActiveOut * 4, 4, 0);
+            if (order) vkCmdFillBuffer(cb, order_buckets_.get(), 0, VK_WHOLE_SIZE, 0);
             vk::barrier_all(cb);
             const vk::Binding b[] = {
                 vk::storage(params_buffer_),
@@ -196,18 +204,26 @@ void FastTracer::trace_batch(std::uint64_t effective, FastRun& run, bool record_
                 vk::storage(paper_tree_),
                 vk::storage(gradients_),
                 vk::storage(farfield_counts_),
-                vk::storage(hits_)};
+                vk::storage(hits_),
+                vk::storage(order_buckets_)};
             const gpu::TracePush push{.bounce = bounce,
                                       .final_check = bounce == params_.max_bounces ? 1u : 0u,
                                       .active_count = std::uint32_t(active),
-                                      .record_hits = record_hits && bounce == 0 ? 1u : 0u};
+                                      .record_hits = record_hits && bounce == 0 ? 1u : 0u,
+                                      .order_output = order ? 1u : 0u};
             trace_pipeline_.dispatch(cb, b, &push, groups(active, FIRD_TRACE_WORKGROUP_SIZE));
             timer_.end(cb);
         });
         run.timings.trace_ms += timer_.supported() ? timer_.elapsed_ms() : ms_since(t0);
         active = counters[gpu::kCounterActiveOut];
         in = out;
-        out = (out == &rays_ping_) ? &rays_pong_ : &rays_ping_;
+        if (order) {
+            // Into the other ping-pong buffer (this bounce's input is consumed).
+            const vk::Buffer* spare = (out == &rays_ping_) ? &rays_pong_ : &rays_ping_;
+            run.timings.trace_ms += order_rays(*out, *spare, active, true);
+            in = spare;
+        }
+        out = (in == &rays_ping_) ? &rays_pong_ : &rays_ping_;
     }
     // Tally this batch's counters (32-bit on the device, 64-bit here).
     RayTally& t = run.tally;
@@ -279,7 +295,7 @@ FastRun FastTracer::run() {
             });
             run.timings.rayset_ms += timer_.supported() ? timer_.elapsed_ms() : ms_since(tr);
             cached_effective = counters[gpu::kCounterEffective];
-            run.timings.rayset_ms += order_rayset(cached_effective);
+            run.timings.rayset_ms += order_rays(rays_ping_, rays_cache_, cached_effective, false);
             if (one_batch) {
                 rayset_cached_ = true;
                 cached_effective_ = cached_effective;

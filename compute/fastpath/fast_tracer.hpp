@@ -59,8 +59,10 @@ class FastTracer {
     void trace_batch(std::uint64_t effective, FastRun& run, bool record_hits);
     void build_heightfield(FastRun& run);
     void upload_params();
-    // Sorts the rayset by direction (rayset_order.comp); returns its time in ms.
-    double order_rayset(std::uint64_t effective);
+    // Moves `count` rays from `from` to `to` ordered by direction (bucket_scan.comp and
+    // rayset_order.comp, on the bucket counts the producing pass left); returns ms.
+    double order_rays(const vk::Buffer& from, const vk::Buffer& to, std::uint64_t count,
+                      bool reflected);
     void finish(FastRun& run);
 
     const vk::Context* ctx_;

@@ -22,4 +22,12 @@ uint direction_bucket(vec3 d) {
     return spread_bits(q.x) | (spread_bits(q.y) << 1u);
 }
 
+// Rays leaving the reflector after a bounce: where they start (a 16 x 16 grid over the
+// holder), then their direction (16 x 16 octahedral cells).
+uint reflected_bucket(vec3 o, vec3 d) {
+    const vec2 f = (o.xy - holder_min().xy) / (holder_max().xy - holder_min().xy);
+    const uvec2 qo = uvec2(clamp(f * 16.0, vec2(0.0), vec2(15.0)));
+    return ((spread_bits(qo.x) | (spread_bits(qo.y) << 1u)) << 8u) | (direction_bucket(d) >> 8u);
+}
+
 #endif

@@ -90,6 +90,7 @@ FIRD_CONSTANT(uint, kTraceBindHeights, 5u);  // the paper quadtree (level 0 = te
 FIRD_CONSTANT(uint, kTraceBindGradients, 6u);
 FIRD_CONSTANT(uint, kTraceBindFarField, 7u);
 FIRD_CONSTANT(uint, kTraceBindHits, 8u);
+FIRD_CONSTANT(uint, kTraceBindBuckets, 9u); // rays appended per direction bucket
 
 // Counter slots (uint) in the counters buffer.
 FIRD_CONSTANT(uint, kCounterEffective, 0u);  // rays appended by the rayset pass
@@ -153,6 +154,7 @@ FIRD_CONSTANT(uint, kOrderBindBuckets, 3u); // uint[kRaysetOrderBuckets]: offset
 FIRD_CONSTANT(uint, kScanBindBuckets, 0u);  // bucket_scan.comp's only binding
 struct RaysetOrderPush {
     uint count;
+    uint reflected; // 1: rays after a bounce (reflected_bucket), 0: the rayset (direction_bucket)
 };
 
 struct TracePush {
@@ -160,6 +162,7 @@ struct TracePush {
     uint final_check;  // strict policy: only test for another hit
     uint active_count; // rays in rays_in (read back by the host after the previous pass)
     uint record_hits;  // write hits[i] = (hit point, t) or t = -1 for input ray i
+    uint order_output; // count the appended rays per direction bucket (rayset_order.comp)
 };
 
 struct MeshRasterPush {

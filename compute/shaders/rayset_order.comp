@@ -20,5 +20,6 @@ void main() {
     const uint i = gl_GlobalInvocationID.x;
     if (i >= pc.count) return;
     const Ray r = rays_in[i];
-    rays_out[atomicAdd(buckets[direction_bucket(r.direction.xyz)], 1u)] = r;
+    const uint bucket = pc.reflected != 0u ? reflected_bucket(r.origin.xyz, r.direction.xyz) : direction_bucket(r.direction.xyz);
+    rays_out[atomicAdd(buckets[bucket], 1u)] = r;
 }

@@ -9,6 +9,7 @@
 // between two cells; every loop is bounded by P.max_steps (then counted as aborted).
 #extension GL_GOOGLE_include_directive : require
 #include "common.glsl"
+#include "direction_bucket.glsl"
 
 layout(local_size_x = FIRD_TRACE_WORKGROUP_SIZE) in;
 layout(std430, binding = kTraceBindRaysIn) readonly buffer RaysIn { Ray rays_in[]; };
@@ -19,6 +20,7 @@ layout(std430, binding = kTraceBindHeights) readonly buffer Heights { float heig
 layout(std430, binding = kTraceBindGradients) readonly buffer Gradients { vec2 gradients[]; };
 layout(std430, binding = kTraceBindFarField) buffer FarField { uint farfield[]; };
 layout(std430, binding = kTraceBindHits) writeonly buffer Hits { vec4 hits[]; };
+layout(std430, binding = kTraceBindBuckets) buffer Buckets { uint buckets[]; };
 layout(push_constant) uniform Push { TracePush pc; };
 
 const int kMiss = 0;
@@ -347,5 +349,9 @@ void main() {
     FIRD_COUNT(counters, kCounterByReflections + pc.bounce + 1u, far_final);
     uint slot;
     FIRD_APPEND_INDEX(counters, kCounterActiveOut, append, slot);
-    if (append) rays_out[slot] = next;
+    if (append) {
+        rays_out[slot] = next;
+        // Counted for ordering the next bounce's rays by direction (rayset_order.comp).
+        if (pc.order_output != 0u) atomicAdd(buckets[reflected_bucket(next.origin.xyz, next.direction.xyz)], 1u);
+    }
 }
