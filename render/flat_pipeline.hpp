@@ -8,7 +8,7 @@
 
 #include "offscreen_target.hpp"
 #include "vk/buffer.hpp"
-#include "vk/owned.hpp"
+#include "vk/graphics_pipeline.hpp"
 
 namespace fird::render {
 
@@ -26,8 +26,7 @@ class FlatPipeline {
               const std::array<float, 16>& transform) const;
 
   private:
-    vk::Owned<VkPipelineLayout> layout_;
-    vk::Owned<VkPipeline> pipeline_;
+    vk::GraphicsPipeline pipeline_;
 };
 
 // The identity transform (vertices already in normalized device coordinates).

@@ -11,8 +11,8 @@
 #include "mesh_height_frag.h"
 #include "mesh_height_vert.h"
 #include "vk/check.hpp"
+#include "vk/graphics_pipeline.hpp"
 #include "vk/image.hpp"
-#include "vk/shader_module.hpp"
 
 namespace fird {
 
@@ -64,33 +64,6 @@ void copy_to_buffer(VkCommandBuffer cb, const vk::Image& image, const vk::Buffer
 } // namespace
 
 MeshRasterizer::MeshRasterizer(const vk::Context& ctx) : ctx_(&ctx) {
-    const VkDevice dev = ctx.device();
-    const VkPushConstantRange range{.stageFlags =
-                                        VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT,
-                                    .offset = 0,
-                                    .size = sizeof(gpu::MeshRasterPush)};
-    const VkPipelineLayoutCreateInfo layout_info{.sType =
-                                                     VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO,
-                                                 .pushConstantRangeCount = 1,
-                                                 .pPushConstantRanges = &range};
-    VkPipelineLayout layout = VK_NULL_HANDLE;
-    FIRD_VK_CHECK(vkCreatePipelineLayout(dev, &layout_info, nullptr, &layout));
-    layout_ = vk::Owned<VkPipelineLayout>(dev, layout);
-    ctx.name(layout, VK_OBJECT_TYPE_PIPELINE_LAYOUT, "fird.mesh_raster");
-
-    const auto vert = vk::make_shader_module(dev, fird_spv_mesh_height_vert);
-    const auto frag = vk::make_shader_module(dev, fird_spv_mesh_height_frag);
-    const VkPipelineShaderStageCreateInfo stages[] = {
-        {.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO,
-         .stage = VK_SHADER_STAGE_VERTEX_BIT,
-         .module = vert.get(),
-         .pName = "main"},
-        {.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO,
-         .stage = VK_SHADER_STAGE_FRAGMENT_BIT,
-         .module = frag.get(),
-         .pName = "main"}};
-    const VkVertexInputBindingDescription binding{
-        .binding = 0, .stride = sizeof(MeshVertex), .inputRate = VK_VERTEX_INPUT_RATE_VERTEX};
     const VkVertexInputAttributeDescription attributes[] = {
         {.location = 0,
          .binding = 0,
@@ -100,72 +73,23 @@ MeshRasterizer::MeshRasterizer(const vk::Context& ctx) : ctx_(&ctx) {
          .binding = 0,
          .format = VK_FORMAT_R32G32_SFLOAT,
          .offset = offsetof(MeshVertex, gradient)}};
-    const VkPipelineVertexInputStateCreateInfo vertex_input{
-        .sType = VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO,
-        .vertexBindingDescriptionCount = 1,
-        .pVertexBindingDescriptions = &binding,
-        .vertexAttributeDescriptionCount = 2,
-        .pVertexAttributeDescriptions = attributes};
-    const VkPipelineInputAssemblyStateCreateInfo assembly{
-        .sType = VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO,
-        .topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST};
-    const VkPipelineViewportStateCreateInfo viewport{
-        .sType = VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO,
-        .viewportCount = 1,
-        .scissorCount = 1};
-    const VkPipelineRasterizationStateCreateInfo raster{
-        .sType = VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO,
-        .polygonMode = VK_POLYGON_MODE_FILL,
-        .cullMode = VK_CULL_MODE_NONE, // a mesh's winding says nothing about up
-        .frontFace = VK_FRONT_FACE_COUNTER_CLOCKWISE,
-        .lineWidth = 1.0f};
-    const VkPipelineMultisampleStateCreateInfo multisample{
-        .sType = VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO,
-        .rasterizationSamples = VK_SAMPLE_COUNT_1_BIT};
-    const VkPipelineDepthStencilStateCreateInfo depth{
-        .sType = VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO,
-        .depthTestEnable = VK_TRUE,
-        .depthWriteEnable = VK_TRUE,
-        .depthCompareOp = VK_COMPARE_OP_GREATER}; // the highest surface over a texel
-    // Identical for both attachments (independentBlend is an optional feature).
-    constexpr VkPipelineColorBlendAttachmentState kWrite{
-        .blendEnable = VK_FALSE,
-        .colorWriteMask = VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT |
-                          VK_COLOR_COMPONENT_B_BIT | VK_COLOR_COMPONENT_A_BIT};
-    const VkPipelineColorBlendAttachmentState no_blend[] = {kWrite, kWrite};
-    const VkPipelineColorBlendStateCreateInfo blend{
-        .sType = VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO,
-        .attachmentCount = 2,
-        .pAttachments = no_blend};
-    const VkDynamicState dynamic_states[] = {VK_DYNAMIC_STATE_VIEWPORT, VK_DYNAMIC_STATE_SCISSOR};
-    const VkPipelineDynamicStateCreateInfo dynamic{
-        .sType = VK_STRUCTURE_TYPE_PIPELINE_DYNAMIC_STATE_CREATE_INFO,
-        .dynamicStateCount = 2,
-        .pDynamicStates = dynamic_states};
     const VkFormat colour_formats[] = {kHeightFormat, kGradientFormat};
-    const VkPipelineRenderingCreateInfo rendering{
-        .sType = VK_STRUCTURE_TYPE_PIPELINE_RENDERING_CREATE_INFO,
-        .colorAttachmentCount = 2,
-        .pColorAttachmentFormats = colour_formats,
-        .depthAttachmentFormat = kDepthFormat};
-    const VkGraphicsPipelineCreateInfo info{.sType =
-                                                VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO,
-                                            .pNext = &rendering,
-                                            .stageCount = 2,
-                                            .pStages = stages,
-                                            .pVertexInputState = &vertex_input,
-                                            .pInputAssemblyState = &assembly,
-                                            .pViewportState = &viewport,
-                                            .pRasterizationState = &raster,
-                                            .pMultisampleState = &multisample,
-                                            .pDepthStencilState = &depth,
-                                            .pColorBlendState = &blend,
-                                            .pDynamicState = &dynamic,
-                                            .layout = layout};
-    VkPipeline pipeline = VK_NULL_HANDLE;
-    FIRD_VK_CHECK(vkCreateGraphicsPipelines(dev, VK_NULL_HANDLE, 1, &info, nullptr, &pipeline));
-    pipeline_ = vk::Owned<VkPipeline>(dev, pipeline);
-    ctx.name(pipeline, VK_OBJECT_TYPE_PIPELINE, "fird.mesh_raster");
+    // No culling (a mesh's winding says nothing about up); depth GREATER keeps the highest
+    // surface over a texel; heights and gradients are written, not blended.
+    pipeline_ = vk::make_graphics_pipeline(
+        ctx, {.vertex_spirv = fird_spv_mesh_height_vert,
+              .fragment_spirv = fird_spv_mesh_height_frag,
+              .push_stages = VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT,
+              .push_bytes = sizeof(gpu::MeshRasterPush),
+              .vertex_stride = sizeof(MeshVertex),
+              .attributes = attributes,
+              .depth_compare = VK_COMPARE_OP_GREATER,
+              .colour_formats = colour_formats,
+              .depth_format = kDepthFormat,
+              .blend = {.blendEnable = VK_FALSE,
+                        .colorWriteMask = VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT |
+                                          VK_COLOR_COMPONENT_B_BIT | VK_COLOR_COMPONENT_A_BIT},
+              .name = "fird.mesh_raster"});
 }
 
 void MeshRasterizer::rasterize(const TriangleMesh& mesh, const Holder& holder, std::uint32_t width,
@@ -230,11 +154,11 @@ void MeshRasterizer::rasterize(const TriangleMesh& mesh, const Holder& holder, s
         const VkRect2D scissor{{0, 0}, {width, height}};
         vkCmdSetViewport(cb, 0, 1, &viewport);
         vkCmdSetScissor(cb, 0, 1, &scissor);
-        vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline_.get());
+        vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline_.pipeline.get());
         const VkBuffer vb = vertex_buffer.get();
         const VkDeviceSize offset = 0;
         vkCmdBindVertexBuffers(cb, 0, 1, &vb, &offset);
-        vkCmdPushConstants(cb, layout_.get(),
+        vkCmdPushConstants(cb, pipeline_.layout.get(),
                            VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
                            sizeof(push), &push);
         vkCmdDraw(cb, std::uint32_t(vertices.size()), 1, 0, 0);

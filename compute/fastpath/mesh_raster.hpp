@@ -8,7 +8,7 @@
 #include "model/scene.hpp"
 #include "vk/buffer.hpp"
 #include "vk/context.hpp"
-#include "vk/owned.hpp"
+#include "vk/graphics_pipeline.hpp"
 
 namespace fird {
 
@@ -26,8 +26,7 @@ class MeshRasterizer {
 
   private:
     const vk::Context* ctx_;
-    vk::Owned<VkPipelineLayout> layout_;
-    vk::Owned<VkPipeline> pipeline_;
+    vk::GraphicsPipeline pipeline_;
 };
 
 } // namespace fird

@@ -1,0 +1,38 @@
+// Graphics pipelines for dynamic rendering, as the engine and the renderer use them: a
+// vertex and a fragment shader, one interleaved vertex buffer, push constants only,
+// dynamic viewport and scissor, no culling, the same blend state on every colour
+// attachment (independentBlend is an optional feature).
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <string_view>
+
+#include "context.hpp"
+#include "owned.hpp"
+
+namespace fird::vk {
+
+struct GraphicsPipelineDesc {
+    std::span<const std::uint32_t> vertex_spirv;
+    std::span<const std::uint32_t> fragment_spirv;
+    VkShaderStageFlags push_stages = VK_SHADER_STAGE_VERTEX_BIT;
+    std::uint32_t push_bytes = 0;
+    std::uint32_t vertex_stride = 0;
+    std::span<const VkVertexInputAttributeDescription> attributes; // all of binding 0
+    VkPrimitiveTopology topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
+    VkCompareOp depth_compare = VK_COMPARE_OP_LESS_OR_EQUAL; // depth test and write on
+    std::span<const VkFormat> colour_formats;
+    VkFormat depth_format = VK_FORMAT_UNDEFINED;
+    VkPipelineColorBlendAttachmentState blend{};
+    std::string_view name; // debug name of the layout and the pipeline
+};
+
+struct GraphicsPipeline {
+    Owned<VkPipelineLayout> layout;
+    Owned<VkPipeline> pipeline;
+};
+
+GraphicsPipeline make_graphics_pipeline(const Context& ctx, const GraphicsPipelineDesc& desc);
+
+} // namespace fird::vk
