@@ -22,6 +22,7 @@ namespace fird {
 namespace {
 
 constexpr VkDescriptorType kSB = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+constexpr VkDescriptorType kTB = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
 constexpr std::uint64_t kRayBytes = 32;
 // Below this many rays a bounce's output is traced in the order it was appended.
 constexpr std::uint64_t kOrderMinRays = 1u << 16;
@@ -51,7 +52,7 @@ FastTracer::FastTracer(const vk::Context& ctx, const Scene& scene, std::uint64_t
                             "fird.heightfield", spec_),
       maxmip_pipeline_(ctx, fird_spv_maxmip_comp, {kSB, kSB, kSB}, sizeof(gpu::MaxMipPush),
                        "fird.maxmip"),
-      trace_pipeline_(ctx, fird_spv_trace_comp, {kSB, kSB, kSB, kSB, kSB, kSB, kSB, kSB, kSB, kSB},
+      trace_pipeline_(ctx, fird_spv_trace_comp, {kSB, kSB, kSB, kSB, kTB, kTB, kTB, kSB, kSB, kSB},
                       sizeof(gpu::TracePush), "fird.trace", spec_),
       to_lm_pipeline_(ctx, fird_spv_counts_to_lm_comp, {kSB, kSB}, sizeof(ToLmPush),
                       "fird.counts_to_lm"),
@@ -82,12 +83,22 @@ FastTracer::FastTracer(const vk::Context& ctx, const Scene& scene, std::uint64_t
     rays_pong_ = vk::Buffer(ctx, ray_bytes, storage, vk::MemoryUse::Device, "fird.rays.pong");
     hits_ = vk::Buffer(ctx, 16, storage, vk::MemoryUse::Device, "fird.hits.unused");
     const QuadtreeLayout q = quadtree_layout(params_.hf_w, params_.hf_h);
-    paper_tree_ =
-        vk::Buffer(ctx, q.total_floats * 4, storage, vk::MemoryUse::Device, "fird.quadtree.paper");
-    refined_tree_ = vk::Buffer(ctx, q.total_floats * 4, storage, vk::MemoryUse::Device,
+    if (q.total_floats > limits.max_texel_buffer_elements)
+        throw std::invalid_argument(fmt::format(
+            "heightfield {} x {}: its quadtree ({} nodes) exceeds this device's texel buffer "
+            "limit ({})",
+            params_.hf_w, params_.hf_h, q.total_floats, limits.max_texel_buffer_elements));
+    const auto tree_usage = storage | VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT;
+    paper_tree_ = vk::Buffer(ctx, q.total_floats * 4, tree_usage, vk::MemoryUse::Device,
+                             "fird.quadtree.paper");
+    refined_tree_ = vk::Buffer(ctx, q.total_floats * 4, tree_usage, vk::MemoryUse::Device,
                                "fird.quadtree.refined");
-    gradients_ = vk::Buffer(ctx, std::uint64_t(params_.hf_w) * params_.hf_h * 8, storage,
+    paper_view_ = vk::TexelView(ctx, paper_tree_, VK_FORMAT_R32_SFLOAT, "fird.quadtree.paper.view");
+    refined_view_ =
+        vk::TexelView(ctx, refined_tree_, VK_FORMAT_R32_SFLOAT, "fird.quadtree.refined.view");
+    gradients_ = vk::Buffer(ctx, std::uint64_t(params_.hf_w) * params_.hf_h * 8, tree_usage,
                             vk::MemoryUse::Device, "fird.normals");
+    gradients_view_ = vk::TexelView(ctx, gradients_, VK_FORMAT_R32G32_SFLOAT, "fird.normals.view");
     control_ = vk::Buffer(ctx, 4, storage, vk::MemoryUse::Device, "fird.bspline.control");
     order_buckets_ = vk::Buffer(ctx, gpu::kRaysetOrderBuckets * 4, storage, vk::MemoryUse::Device,
                                 "fird.rayset.order_buckets");
@@ -200,9 +211,9 @@ void FastTracer::trace_batch(std::uint64_t effective, FastRun& run, bool record_
                 vk::storage(*in),
                 vk::storage(*out),
                 vk::storage(counters_),
-                vk::storage(params_.hit_mode == gpu::kHitModePaper ? paper_tree_ : refined_tree_),
-                vk::storage(paper_tree_),
-                vk::storage(gradients_),
+                vk::texel(params_.hit_mode == gpu::kHitModePaper ? paper_view_ : refined_view_),
+                vk::texel(paper_view_),
+                vk::texel(gradients_view_),
                 vk::storage(farfield_counts_),
                 vk::storage(hits_),
                 vk::storage(order_buckets_)};

@@ -79,6 +79,7 @@ class FastTracer {
         to_lm_pipeline_, order_pipeline_, bucket_scan_pipeline_;
     vk::Buffer params_buffer_, counters_, rays_cache_, rays_ping_, rays_pong_, hits_;
     vk::Buffer paper_tree_, refined_tree_, gradients_, control_, order_buckets_;
+    vk::TexelView paper_view_, refined_view_, gradients_view_; // as the trace reads them
     vk::Buffer farfield_counts_, farfield_lm_;
     vk::GpuTimer timer_;
     std::optional<MeshRasterizer> mesh_rasterizer_; // mesh reflectors only

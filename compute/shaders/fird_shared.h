@@ -85,6 +85,7 @@ FIRD_CONSTANT(uint, kMaxMipBindRefined, 2u);
 FIRD_CONSTANT(uint, kTraceBindRaysIn, 1u);
 FIRD_CONSTANT(uint, kTraceBindRaysOut, 2u);
 FIRD_CONSTANT(uint, kTraceBindCounters, 3u);
+// Bindings 4-6 are uniform texel buffers (R32F, R32F, RG32F); the others storage buffers.
 FIRD_CONSTANT(uint, kTraceBindPyramid, 4u);  // the traversal quadtree of the hit mode
 FIRD_CONSTANT(uint, kTraceBindHeights, 5u);  // the paper quadtree (level 0 = texel heights)
 FIRD_CONSTANT(uint, kTraceBindGradients, 6u);

@@ -15,9 +15,11 @@ layout(local_size_x = FIRD_TRACE_WORKGROUP_SIZE) in;
 layout(std430, binding = kTraceBindRaysIn) readonly buffer RaysIn { Ray rays_in[]; };
 layout(std430, binding = kTraceBindRaysOut) writeonly buffer RaysOut { Ray rays_out[]; };
 layout(std430, binding = kTraceBindCounters) buffer Counters { uint counters[]; };
-layout(std430, binding = kTraceBindPyramid) readonly buffer Pyramid { float pyramid[]; };
-layout(std430, binding = kTraceBindHeights) readonly buffer Heights { float heights[]; };
-layout(std430, binding = kTraceBindGradients) readonly buffer Gradients { vec2 gradients[]; };
+// Texel buffers: CPU drivers read these through a vectorized gather (storage-buffer
+// loads at per-lane indices become a bounds-checked scalar loop per lane).
+layout(binding = kTraceBindPyramid) uniform samplerBuffer pyramid;
+layout(binding = kTraceBindHeights) uniform samplerBuffer heights;
+layout(binding = kTraceBindGradients) uniform samplerBuffer gradients;
 layout(std430, binding = kTraceBindFarField) buffer FarField { uint farfield[]; };
 layout(std430, binding = kTraceBindHits) writeonly buffer Hits { vec4 hits[]; };
 layout(std430, binding = kTraceBindBuckets) buffer Buckets { uint buckets[]; };
@@ -30,11 +32,11 @@ const int kBlocked = 3; // entered the box through a side face below the surface
 
 float height_at(ivec2 t) {
     t = clamp(t, ivec2(0), ivec2(P.hf_w - 1u, P.hf_h - 1u));
-    return heights[uint(t.y) * P.hf_w + uint(t.x)];
+    return texelFetch(heights, int(uint(t.y) * P.hf_w + uint(t.x))).r;
 }
 vec2 gradient_at(ivec2 t) {
     t = clamp(t, ivec2(0), ivec2(P.hf_w - 1u, P.hf_h - 1u));
-    return gradients[uint(t.y) * P.hf_w + uint(t.x)];
+    return texelFetch(gradients, int(uint(t.y) * P.hf_w + uint(t.x))).rg;
 }
 
 // The bilinear surface through the texel-centre samples around one texel: its 3 x 3
@@ -199,7 +201,7 @@ int rqrm(Walk w, float t_start, ivec2 skip_texel, out float t_hit, out ivec2 hit
             const float tx = w.D.x != 0.0 ? ((w.D.x > 0.0 ? hi.x : lo.x) - w.O.x) * inv_D.x : 3.0e38;
             const float ty = w.D.y != 0.0 ? ((w.D.y > 0.0 ? hi.y : lo.y) - w.O.y) * inv_D.y : 3.0e38;
             const float t_exit = min(min(tx, ty), t_end);
-            const float h = pyramid[level_offset + uint(cell.y) * level_w + uint(cell.x)];
+            const float h = texelFetch(pyramid, int(level_offset + uint(cell.y) * level_w + uint(cell.x))).r;
             const float z_in = w.o.z + t * w.d.z;
             const float z_out = w.o.z + max(t_exit, t) * w.d.z;
             const bool below = !across && min(z_in, z_out) <= h;
@@ -249,7 +251,7 @@ int rqrm(Walk w, float t_start, ivec2 skip_texel, out float t_hit, out ivec2 hit
         // Algorithm 1 lines 13-15 (paper) or the refined surface.
         if (kHitMode == kHitModePaper) {
             if (texel != skip_texel) { // not the texel the ray reflected from
-                const float h = heights[uint(texel.y) * P.hf_w + uint(texel.x)];
+                const float h = texelFetch(heights, int(uint(texel.y) * P.hf_w + uint(texel.x))).r;
                 const float z_in = w.o.z + t * w.d.z;
                 t_hit = (w.d.z < 0.0 && z_in > h) ? max(t, (h - w.o.z) / w.d.z) : t;
                 hit_texel = texel;

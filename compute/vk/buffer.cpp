@@ -116,3 +116,20 @@ void barrier_all(VkCommandBuffer cb) {
 }
 
 } // namespace fird::vk
+
+namespace fird::vk {
+
+TexelView::TexelView(const Context& ctx, const Buffer& buffer, VkFormat format,
+                     std::string_view name) {
+    const VkBufferViewCreateInfo info{.sType = VK_STRUCTURE_TYPE_BUFFER_VIEW_CREATE_INFO,
+                                      .buffer = buffer.get(),
+                                      .format = format,
+                                      .offset = 0,
+                                      .range = VK_WHOLE_SIZE};
+    VkBufferView view = VK_NULL_HANDLE;
+    FIRD_VK_CHECK(vkCreateBufferView(ctx.device(), &info, nullptr, &view));
+    view_ = Owned<VkBufferView>(ctx.device(), view);
+    ctx.name(view, VK_OBJECT_TYPE_BUFFER_VIEW, name);
+}
+
+} // namespace fird::vk

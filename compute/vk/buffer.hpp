@@ -53,6 +53,19 @@ class Buffer {
     void* mapped_ = nullptr;
 };
 
+// A typed view of a whole buffer for uniform texel buffer bindings: on CPU drivers its
+// reads go through the texture unit's vectorized gather instead of one bounds-checked
+// scalar load per lane (the buffer needs VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT).
+class TexelView {
+  public:
+    TexelView() = default;
+    TexelView(const Context& ctx, const Buffer& buffer, VkFormat format, std::string_view name);
+    VkBufferView get() const { return view_.get(); }
+
+  private:
+    Owned<VkBufferView> view_;
+};
+
 // Buffer usage for storage buffers that are also copied to and from.
 inline constexpr VkBufferUsageFlags kStorageUsage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
                                                     VK_BUFFER_USAGE_TRANSFER_SRC_BIT |

@@ -84,12 +84,15 @@ void ComputePipeline::dispatch(VkCommandBuffer cb, std::span<const Binding> bind
         if (bindings[i].type != types_[i])
             throw std::logic_error("ComputePipeline::dispatch: binding type mismatch");
         const bool is_buffer = types_[i] == VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+        const bool is_image = types_[i] == VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
+        const bool is_texel = types_[i] == VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
         writes.push_back({.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET,
                           .dstBinding = i,
                           .descriptorCount = 1,
                           .descriptorType = types_[i],
-                          .pImageInfo = is_buffer ? nullptr : &bindings[i].image,
-                          .pBufferInfo = is_buffer ? &bindings[i].buffer : nullptr});
+                          .pImageInfo = is_image ? &bindings[i].image : nullptr,
+                          .pBufferInfo = is_buffer ? &bindings[i].buffer : nullptr,
+                          .pTexelBufferView = is_texel ? &bindings[i].texel_view : nullptr});
     }
     vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_.get());
     push_descriptor_set_(cb, VK_PIPELINE_BIND_POINT_COMPUTE, layout_.get(), 0,

@@ -15,11 +15,13 @@
 
 namespace fird::vk {
 
-// One binding's resource: a storage buffer (whole) or a storage image (GENERAL layout).
+// One binding's resource: a storage buffer (whole), a storage image (GENERAL layout) or
+// a uniform texel buffer (a typed view of a buffer, read through the texture path).
 struct Binding {
     VkDescriptorType type;
     VkDescriptorBufferInfo buffer{};
     VkDescriptorImageInfo image{};
+    VkBufferView texel_view = VK_NULL_HANDLE;
 };
 inline Binding storage(const Buffer& b) {
     return {.type = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
@@ -28,6 +30,10 @@ inline Binding storage(const Buffer& b) {
 inline Binding storage(const Image& i) {
     return {.type = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,
             .image = {.imageView = i.view(), .imageLayout = VK_IMAGE_LAYOUT_GENERAL}};
+}
+
+inline Binding texel(const TexelView& v) {
+    return {.type = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, .texel_view = v.get()};
 }
 
 class ComputePipeline {

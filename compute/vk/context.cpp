@@ -195,6 +195,7 @@ DeviceLimits query_limits(VkPhysicalDevice pd, std::uint32_t queue_family, bool 
     }
     out.max_workgroup_invocations = l.maxComputeWorkGroupInvocations;
     out.max_storage_buffer_range = l.maxStorageBufferRange;
+    out.max_texel_buffer_elements = l.maxTexelBufferElements;
     out.max_memory_allocation_size = maint3.maxMemoryAllocationSize;
     out.subgroup_size = subgroup.subgroupSize;
     out.max_image_dimension_2d = l.maxImageDimension2D;

@@ -43,6 +43,7 @@ struct DeviceLimits {
     std::uint32_t max_workgroup_invocations = 0;
     std::uint32_t max_workgroup_count[3] = {};
     std::uint64_t max_storage_buffer_range = 0;
+    std::uint64_t max_texel_buffer_elements = 0;
     std::uint64_t max_memory_allocation_size = 0;
     std::uint64_t device_local_heap_bytes = 0;
     std::uint32_t subgroup_size = 0;

@@ -41,6 +41,9 @@ inline void destroy(VkDevice d, VkImageView h) {
 inline void destroy(VkDevice d, VkDeviceMemory h) {
     vkFreeMemory(d, h, nullptr);
 }
+inline void destroy(VkDevice d, VkBufferView h) {
+    vkDestroyBufferView(d, h, nullptr);
+}
 inline void destroy(VkDevice d, VkSampler h) {
     vkDestroySampler(d, h, nullptr);
 }
