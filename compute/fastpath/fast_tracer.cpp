@@ -24,6 +24,8 @@ namespace {
 constexpr VkDescriptorType kSB = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
 constexpr VkDescriptorType kTB = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
 constexpr std::uint64_t kRayBytes = 32;
+// The most device memory a kept rayset may take (1e7 emitted rays take at most 320 MB).
+constexpr std::uint64_t kRaysetCacheBytes = 1ull << 30;
 // Below this many rays a bounce's output is traced in the order it was appended.
 constexpr std::uint64_t kOrderMinRays = 1u << 16;
 
@@ -78,7 +80,13 @@ FastTracer::FastTracer(const vk::Context& ctx, const Scene& scene, std::uint64_t
         vk::Buffer(ctx, sizeof(gpu::SceneParams), storage, vk::MemoryUse::Upload, "fird.params");
     counters_ =
         vk::Buffer(ctx, gpu::kCounterCount * 4, storage, vk::MemoryUse::Readback, "fird.counters");
-    rays_cache_ = vk::Buffer(ctx, ray_bytes, storage, vk::MemoryUse::Device, "fird.rayset");
+    // The rayset is kept between runs (§5) when it fits the cache budget; otherwise
+    // each batch is generated again into one working buffer (constant memory).
+    const std::uint64_t batches = (scene.trace.rays + batch_capacity_ - 1) / batch_capacity_;
+    cache_rayset_ = batches * ray_bytes <=
+                    std::min<std::uint64_t>(kRaysetCacheBytes, limits.device_local_heap_bytes / 4);
+    if (!cache_rayset_)
+        rays_work_ = vk::Buffer(ctx, ray_bytes, storage, vk::MemoryUse::Device, "fird.rayset");
     rays_ping_ = vk::Buffer(ctx, ray_bytes, storage, vk::MemoryUse::Device, "fird.rays.ping");
     rays_pong_ = vk::Buffer(ctx, ray_bytes, storage, vk::MemoryUse::Device, "fird.rays.pong");
     hits_ = vk::Buffer(ctx, 16, storage, vk::MemoryUse::Device, "fird.hits.unused");
@@ -189,9 +197,10 @@ void FastTracer::build_heightfield(FastRun& run) {
     heightfield_dirty_ = false;
 }
 
-void FastTracer::trace_batch(std::uint64_t effective, FastRun& run, bool record_hits) {
+void FastTracer::trace_batch(const vk::Buffer& rays, std::uint64_t effective, FastRun& run,
+                             bool record_hits) {
     auto* counters = static_cast<std::uint32_t*>(counters_.data());
-    const vk::Buffer* in = &rays_cache_;
+    const vk::Buffer* in = &rays;
     const vk::Buffer* out = &rays_ping_;
     std::uint64_t active = effective;
     const std::uint32_t passes = params_.max_bounces + (params_.strict_policy ? 1u : 0u);
@@ -278,42 +287,49 @@ FastRun FastTracer::run() {
         vkCmdFillBuffer(cb, farfield_counts_.get(), 0, VK_WHOLE_SIZE, 0);
     });
     auto* counters = static_cast<std::uint32_t*>(counters_.data());
-    const bool one_batch = batch_capacity_ >= scene_.trace.rays;
-    std::uint64_t cached_effective = 0;
-    for (std::uint64_t first = 0; first < scene_.trace.rays; first += batch_capacity_) {
+    std::size_t batch = 0;
+    for (std::uint64_t first = 0; first < scene_.trace.rays; first += batch_capacity_, ++batch) {
         const std::uint64_t n = std::min(batch_capacity_, scene_.trace.rays - first);
-        if (one_batch && rayset_cached_) {
+        if (rayset_cached_) {
             // The rayset does not depend on the reflector (§5): reuse it.
+            const RaysetChunk& chunk = rayset_chunks_[batch];
             std::memset(counters, 0, gpu::kCounterCount * 4);
-            counters[gpu::kCounterDiscarded] = std::uint32_t(scene_.trace.rays - cached_effective_);
+            counters[gpu::kCounterDiscarded] = std::uint32_t(n - chunk.effective);
             run.rayset_reused = true;
-            cached_effective = cached_effective_;
-        } else {
-            const auto tr = std::chrono::steady_clock::now();
-            ctx_->submit_and_wait([&](VkCommandBuffer cb) {
-                timer_.begin(cb);
-                vkCmdFillBuffer(cb, counters_.get(), 0, VK_WHOLE_SIZE, 0);
-                vkCmdFillBuffer(cb, order_buckets_.get(), 0, VK_WHOLE_SIZE, 0);
-                vk::barrier_all(cb);
-                // Generated into the ping buffer, ordered into the rayset buffer.
-                const vk::Binding b[] = {vk::storage(params_buffer_), vk::storage(rays_ping_),
-                                         vk::storage(counters_), vk::storage(order_buckets_)};
-                const gpu::RaysetPush push{.first_lo = std::uint32_t(first),
-                                           .first_hi = std::uint32_t(first >> 32),
-                                           .count = std::uint32_t(n)};
-                rayset_pipeline_.dispatch(cb, b, &push, groups(n, FIRD_RAYSET_WORKGROUP_SIZE));
-                timer_.end(cb);
-            });
-            run.timings.rayset_ms += timer_.supported() ? timer_.elapsed_ms() : ms_since(tr);
-            cached_effective = counters[gpu::kCounterEffective];
-            run.timings.rayset_ms += order_rays(rays_ping_, rays_cache_, cached_effective, false);
-            if (one_batch) {
-                rayset_cached_ = true;
-                cached_effective_ = cached_effective;
-            }
+            trace_batch(chunk.rays, chunk.effective, run, false);
+            continue;
         }
-        trace_batch(cached_effective, run, false);
+        const auto tr = std::chrono::steady_clock::now();
+        ctx_->submit_and_wait([&](VkCommandBuffer cb) {
+            timer_.begin(cb);
+            vkCmdFillBuffer(cb, counters_.get(), 0, VK_WHOLE_SIZE, 0);
+            vkCmdFillBuffer(cb, order_buckets_.get(), 0, VK_WHOLE_SIZE, 0);
+            vk::barrier_all(cb);
+            // Generated into the ping buffer, then ordered into the rayset buffer.
+            const vk::Binding b[] = {vk::storage(params_buffer_), vk::storage(rays_ping_),
+                                     vk::storage(counters_), vk::storage(order_buckets_)};
+            const gpu::RaysetPush push{.first_lo = std::uint32_t(first),
+                                       .first_hi = std::uint32_t(first >> 32),
+                                       .count = std::uint32_t(n)};
+            rayset_pipeline_.dispatch(cb, b, &push, groups(n, FIRD_RAYSET_WORKGROUP_SIZE));
+            timer_.end(cb);
+        });
+        run.timings.rayset_ms += timer_.supported() ? timer_.elapsed_ms() : ms_since(tr);
+        const std::uint64_t effective = counters[gpu::kCounterEffective];
+        const vk::Buffer* rays = &rays_work_;
+        if (cache_rayset_) {
+            // Kept for the next run: a buffer per batch, sized to its effective rays.
+            rayset_chunks_.push_back(
+                {vk::Buffer(*ctx_, std::max<std::uint64_t>(effective, 1) * kRayBytes,
+                            vk::kStorageUsage, vk::MemoryUse::Device,
+                            fmt::format("fird.rayset.{}", batch)),
+                 effective});
+            rays = &rayset_chunks_.back().rays;
+        }
+        run.timings.rayset_ms += order_rays(rays_ping_, *rays, effective, false);
+        trace_batch(*rays, effective, run, false);
     }
+    if (cache_rayset_) rayset_cached_ = true;
     finish(run);
     run.timings.total_ms = ms_since(t0);
     return run;
@@ -335,8 +351,9 @@ FastRun FastTracer::run_rays(const std::vector<Ray>& rays, std::vector<glm::vec4
             packed[i * 8 + k] = float(rays[i].origin[k]);
             packed[i * 8 + 4 + k] = float(rays[i].direction[k]);
         }
-    rays_cache_.upload(*ctx_, std::span<const float>(packed));
-    rayset_cached_ = false; // the source's rayset is gone
+    vk::Buffer uploaded(*ctx_, std::max<std::size_t>(rays.size(), 1) * kRayBytes, vk::kStorageUsage,
+                        vk::MemoryUse::Device, "fird.rays.uploaded");
+    uploaded.upload(*ctx_, std::span<const float>(packed));
     if (hits)
         hits_ = vk::Buffer(*ctx_, std::max<std::size_t>(rays.size(), 1) * 16, vk::kStorageUsage,
                            vk::MemoryUse::Readback, "fird.hits");
@@ -344,7 +361,7 @@ FastRun FastTracer::run_rays(const std::vector<Ray>& rays, std::vector<glm::vec4
         vkCmdFillBuffer(cb, farfield_counts_.get(), 0, VK_WHOLE_SIZE, 0);
         vkCmdFillBuffer(cb, counters_.get(), 0, VK_WHOLE_SIZE, 0);
     });
-    trace_batch(rays.size(), run, hits != nullptr);
+    trace_batch(uploaded, rays.size(), run, hits != nullptr);
     finish(run);
     if (hits) {
         *hits = hits_.download_as<glm::vec4>(*ctx_, rays.size());
@@ -354,12 +371,14 @@ FastRun FastTracer::run_rays(const std::vector<Ray>& rays, std::vector<glm::vec4
 }
 
 std::vector<Ray> FastTracer::rayset() const {
-    if (!rayset_cached_) throw std::logic_error("FastTracer::rayset: no single-batch rayset");
-    const auto packed = rays_cache_.download_as<float>(*ctx_, cached_effective_ * 8);
-    std::vector<Ray> rays(cached_effective_);
-    for (std::size_t i = 0; i < rays.size(); ++i) {
-        const float* r = &packed[i * 8];
-        rays[i] = Ray{{r[0], r[1], r[2]}, {r[4], r[5], r[6]}};
+    if (!rayset_cached_) throw std::logic_error("FastTracer::rayset: no rayset kept");
+    std::vector<Ray> rays;
+    for (const RaysetChunk& chunk : rayset_chunks_) {
+        const auto packed = chunk.rays.download_as<float>(*ctx_, chunk.effective * 8);
+        for (std::size_t i = 0; i < chunk.effective; ++i) {
+            const float* r = &packed[i * 8];
+            rays.push_back(Ray{{r[0], r[1], r[2]}, {r[4], r[5], r[6]}});
+        }
     }
     return rays;
 }

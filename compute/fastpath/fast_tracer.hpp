@@ -47,8 +47,8 @@ class FastTracer {
     // ray, its first hit point and t (t < 0: no hit). For comparisons with the reference.
     FastRun run_rays(const std::vector<Ray>& rays, std::vector<glm::vec4>* hits);
 
-    // The rayset of the last run() as traced (ordered by direction), when it fitted in
-    // one batch; for tests and views of the rays.
+    // The rayset of the last run() as traced (ordered by direction), when it was kept
+    // (it fits the cache budget); for tests and views of the rays.
     std::vector<Ray> rayset() const;
 
     const vk::Buffer& farfield_lm() const { return farfield_lm_; }
@@ -56,7 +56,8 @@ class FastTracer {
     std::uint32_t farfield_cells() const { return params_.ff_w * params_.ff_h; }
 
   private:
-    void trace_batch(std::uint64_t effective, FastRun& run, bool record_hits);
+    void trace_batch(const vk::Buffer& rays, std::uint64_t effective, FastRun& run,
+                     bool record_hits);
     void build_heightfield(FastRun& run);
     void upload_params();
     // Moves `count` rays from `from` to `to` ordered by direction (bucket_scan.comp and
@@ -70,14 +71,20 @@ class FastTracer {
     gpu::SceneParams params_{};
     std::optional<ReflectorDesc> reflector_;
     std::uint64_t batch_capacity_ = 0;
-    bool rayset_cached_ = false;
-    std::uint64_t cached_effective_ = 0;
+    // One batch's effective rays, ordered by direction, kept for the next run.
+    struct RaysetChunk {
+        vk::Buffer rays;
+        std::uint64_t effective = 0;
+    };
+    bool cache_rayset_ = false;  // the whole rayset fits the cache budget
+    bool rayset_cached_ = false; // rayset_chunks_ holds every batch
+    std::vector<RaysetChunk> rayset_chunks_;
     bool heightfield_dirty_ = true;
 
     std::array<std::uint32_t, FIRD_SPEC_COUNT> spec_; // the scene's fixed shader choices
     vk::ComputePipeline rayset_pipeline_, heightfield_pipeline_, maxmip_pipeline_, trace_pipeline_,
         to_lm_pipeline_, order_pipeline_, bucket_scan_pipeline_;
-    vk::Buffer params_buffer_, counters_, rays_cache_, rays_ping_, rays_pong_, hits_;
+    vk::Buffer params_buffer_, counters_, rays_work_, rays_ping_, rays_pong_, hits_;
     vk::Buffer paper_tree_, refined_tree_, gradients_, control_, order_buckets_;
     vk::TexelView paper_view_, refined_view_, gradients_view_; // as the trace reads them
     vk::Buffer farfield_counts_, farfield_lm_;

@@ -239,7 +239,9 @@ int rqrm(Walk w, float t_start, ivec2 skip_texel, out float t_hit, out ivec2 hit
                 if (ty <= tx) next.y = w.D.y > 0.0 ? cell_hi.y + 1 : cell_lo.y - 1;
                 if (any(lessThan(next, ivec2(0))) || any(greaterThanEqual(next, size))) return kMiss;
                 texel = next;
-                if (level < top) {
+                // Up a level only into a new parent: a face inside the parent leads to a
+                // sibling, and the parent would only send the ray down to it again.
+                if (level < top && any(notEqual(next >> (level + 1), cell >> 1))) {
                     const uint round_up = (1u << level) - 1u;
                     level_offset += level_w * ((P.hf_h + round_up) >> level);
                     level_w = (level_w + 1u) >> 1;

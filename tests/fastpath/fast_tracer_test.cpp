@@ -180,6 +180,21 @@ TEST_F(VulkanTest, RaysetIsReusedAndHeightFieldRebuiltOnlyWhenTheReflectorChange
     EXPECT_TRUE(changed.rayset_reused);
     EXPECT_FALSE(changed.heightfield_reused);
     EXPECT_NE(changed.tally.farfield, first.tally.farfield);
+
+    // A rayset of several batches is kept too (one buffer per batch), and traced again
+    // it gives the histogram of the one-batch tracer count for count.
+    FastTracer batched(ctx(), s, 1, 7000);
+    batched.set_reflector(s.reflector);
+    const FastRun b1 = batched.run();
+    const FastRun b2 = batched.run();
+    EXPECT_FALSE(b1.rayset_reused);
+    EXPECT_TRUE(b2.rayset_reused);
+    EXPECT_EQ(b2.tally.discarded, first.tally.discarded);
+    EXPECT_EQ(b2.tally.farfield, first.tally.farfield);
+    EXPECT_EQ(batched.rayset().size(), first.tally.emitted - first.tally.discarded);
+    t.set_reflector(s.reflector);
+    (void)t.run();
+    EXPECT_EQ(batched.read_farfield(), t.read_farfield());
 }
 
 // The octahedral-map cell of a direction along a Morton curve, written independently of
