@@ -29,6 +29,7 @@ void register_bench(CLI::App& app, const GlobalOptions& global, std::function<in
         std::string rays = "1e5,1e6,1e7";
         std::string modes = "paper,refined";
         double reference_rays = 2e6;
+        bool same_rays = false;
         std::string out = "bench_out";
     };
     auto a = std::make_shared<Args>();
@@ -37,6 +38,9 @@ void register_bench(CLI::App& app, const GlobalOptions& global, std::function<in
     cmd->add_option("--rays", a->rays, "Comma-separated ray counts (1e5 style allowed)");
     cmd->add_option("--modes", a->modes, "paper, refined or both");
     cmd->add_option("--reference-rays", a->reference_rays, "Rays of the CPU reference per scene");
+    cmd->add_flag("--same-rays", a->same_rays,
+                  "Also compare each row with the CPU reference of its own rays (no Monte Carlo "
+                  "noise: the discretization error alone)");
     cmd->add_option("--out", a->out, "Directory for bench.csv, bench.md and bench.png");
     cmd->callback([&global, &run, a] {
         run = [&global, a] {
@@ -73,6 +77,7 @@ void register_bench(CLI::App& app, const GlobalOptions& global, std::function<in
             if (!(a->reference_rays >= 1))
                 throw std::invalid_argument("--reference-rays must be >= 1");
             o.reference_rays = std::uint64_t(a->reference_rays);
+            o.same_rays = a->same_rays;
             const auto ctx = vk::Context::create(
                 {.validation = global.validation, .device_name = global.device_name});
             const auto rows = run_bench(ctx, o, [](const BenchRow& r) {

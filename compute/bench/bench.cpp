@@ -4,6 +4,7 @@
 #include <cmath>
 #include <fstream>
 #include <functional>
+#include <map>
 #include <stdexcept>
 
 #include <fmt/format.h>
@@ -40,6 +41,28 @@ std::vector<BenchRow> run_bench(const vk::Context& ctx, const BenchOptions& o,
                           "fird.bench.reference");
         const std::vector<float> ref_f(ref.farfield.lm.begin(), ref.farfield.lm.end());
         ref_lm.upload(ctx, std::span<const float>(ref_f));
+        // The reference traced with the fast path's own rays (same seed and sampler), once
+        // per ray count: the l2 to it has no Monte Carlo noise, only the discretization
+        // of the surface (and rays that float rounding sends another way).
+        const Surface surface = Surface::make(base.reflector, base.holder);
+        std::map<std::uint64_t, vk::Buffer> same_rays;
+        const auto same_rays_reference = [&](std::uint64_t n) -> const vk::Buffer& {
+            auto it = same_rays.find(n);
+            if (it != same_rays.end()) return it->second;
+            const auto r = trace_reference(base.source, surface,
+                                           {.rays = n,
+                                            .seed = base.trace.seed,
+                                            .sampler = base.trace.sampler,
+                                            .max_bounces = base.trace.max_bounces,
+                                            .bounce_policy = base.trace.bounce_policy,
+                                            .farfield_w = base.trace.farfield_w,
+                                            .farfield_h = base.trace.farfield_h});
+            const std::vector<float> f(r.farfield.lm.begin(), r.farfield.lm.end());
+            vk::Buffer b(ctx, f.size() * 4, vk::kStorageUsage, vk::MemoryUse::Device,
+                         fmt::format("fird.bench.reference.{}", n));
+            b.upload(ctx, std::span<const float>(f));
+            return same_rays.emplace(n, std::move(b)).first->second;
+        };
         for (const auto& [w, h] : o.heightfields)
             for (std::uint64_t n : o.rays)
                 for (HitMode mode : o.modes) {
@@ -64,6 +87,10 @@ std::vector<BenchRow> run_bench(const vk::Context& ctx, const BenchOptions& o,
                                .histogram_ms = run.timings.histogram_ms};
                     r.l2_lm = device_l2(ctx, reduce, tracer.farfield_lm(), ref_lm,
                                         tracer.farfield_cells(), &r.compare_ms);
+                    if (o.same_rays)
+                        r.l2_same_rays_lm =
+                            device_l2(ctx, reduce, tracer.farfield_lm(), same_rays_reference(n),
+                                      tracer.farfield_cells());
                     r.noise_lm =
                         base.source.flux_lm *
                         std::sqrt(sum_p * (1.0 / double(n) + 1.0 / double(o.reference_rays)));
@@ -78,15 +105,17 @@ std::vector<BenchRow> run_bench(const vk::Context& ctx, const BenchOptions& o,
 std::string bench_markdown(const std::vector<BenchRow>& rows, const std::string& device) {
     std::string s = fmt::format("Device: {}\n\n", device);
     s += "| scene | height field | rays | mode | rayset ms | height field ms | trace ms | "
-         "histogram ms | compare ms | M rays/s | l2 lm | noise lm | l2/noise | aborted |\n";
-    s += "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+         "histogram ms | compare ms | M rays/s | l2 lm | noise lm | l2/noise | "
+         "l2 same rays lm | aborted |\n";
+    s += "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     for (const BenchRow& r : rows)
         s += fmt::format(
             "| {} | {}x{} | {:.0e} | {} | {:.1f} | {:.1f} | {:.1f} | {:.1f} | {:.1f} | "
-            "{:.2f} | {:.4f} | {:.4f} | {:.2f} | {} |\n",
+            "{:.2f} | {:.4f} | {:.4f} | {:.2f} | {} | {} |\n",
             r.scene, r.hf_w, r.hf_h, double(r.rays), r.mode, r.rayset_ms, r.heightfield_ms,
             r.trace_ms, r.histogram_ms, r.compare_ms, r.rays_per_s * 1e-6, r.l2_lm, r.noise_lm,
-            r.noise_lm > 0 ? r.l2_lm / r.noise_lm : 0.0, r.aborted);
+            r.noise_lm > 0 ? r.l2_lm / r.noise_lm : 0.0,
+            r.l2_same_rays_lm >= 0 ? fmt::format("{:.4f}", r.l2_same_rays_lm) : "-", r.aborted);
     return s;
 }
 
@@ -94,12 +123,13 @@ void write_bench_csv(const std::string& path, const std::vector<BenchRow>& rows)
     std::ofstream out(path);
     if (!out) throw std::runtime_error(path + ": cannot open for writing");
     out << "scene,heightfield_w,heightfield_h,rays,effective,mode,rayset_ms,heightfield_ms,"
-           "trace_ms,histogram_ms,compare_ms,rays_per_s,l2_lm,noise_lm,aborted\n";
+           "trace_ms,histogram_ms,compare_ms,rays_per_s,l2_lm,noise_lm,l2_same_rays_lm,aborted\n";
     for (const BenchRow& r : rows)
         out << fmt::format(
-            "{},{},{},{},{},{},{:.3f},{:.3f},{:.3f},{:.3f},{:.3f},{:.1f},{:.6g},{:.6g},{}\n",
+            "{},{},{},{},{},{},{:.3f},{:.3f},{:.3f},{:.3f},{:.3f},{:.1f},{:.6g},{:.6g},{},{}\n",
             r.scene, r.hf_w, r.hf_h, r.rays, r.effective, r.mode, r.rayset_ms, r.heightfield_ms,
-            r.trace_ms, r.histogram_ms, r.compare_ms, r.rays_per_s, r.l2_lm, r.noise_lm, r.aborted);
+            r.trace_ms, r.histogram_ms, r.compare_ms, r.rays_per_s, r.l2_lm, r.noise_lm,
+            r.l2_same_rays_lm >= 0 ? fmt::format("{:.6g}", r.l2_same_rays_lm) : "", r.aborted);
     if (!out) throw std::runtime_error(path + ": write failed");
 }
 

@@ -20,6 +20,8 @@ struct BenchOptions {
     std::vector<std::uint64_t> rays{100000, 1000000, 10000000};
     std::vector<HitMode> modes{HitMode::Paper, HitMode::Refined};
     std::uint64_t reference_rays = 2000000;
+    // Also trace the reference with each row's own rays (CPU time grows with the rays).
+    bool same_rays = false;
 };
 
 struct BenchRow {
@@ -28,9 +30,10 @@ struct BenchRow {
     std::uint64_t rays = 0, effective = 0, aborted = 0;
     std::string mode;
     double rayset_ms = 0, heightfield_ms = 0, trace_ms = 0, histogram_ms = 0, compare_ms = 0;
-    double rays_per_s = 0; // effective rays per second of trace stage
-    double l2_lm = 0;      // to the reference far field
-    double noise_lm = 0;   // the l2 expected from Monte Carlo noise alone
+    double rays_per_s = 0;       // effective rays per second of trace stage
+    double l2_lm = 0;            // to the reference far field
+    double noise_lm = 0;         // the l2 expected from Monte Carlo noise alone
+    double l2_same_rays_lm = -1; // to the reference of the same rays (-1: not traced)
 };
 
 // Runs every combination; `progress` (may be empty) is called after each row.
