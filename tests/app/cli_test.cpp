@@ -7,6 +7,7 @@
 #include <sstream>
 #include <string>
 #include <sys/wait.h>
+#include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -137,27 +138,39 @@ TEST(Cli, TraceOutWritesNpyPicturesAndLuminaireFiles) {
     }
 }
 
-TEST(Cli, BenchWritesTableCsvAndPlot) {
-    const std::string dir = ::testing::TempDir() + "/fird_bench";
-    const auto r = run("bench " + std::string(FIRD_SOURCE_DIR) +
-                       "/scenes/test/flat_mirror.toml --heightfields 40x40,61x37 --rays 2e4 "
-                       "--reference-rays 1e5 --out " +
-                       dir + " 2>/dev/null");
-    ASSERT_EQ(r.code, 0) << r.out;
-    FILE* f = std::fopen((dir + "/bench.csv").c_str(), "r");
-    ASSERT_TRUE(f);
-    char line[1024];
-    int rows = 0;
-    ASSERT_TRUE(std::fgets(line, sizeof line, f));
-    EXPECT_NE(std::string(line).find("trace_ms"), std::string::npos);
-    while (std::fgets(line, sizeof line, f)) {
-        ++rows;
-        // l2 and noise are positive and finite; no aborted rays.
-        const std::string row = line;
-        EXPECT_EQ(row.substr(row.rfind(',') + 1), "0\n") << row;
+// Runs `fird bench` on the flat mirror with `options` into a fresh directory under
+// `name`; returns that directory and bench.csv's lines split at commas (header first).
+std::pair<std::string, std::vector<std::vector<std::string>>>
+bench_flat_mirror(const std::string& name, const std::string& options) {
+    const std::string dir = ::testing::TempDir() + "/" + name;
+    const auto r = run("bench " + std::string(FIRD_SOURCE_DIR) + "/scenes/test/flat_mirror.toml " +
+                       options + " --out " + dir + " 2>/dev/null");
+    EXPECT_EQ(r.code, 0) << r.out;
+    std::vector<std::vector<std::string>> lines;
+    std::ifstream csv(dir + "/bench.csv");
+    for (std::string line; std::getline(csv, line);) {
+        std::vector<std::string> cells;
+        std::istringstream is(line);
+        for (std::string c; std::getline(is, c, ',');)
+            cells.push_back(c);
+        lines.push_back(cells);
     }
-    std::fclose(f);
-    EXPECT_EQ(rows, 4); // 2 height fields x 1 ray count x 2 hit modes
+    return {dir, lines};
+}
+
+TEST(Cli, BenchWritesTableCsvAndPlot) {
+    const auto [dir, csv] = bench_flat_mirror(
+        "fird_bench", "--heightfields 40x40,61x37 --rays 2e4 --reference-rays 1e5");
+    ASSERT_EQ(csv.size(), 5u); // header + 2 height fields x 1 ray count x 2 hit modes
+    EXPECT_NE(std::find(csv[0].begin(), csv[0].end(), "trace_ms"), csv[0].end());
+    for (std::size_t i = 1; i < csv.size(); ++i) {
+        ASSERT_EQ(csv[i].size(), csv[0].size());
+        // l2 and noise are positive and finite; no aborted rays; no same-rays reference.
+        EXPECT_GT(std::stod(csv[i][12]), 0.0);
+        EXPECT_GT(std::stod(csv[i][13]), 0.0);
+        EXPECT_EQ(csv[i][14], "");
+        EXPECT_EQ(csv[i].back(), "0");
+    }
     FILE* png = std::fopen((dir + "/bench.png").c_str(), "rb");
     EXPECT_TRUE(png);
     if (png) std::fclose(png);
@@ -168,33 +181,19 @@ TEST(Cli, BenchWritesTableCsvAndPlot) {
 // rounding sends into another bin, far below the Monte Carlo noise of the plain l2 (an
 // inaccurate asin in the device's binning once moved 0.75 % of them: 0.12 x the noise).
 TEST(Cli, BenchSameRaysErrorIsTheDiscretizationAlone) {
-    const std::string dir = ::testing::TempDir() + "/fird_bench_same";
-    const auto r = run("bench " + std::string(FIRD_SOURCE_DIR) +
-                       "/scenes/test/flat_mirror.toml --heightfields 64x64 --rays 2e4 "
-                       "--reference-rays 1e5 --same-rays --out " +
-                       dir + " 2>/dev/null");
-    ASSERT_EQ(r.code, 0) << r.out;
-    FILE* f = std::fopen((dir + "/bench.csv").c_str(), "r");
-    ASSERT_TRUE(f);
-    char line[1024];
-    ASSERT_TRUE(std::fgets(line, sizeof line, f));
-    EXPECT_NE(std::string(line).find("l2_same_rays_lm"), std::string::npos);
-    int rows = 0;
-    while (std::fgets(line, sizeof line, f)) {
-        ++rows;
-        std::vector<std::string> cells;
-        std::istringstream is(line);
-        for (std::string c; std::getline(is, c, ',');)
-            cells.push_back(c);
-        ASSERT_EQ(cells.size(), 16u) << line;
-        const double l2 = std::stod(cells[12]), noise = std::stod(cells[13]);
-        const double same = std::stod(cells[14]);
-        EXPECT_GT(l2, 0.5 * noise) << line;
-        EXPECT_GE(same, 0.0) << line;
-        EXPECT_LT(same, 0.05 * noise) << line;
+    const auto [dir, csv] = bench_flat_mirror(
+        "fird_bench_same", "--heightfields 64x64 --rays 2e4 --reference-rays 1e5 --same-rays");
+    ASSERT_EQ(csv.size(), 3u); // header + 2 hit modes
+    ASSERT_EQ(csv[0].size(), 16u);
+    EXPECT_EQ(csv[0][14], "l2_same_rays_lm");
+    for (std::size_t i = 1; i < csv.size(); ++i) {
+        ASSERT_EQ(csv[i].size(), 16u);
+        const double l2 = std::stod(csv[i][12]), noise = std::stod(csv[i][13]);
+        const double same = std::stod(csv[i][14]);
+        EXPECT_GT(l2, 0.5 * noise);
+        EXPECT_GE(same, 0.0);
+        EXPECT_LT(same, 0.05 * noise);
     }
-    std::fclose(f);
-    EXPECT_EQ(rows, 2);
 }
 
 TEST(Cli, BenchRejectsMalformedLists) {
