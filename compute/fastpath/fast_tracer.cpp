@@ -290,7 +290,7 @@ FastRun FastTracer::run() {
     std::size_t batch = 0;
     for (std::uint64_t first = 0; first < scene_.trace.rays; first += batch_capacity_, ++batch) {
         const std::uint64_t n = std::min(batch_capacity_, scene_.trace.rays - first);
-        if (rayset_cached_) {
+        if (batch < rayset_chunks_.size()) {
             // The rayset does not depend on the reflector (§5): reuse it.
             const RaysetChunk& chunk = rayset_chunks_[batch];
             std::memset(counters, 0, gpu::kCounterCount * 4);
@@ -329,7 +329,6 @@ FastRun FastTracer::run() {
         run.timings.rayset_ms += order_rays(rays_ping_, *rays, effective, false);
         trace_batch(*rays, effective, run, false);
     }
-    if (cache_rayset_) rayset_cached_ = true;
     finish(run);
     run.timings.total_ms = ms_since(t0);
     return run;
@@ -371,7 +370,8 @@ FastRun FastTracer::run_rays(const std::vector<Ray>& rays, std::vector<glm::vec4
 }
 
 std::vector<Ray> FastTracer::rayset() const {
-    if (!rayset_cached_) throw std::logic_error("FastTracer::rayset: no rayset kept");
+    if (rayset_chunks_.size() * batch_capacity_ < scene_.trace.rays)
+        throw std::logic_error("FastTracer::rayset: no rayset kept");
     std::vector<Ray> rays;
     for (const RaysetChunk& chunk : rayset_chunks_) {
         const auto packed = chunk.rays.download_as<float>(*ctx_, chunk.effective * 8);

@@ -76,9 +76,8 @@ class FastTracer {
         vk::Buffer rays;
         std::uint64_t effective = 0;
     };
-    bool cache_rayset_ = false;  // the whole rayset fits the cache budget
-    bool rayset_cached_ = false; // rayset_chunks_ holds every batch
-    std::vector<RaysetChunk> rayset_chunks_;
+    bool cache_rayset_ = false;              // the whole rayset fits the cache budget
+    std::vector<RaysetChunk> rayset_chunks_; // batch i's kept rays at [i]
     bool heightfield_dirty_ = true;
 
     std::array<std::uint32_t, FIRD_SPEC_COUNT> spec_; // the scene's fixed shader choices
