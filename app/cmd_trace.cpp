@@ -5,7 +5,7 @@
 
 #include "commands.hpp"
 #include "evaluation/evaluation.hpp"
-#include "fastpath/fast_tracer.hpp"
+#include "evaluation/evaluator.hpp"
 #include "io/scene_file.hpp"
 #include "vk/context.hpp"
 

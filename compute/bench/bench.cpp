@@ -9,7 +9,7 @@
 
 #include <fmt/format.h>
 
-#include "fastpath/fast_tracer.hpp"
+#include "evaluation/evaluator.hpp"
 #include "io/raster.hpp"
 #include "io/scene_file.hpp"
 #include "reference/reference_tracer.hpp"
@@ -35,33 +35,23 @@ std::vector<BenchRow> run_bench(const vk::Context& ctx, const BenchOptions& o,
             const double p = v / base.source.flux_lm;
             sum_p += p * (1.0 - p);
         }
-        // The reference lives on the device once per scene; each row's l2 is a reduction.
-        const ReducePass reduce(ctx);
-        vk::Buffer ref_lm(ctx, ref.farfield.lm.size() * 4, vk::kStorageUsage, vk::MemoryUse::Device,
-                          "fird.bench.reference");
-        const std::vector<float> ref_f(ref.farfield.lm.begin(), ref.farfield.lm.end());
-        ref_lm.upload(ctx, std::span<const float>(ref_f));
         // The reference traced with the fast path's own rays (same seed and sampler), once
         // per ray count: the l2 to it has no Monte Carlo noise, only the discretization
         // of the surface (and rays that float rounding sends another way).
         const Surface surface = Surface::make(base.reflector, base.holder);
-        std::map<std::uint64_t, vk::Buffer> same_rays;
-        const auto same_rays_reference = [&](std::uint64_t n) -> const vk::Buffer& {
+        std::map<std::uint64_t, FarField> same_rays;
+        const auto same_rays_reference = [&](std::uint64_t n) -> const FarField& {
             auto it = same_rays.find(n);
             if (it != same_rays.end()) return it->second;
-            const auto r = trace_reference(base.source, surface,
-                                           {.rays = n,
-                                            .seed = base.trace.seed,
-                                            .sampler = base.trace.sampler,
-                                            .max_bounces = base.trace.max_bounces,
-                                            .bounce_policy = base.trace.bounce_policy,
-                                            .farfield_w = base.trace.farfield_w,
-                                            .farfield_h = base.trace.farfield_h});
-            const std::vector<float> f(r.farfield.lm.begin(), r.farfield.lm.end());
-            vk::Buffer b(ctx, f.size() * 4, vk::kStorageUsage, vk::MemoryUse::Device,
-                         fmt::format("fird.bench.reference.{}", n));
-            b.upload(ctx, std::span<const float>(f));
-            return same_rays.emplace(n, std::move(b)).first->second;
+            auto r = trace_reference(base.source, surface,
+                                     {.rays = n,
+                                      .seed = base.trace.seed,
+                                      .sampler = base.trace.sampler,
+                                      .max_bounces = base.trace.max_bounces,
+                                      .bounce_policy = base.trace.bounce_policy,
+                                      .farfield_w = base.trace.farfield_w,
+                                      .farfield_h = base.trace.farfield_h});
+            return same_rays.emplace(n, std::move(r.farfield)).first->second;
         };
         for (const auto& [w, h] : o.heightfields)
             for (std::uint64_t n : o.rays)
@@ -71,9 +61,11 @@ std::vector<BenchRow> run_bench(const vk::Context& ctx, const BenchOptions& o,
                     s.trace.heightfield_h = h;
                     s.trace.rays = n;
                     s.trace.hit_mode = mode;
-                    FastTracer tracer(ctx, s, s.trace.seed);
-                    tracer.set_reflector(s.reflector);
-                    const FastRun run = tracer.run();
+                    // Through the evaluation seam, as a search evaluates a candidate.
+                    Evaluator evaluator(ctx, s, scene_fidelity(s));
+                    evaluator.set_desired(ref.farfield);
+                    const CandidateResult result = evaluator.evaluate(s.reflector);
+                    const FastRun& run = result.run;
                     BenchRow r{.scene = base.name,
                                .hf_w = w,
                                .hf_h = h,
@@ -84,13 +76,13 @@ std::vector<BenchRow> run_bench(const vk::Context& ctx, const BenchOptions& o,
                                .rayset_ms = run.timings.rayset_ms,
                                .heightfield_ms = run.timings.heightfield_ms,
                                .trace_ms = run.timings.trace_ms,
-                               .histogram_ms = run.timings.histogram_ms};
-                    r.l2_lm = device_l2(ctx, reduce, tracer.farfield_lm(), ref_lm,
-                                        tracer.farfield_cells(), &r.compare_ms);
-                    if (o.same_rays)
-                        r.l2_same_rays_lm =
-                            device_l2(ctx, reduce, tracer.farfield_lm(), same_rays_reference(n),
-                                      tracer.farfield_cells());
+                               .histogram_ms = run.timings.histogram_ms,
+                               .compare_ms = run.timings.compare_ms};
+                    r.l2_lm = *result.l2_lm;
+                    if (o.same_rays) {
+                        evaluator.set_desired(same_rays_reference(n));
+                        r.l2_same_rays_lm = evaluator.compare();
+                    }
                     r.noise_lm =
                         base.source.flux_lm *
                         std::sqrt(sum_p * (1.0 / double(n) + 1.0 / double(o.reference_rays)));

@@ -11,6 +11,7 @@
 #include "io/npy.hpp"
 #include "photometry/farfield_photometry.hpp"
 #include "photometry/photometry_file.hpp"
+#include "reference/reference_tracer.hpp"
 
 namespace fird {
 

@@ -9,31 +9,10 @@
 #include <nlohmann/json.hpp>
 
 #include "farfield/farfield.hpp"
+#include "model/evaluation_result.hpp"
 #include "model/scene.hpp"
-#include "reference/reference_tracer.hpp"
 
 namespace fird {
-
-struct StageTimings {
-    double rayset_ms = 0.0;
-    double heightfield_ms = 0.0;
-    double trace_ms = 0.0;
-    double histogram_ms = 0.0;
-    double compare_ms = 0.0;
-    double total_ms = 0.0;
-};
-
-struct Evaluation {
-    std::string device;
-    std::string backend; // "cpu" or "gpu"
-    RayTally tally;
-    std::uint64_t rays_aborted = 0; // bounded device loops that ran out (counted as lost)
-    double energy_per_ray_lm = 0.0;
-    FarField farfield;
-    std::optional<FarField> target_farfield;
-    std::optional<double> l2_lm;
-    StageTimings timings;
-};
 
 // Scene values that the command line overrides.
 struct TraceOverrides {

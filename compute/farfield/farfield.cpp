@@ -44,6 +44,18 @@ double l2_distance(const FarField& a, const FarField& b) {
     return std::sqrt(s);
 }
 
+FarField coarsen_farfield(const FarField& f, std::uint32_t width, std::uint32_t height) {
+    if (width == 0 || height == 0 || f.width % width != 0 || f.height % height != 0)
+        throw std::invalid_argument("a coarser far-field grid must divide the finer one");
+    const std::uint32_t kx = f.width / width, ky = f.height / height;
+    FarField c{width, height, std::vector<double>(std::size_t(width) * height, 0.0)};
+    for (std::uint32_t row = 0; row < f.height; ++row)
+        for (std::uint32_t col = 0; col < f.width; ++col)
+            c.lm[std::size_t(row / ky) * width + col / kx] +=
+                f.lm[std::size_t(row) * f.width + col];
+    return c;
+}
+
 glm::dvec3 farfield_cell_direction(std::uint32_t column, std::uint32_t row, std::uint32_t width,
                                    std::uint32_t height) {
     constexpr double pi = std::numbers::pi;

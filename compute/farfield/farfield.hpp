@@ -26,6 +26,11 @@ FarField farfield_from_counts(const std::vector<std::uint64_t>& counts, std::uin
 // sqrt(sum (a_i - b_i)^2) in lumens; throws std::invalid_argument when grids differ.
 double l2_distance(const FarField& a, const FarField& b);
 
+// The same light on a coarser grid whose cells are blocks of the finer one's: width and
+// height must divide the far field's (binning is additive, so this equals binning the
+// rays on the coarse grid). Throws std::invalid_argument otherwise.
+FarField coarsen_farfield(const FarField& farfield, std::uint32_t width, std::uint32_t height);
+
 // The direction at the centre of a cell (for tests and conversions).
 glm::dvec3 farfield_cell_direction(std::uint32_t column, std::uint32_t row, std::uint32_t width,
                                    std::uint32_t height);

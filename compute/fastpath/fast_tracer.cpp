@@ -396,45 +396,4 @@ double device_l2(const vk::Context& ctx, const ReducePass& reduce, const vk::Buf
     return std::sqrt(std::max(0.0, sum));
 }
 
-Evaluation evaluate_fast(const vk::Context& ctx, const Scene& scene) {
-    const auto t0 = std::chrono::steady_clock::now();
-    FastTracer tracer(ctx, scene, scene.trace.seed);
-    tracer.set_reflector(scene.reflector);
-    const FastRun run = tracer.run();
-    Evaluation e;
-    e.backend = "gpu";
-    e.device = ctx.summary().name;
-    e.tally = run.tally;
-    e.rays_aborted = run.aborted;
-    e.energy_per_ray_lm = run.energy_per_ray_lm;
-    e.timings = run.timings;
-    const std::uint32_t cells = tracer.farfield_cells();
-    e.farfield = {scene.trace.farfield_w, scene.trace.farfield_h, tracer.read_farfield()};
-    if (scene.target.kind == TargetDesc::Kind::Reflector) {
-        FastTracer target(ctx, scene, scene.target.seed);
-        target.set_reflector(target_reflector(scene));
-        (void)target.run();
-        const ReducePass reduce(ctx);
-        double compare_ms = 0.0;
-        e.l2_lm =
-            device_l2(ctx, reduce, tracer.farfield_lm(), target.farfield_lm(), cells, &compare_ms);
-        e.timings.compare_ms = compare_ms;
-        e.target_farfield =
-            FarField{scene.trace.farfield_w, scene.trace.farfield_h, target.read_farfield()};
-    } else if (scene.target.kind == TargetDesc::Kind::Photometric) {
-        // Integrated on the host once per evaluation, compared on the device.
-        e.target_farfield = photometric_target(scene, e.farfield.total_lm());
-        const std::vector<float> values(e.target_farfield->lm.begin(), e.target_farfield->lm.end());
-        vk::Buffer target(ctx, values.size() * 4, vk::kStorageUsage, vk::MemoryUse::Upload,
-                          "fird.target.farfield");
-        target.upload(ctx, std::span<const float>(values));
-        const ReducePass reduce(ctx);
-        double compare_ms = 0.0;
-        e.l2_lm = device_l2(ctx, reduce, tracer.farfield_lm(), target, cells, &compare_ms);
-        e.timings.compare_ms = compare_ms;
-    }
-    e.timings.total_ms = ms_since(t0);
-    return e;
-}
-
 } // namespace fird

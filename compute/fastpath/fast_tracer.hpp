@@ -8,9 +8,9 @@
 
 #include <glm/vec4.hpp>
 
-#include "evaluation/evaluation.hpp"
 #include "fastpath/mesh_raster.hpp"
 #include "fird_shared.h"
+#include "model/evaluation_result.hpp"
 #include "model/scene.hpp"
 #include "model/source.hpp"
 #include "passes/reduce_pass.hpp"
@@ -95,8 +95,5 @@ class FastTracer {
 // l2 between two far fields on the device (reduction; only the number is read back).
 double device_l2(const vk::Context& ctx, const ReducePass& reduce, const vk::Buffer& a,
                  const vk::Buffer& b, std::uint32_t cells, double* compare_ms = nullptr);
-
-// One evaluation on the fast path: the reflector and (if any) the target reflector.
-Evaluation evaluate_fast(const vk::Context& ctx, const Scene& scene);
 
 } // namespace fird

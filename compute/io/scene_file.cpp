@@ -10,8 +10,8 @@
 #include <fmt/format.h>
 #include <toml++/toml.h>
 
+#include "model/source_clearance.hpp"
 #include "model/surface.hpp"
-#include "reference/reference_tracer.hpp"
 
 namespace fird {
 
@@ -93,6 +93,28 @@ class TableReader {
         const auto b = find(key)->as_boolean();
         if (!b) fail(find(key), key, "must be true or false");
         return b->get();
+    }
+
+    // One whole number in [lo, hi], or an array of them.
+    std::vector<std::int64_t> integers(const std::string& key, std::int64_t lo,
+                                       std::int64_t hi) const {
+        const toml::node& n = need(key);
+        const auto check = [&](const toml::node& e) {
+            const auto i = e.as_integer();
+            if (!i || i->get() < lo || i->get() > hi)
+                fail(&e, key,
+                     fmt::format("must be a whole number between {} and {}, or an array of them",
+                                 lo, hi));
+            return i->get();
+        };
+        if (const auto arr = n.as_array()) {
+            if (arr->empty()) fail(&n, key, "must not be an empty array");
+            std::vector<std::int64_t> out;
+            for (const auto& e : *arr)
+                out.push_back(check(e));
+            return out;
+        }
+        return {check(n)};
     }
 
     std::vector<double> numbers(const std::string& key, std::size_t count) const {
@@ -290,7 +312,7 @@ TraceSettings read_trace(const TableReader& t) {
 
 TargetDesc read_target(const TableReader& t, const ReflectorDesc& reflector,
                        const TraceSettings& trace, const std::string& scene_path) {
-    t.allow_only({"parameters", "seed", "file", "absolute"});
+    t.allow_only({"parameters", "seed", "rays", "file", "absolute"});
     TargetDesc d;
     if (t.has("parameters") == t.has("file"))
         t.fail(nullptr, "", "give either parameters (a target reflector) or file (IES / LDT)");
@@ -300,6 +322,7 @@ TargetDesc read_target(const TableReader& t, const ReflectorDesc& reflector,
         d.resolved_path = resolve(scene_path, d.file);
         d.absolute = t.boolean_or("absolute", false);
         if (t.has("seed")) t.fail(t.find("seed"), "seed", "only a target reflector has a seed");
+        if (t.has("rays")) t.fail(t.find("rays"), "rays", "only a target reflector is traced");
         return d;
     }
     d.kind = TargetDesc::Kind::Reflector;
@@ -313,9 +336,31 @@ TargetDesc read_target(const TableReader& t, const ReflectorDesc& reflector,
     d.seed = t.has("seed") ? std::uint64_t(t.integer("seed", 0, INT64_MAX)) : trace.seed + 1;
     if (d.seed == trace.seed)
         t.fail(t.find("seed"), "seed", "must differ from [trace] seed (an independent run)");
+    if (t.has("rays")) d.rays = std::uint64_t(t.integer("rays", 1, 10'000'000'000));
     if (t.has("absolute"))
         t.fail(t.find("absolute"), "absolute", "only a photometric target has it");
     return d;
+}
+
+OptimizeSettings read_optimize(const TableReader& t) {
+    t.allow_only({"method", "rays", "threshold_lm", "max_evaluations"});
+    OptimizeSettings o;
+    if (t.has("method")) {
+        const auto m = method_from_name(t.text("method"));
+        if (!m)
+            t.fail(t.find("method"), "method",
+                   fmt::format("must be one of: {}", fmt::join(method_names(), ", ")));
+        o.method = *m;
+    }
+    if (t.has("rays"))
+        for (std::int64_t n : t.integers("rays", 1, 4'000'000'000))
+            o.rays.push_back(std::uint64_t(n));
+    o.threshold_lm = t.number_or("threshold_lm", 0.0);
+    if (o.threshold_lm < 0.0)
+        t.fail(t.find("threshold_lm"), "threshold_lm", "must be >= 0 (0: never stop early)");
+    if (t.has("max_evaluations"))
+        o.max_evaluations = std::uint64_t(t.integer("max_evaluations", 1, 100'000'000));
+    return o;
 }
 
 } // namespace
@@ -349,7 +394,7 @@ Scene parse_scene(const std::string& text, const std::string& path) {
         throw SceneError(fmt::format("{}:{}: {}", path, e.source().begin.line, e.description()));
     }
     const TableReader top(path, root, "");
-    top.allow_only({"name", "source", "holder", "reflector", "trace", "target"});
+    top.allow_only({"name", "source", "holder", "reflector", "trace", "target", "optimize"});
     Scene s;
     s.path = path;
     s.name = top.has("name") ? top.text("name") : std::filesystem::path(path).stem().string();
@@ -358,6 +403,7 @@ Scene parse_scene(const std::string& text, const std::string& path) {
     s.reflector = read_reflector(top.sub("reflector"), path);
     s.trace = read_trace(top.sub("trace"));
     if (top.has("target")) s.target = read_target(top.sub("target"), s.reflector, s.trace, path);
+    if (top.has("optimize")) s.optimize = read_optimize(top.sub("optimize"));
     validate_scene(s);
     return s;
 }
@@ -458,11 +504,25 @@ std::string scene_to_toml(const Scene& s) {
         toml::table params;
         for (const auto& [k, v] : s.target.parameters)
             params.insert(k, v);
-        root.insert("target",
-                    toml::table{{"parameters", params}, {"seed", std::int64_t(s.target.seed)}});
+        toml::table target{{"parameters", params}, {"seed", std::int64_t(s.target.seed)}};
+        if (s.target.rays) target.insert("rays", std::int64_t(s.target.rays));
+        root.insert("target", target);
     } else if (s.target.kind == TargetDesc::Kind::Photometric) {
         root.insert("target",
                     toml::table{{"file", s.target.file}, {"absolute", s.target.absolute}});
+    }
+    if (s.optimize != OptimizeSettings{}) {
+        const OptimizeSettings& o = s.optimize;
+        toml::table opt{{"method", method_name(o.method)},
+                        {"threshold_lm", o.threshold_lm},
+                        {"max_evaluations", std::int64_t(o.max_evaluations)}};
+        if (!o.rays.empty()) {
+            toml::array rays;
+            for (std::uint64_t n : o.rays)
+                rays.push_back(std::int64_t(n));
+            opt.insert("rays", rays);
+        }
+        root.insert("optimize", opt);
     }
     std::ostringstream out;
     out << root << "\n";

@@ -44,6 +44,45 @@ std::vector<std::string> family_parameters(Family f) {
     return {};
 }
 
+namespace {
+constexpr SearchMethod kMethods[] = {
+    SearchMethod::Auto,   SearchMethod::Grid,    SearchMethod::Bobyqa, SearchMethod::Sbplx,
+    SearchMethod::Cobyla, SearchMethod::DirectL, SearchMethod::Crs2};
+} // namespace
+
+const char* method_name(SearchMethod m) {
+    switch (m) {
+    case SearchMethod::Auto:
+        return "auto";
+    case SearchMethod::Grid:
+        return "grid";
+    case SearchMethod::Bobyqa:
+        return "bobyqa";
+    case SearchMethod::Sbplx:
+        return "sbplx";
+    case SearchMethod::Cobyla:
+        return "cobyla";
+    case SearchMethod::DirectL:
+        return "direct";
+    case SearchMethod::Crs2:
+        return "crs2";
+    }
+    return "?";
+}
+
+std::vector<std::string> method_names() {
+    std::vector<std::string> names;
+    for (SearchMethod m : kMethods)
+        names.emplace_back(method_name(m));
+    return names;
+}
+
+std::optional<SearchMethod> method_from_name(const std::string& name) {
+    for (SearchMethod m : kMethods)
+        if (name == method_name(m)) return m;
+    return std::nullopt;
+}
+
 ReflectorDesc target_reflector(const Scene& scene) {
     ReflectorDesc r = scene.reflector;
     for (const auto& [k, v] : scene.target.parameters)

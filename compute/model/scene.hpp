@@ -94,10 +94,25 @@ struct TargetDesc {
     enum class Kind { None, Reflector, Photometric } kind = Kind::None;
     std::map<std::string, double> parameters; // Reflector: overrides of the reflector's
     std::uint64_t seed = 2;                   // Reflector: its own, independent seed
+    std::uint64_t rays = 0;                   // Reflector: its ray count (0: [trace] rays)
     std::string file;                         // Photometric: IES / LDT path as written
     std::string resolved_path;
     bool absolute = false; // Photometric: take the file's flux as is (else scaled)
     bool operator==(const TargetDesc&) const = default;
+};
+
+// The search's defaults ([optimize]; each overridable on the command line).
+enum class SearchMethod { Auto, Grid, Bobyqa, Sbplx, Cobyla, DirectL, Crs2 };
+
+struct OptimizeSettings {
+    SearchMethod method = SearchMethod::Auto;
+    // Rays per evaluation, one count per stage of the search: `auto` runs a stage per
+    // count (empty: 1e5, 1e6 and the scene's [trace] rays); the other methods run one
+    // stage with the last count (empty: the scene's [trace] rays).
+    std::vector<std::uint64_t> rays;
+    double threshold_lm = 0.0;              // stop once l2 falls below (0: never)
+    std::uint64_t max_evaluations = 100000; // candidates, infeasible ones included
+    bool operator==(const OptimizeSettings&) const = default;
 };
 
 struct Scene {
@@ -108,9 +123,11 @@ struct Scene {
     ReflectorDesc reflector;
     TraceSettings trace;
     TargetDesc target;
+    OptimizeSettings optimize;
     bool operator==(const Scene& o) const {
         return name == o.name && source == o.source && holder == o.holder &&
-               reflector == o.reflector && trace == o.trace && target == o.target;
+               reflector == o.reflector && trace == o.trace && target == o.target &&
+               optimize == o.optimize;
     }
 };
 
@@ -118,6 +135,11 @@ const char* family_name(Family f);
 std::optional<Family> family_from_name(const std::string& name);
 // The parameter names a family needs (B-spline: its group names; mesh: none).
 std::vector<std::string> family_parameters(Family f);
+
+const char* method_name(SearchMethod m);
+std::optional<SearchMethod> method_from_name(const std::string& name);
+// Every method name, in the order --help lists them.
+std::vector<std::string> method_names();
 
 // The reflector the target describes: the scene's reflector with the target's values.
 ReflectorDesc target_reflector(const Scene& scene);

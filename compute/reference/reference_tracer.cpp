@@ -136,32 +136,4 @@ ReferenceResult trace_reference(const SourceDesc& source, const Surface& surface
     return result;
 }
 
-void check_reflector_clear_of_source(const Surface& surface, const SourceDesc& s) {
-    // Half extents of the source's bounding box: a cylinder of axis a reaches
-    // L/2 |a_k| + r sqrt(1 - a_k^2) along axis k; a sphere r; a point 0.
-    glm::dvec3 half(s.radius_mm);
-    if (s.kind == SourceKind::Cylinder) {
-        const glm::dvec3 a = glm::normalize(s.axis);
-        for (int k = 0; k < 3; ++k)
-            half[k] = 0.5 * s.length_mm * std::abs(a[k]) +
-                      s.radius_mm * std::sqrt(std::max(0.0, 1.0 - a[k] * a[k]));
-    } else if (s.kind == SourceKind::Point) {
-        half = glm::dvec3(0.0);
-    }
-    const glm::dvec3 lo = s.center_mm - half;
-    const glm::dvec3 hi = s.center_mm + half;
-    const Holder& h = surface.holder();
-    const double x0 = std::max(lo.x, h.min_mm.x), x1 = std::min(hi.x, h.max_mm.x);
-    const double y0 = std::max(lo.y, h.min_mm.y), y1 = std::min(hi.y, h.max_mm.y);
-    if (x0 > x1 || y0 > y1) return; // the source is not over the reflector
-    // The surface's height range over the footprint is conservative: it may refuse a
-    // reflector that only nearly touches the source, never accept one that cuts it.
-    const double highest = surface.bounds(x0, x1, y0, y1).hi;
-    if (highest >= lo.z)
-        throw std::invalid_argument(fmt::format(
-            "the reflector cuts the light source: the surface reaches z = {:.3f} mm under the "
-            "source, whose lowest point is z = {:.3f} mm",
-            highest, lo.z));
-}
-
 } // namespace fird

@@ -8,6 +8,7 @@
 #include <glm/vec3.hpp>
 
 #include "farfield/farfield.hpp"
+#include "model/evaluation_result.hpp"
 #include "model/scene.hpp"
 #include "model/source.hpp"
 #include "model/surface.hpp"
@@ -27,16 +28,6 @@ struct PathResult {
 PathResult trace_path(const Surface& surface, const Holder& holder, const Ray& ray,
                       std::uint32_t max_bounces, BouncePolicy policy,
                       std::vector<glm::dvec3>* vertices = nullptr);
-
-struct RayTally {
-    std::uint64_t emitted = 0;
-    std::uint64_t discarded = 0;
-    std::uint64_t direct = 0;
-    std::uint64_t farfield = 0;
-    std::uint64_t lost = 0;
-    std::uint64_t below_surface = 0;           // subset of lost: rays born inside the solid
-    std::vector<std::uint64_t> by_reflections; // far-field rays by reflection count
-};
 
 struct ReferenceResult {
     RayTally tally;
@@ -60,8 +51,5 @@ struct ReferenceOptions {
 // Emits `rays` rays from the source and traces them against the reflector.
 ReferenceResult trace_reference(const SourceDesc& source, const Surface& surface,
                                 const ReferenceOptions& options);
-
-// Throws std::invalid_argument when the reflector cuts the light source (DESIGN.md §2).
-void check_reflector_clear_of_source(const Surface& surface, const SourceDesc& source);
 
 } // namespace fird

@@ -1,0 +1,112 @@
+#include "evaluator.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "evaluation/desired_farfield.hpp"
+
+namespace fird {
+
+namespace {
+double ms_since(std::chrono::steady_clock::time_point t0) {
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+} // namespace
+
+Fidelity scene_fidelity(const Scene& s) {
+    const TraceSettings& t = s.trace;
+    return {.rays = t.rays,
+            .seed = t.seed,
+            .farfield_w = t.farfield_w,
+            .farfield_h = t.farfield_h,
+            .heightfield_w = t.heightfield_w,
+            .heightfield_h = t.heightfield_h};
+}
+
+Scene at_fidelity(Scene s, const Fidelity& f) {
+    s.trace.rays = f.rays;
+    s.trace.seed = f.seed;
+    s.trace.farfield_w = f.farfield_w;
+    s.trace.farfield_h = f.farfield_h;
+    s.trace.heightfield_w = f.heightfield_w;
+    s.trace.heightfield_h = f.heightfield_h;
+    return s;
+}
+
+Evaluator::Evaluator(const vk::Context& ctx, const Scene& scene, const Fidelity& fidelity)
+    : ctx_(&ctx), fidelity_(fidelity), scene_(at_fidelity(scene, fidelity)),
+      tracer_(ctx, scene_, fidelity.seed), reduce_(ctx) {}
+
+void Evaluator::set_desired(const FarField& desired) {
+    const FarField* f = &desired;
+    FarField coarse;
+    if (desired.width != fidelity_.farfield_w || desired.height != fidelity_.farfield_h) {
+        coarse = coarsen_farfield(desired, fidelity_.farfield_w, fidelity_.farfield_h);
+        f = &coarse;
+    }
+    const std::vector<float> values(f->lm.begin(), f->lm.end());
+    desired_ = vk::Buffer(*ctx_, values.size() * 4, vk::kStorageUsage, vk::MemoryUse::Device,
+                          "fird.evaluator.desired");
+    desired_.upload(*ctx_, std::span<const float>(values));
+    double sum = 0.0;
+    for (float v : values)
+        sum += double(v) * double(v);
+    desired_norm_lm_ = std::sqrt(sum);
+}
+
+CandidateResult Evaluator::evaluate(const ReflectorDesc& reflector) {
+    const auto t0 = std::chrono::steady_clock::now();
+    CandidateResult r;
+    tracer_.set_reflector(reflector);
+    r.run = tracer_.run();
+    traced_ = true;
+    r.farfield_lm = double(r.run.tally.farfield) * r.run.energy_per_ray_lm;
+    if (has_desired()) r.l2_lm = compare(&r.run.timings.compare_ms);
+    r.wall_ms = ms_since(t0);
+    return r;
+}
+
+double Evaluator::compare(double* compare_ms) const {
+    if (!traced_ || !has_desired())
+        throw std::logic_error("Evaluator::compare: needs a trace and a desired far field");
+    return device_l2(*ctx_, reduce_, tracer_.farfield_lm(), desired_, cells(), compare_ms);
+}
+
+double Evaluator::l2_to(const Evaluator& other) const {
+    if (cells() != other.cells() || fidelity_.farfield_w != other.fidelity_.farfield_w)
+        throw std::invalid_argument("Evaluator::l2_to: far fields of different grids");
+    if (!traced_ || !other.traced_) throw std::logic_error("Evaluator::l2_to: nothing traced");
+    return device_l2(*ctx_, reduce_, tracer_.farfield_lm(), other.tracer_.farfield_lm(), cells());
+}
+
+FarField Evaluator::farfield() const {
+    return {fidelity_.farfield_w, fidelity_.farfield_h, tracer_.read_farfield()};
+}
+
+Evaluation evaluate_fast(const vk::Context& ctx, const Scene& scene) {
+    const auto t0 = std::chrono::steady_clock::now();
+    Evaluator evaluator(ctx, scene, scene_fidelity(scene));
+    const CandidateResult r = evaluator.evaluate(scene.reflector);
+    Evaluation e;
+    e.backend = "gpu";
+    e.device = ctx.summary().name;
+    e.tally = r.run.tally;
+    e.rays_aborted = r.run.aborted;
+    e.energy_per_ray_lm = r.run.energy_per_ray_lm;
+    e.timings = r.run.timings;
+    e.farfield = evaluator.farfield();
+    if (scene.target.kind != TargetDesc::Kind::None) {
+        DesiredFarField desired = desired_farfield(ctx, scene, r.farfield_lm);
+        evaluator.set_desired(desired.farfield);
+        e.l2_lm = evaluator.compare(&e.timings.compare_ms);
+        e.target_farfield = std::move(desired.farfield);
+    }
+    e.timings.total_ms = ms_since(t0);
+    return e;
+}
+
+} // namespace fird

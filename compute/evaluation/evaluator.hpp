@@ -1,0 +1,87 @@
+// The evaluation seam: one object that owns, for one scene at one fidelity, the fast
+// tracer and its rayset (common random numbers: the same seeded rays for every candidate),
+// the desired far field on the device and the reduction, and answers l2 for a reflector
+// reading back only numbers. `fird trace`, `fird bench`, the optimizer, calibration,
+// export and the workbench all evaluate through it.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+
+#include "farfield/farfield.hpp"
+#include "fastpath/fast_tracer.hpp"
+#include "model/evaluation_result.hpp"
+#include "model/scene.hpp"
+#include "passes/reduce_pass.hpp"
+#include "vk/buffer.hpp"
+
+namespace fird {
+
+// How finely one evaluation looks: its rays (and their seed), the far-field grid it bins
+// into and the height field it traces against. A search's early stages look coarsely.
+struct Fidelity {
+    std::uint64_t rays = 0;
+    std::uint64_t seed = 1;
+    std::uint32_t farfield_w = 0, farfield_h = 0;
+    std::uint32_t heightfield_w = 0, heightfield_h = 0;
+    bool operator==(const Fidelity&) const = default;
+};
+
+// The scene's own fidelity ([trace] rays, seed and grids).
+Fidelity scene_fidelity(const Scene& scene);
+// The scene as traced at `fidelity`.
+Scene at_fidelity(Scene scene, const Fidelity& fidelity);
+
+struct CandidateResult {
+    FastRun run;                 // tally and per-stage device times
+    std::optional<double> l2_lm; // when a desired far field is set
+    double farfield_lm = 0.0;    // light reaching the far field
+    double wall_ms = 0.0;        // the whole evaluation, as the caller waits for it
+};
+
+class Evaluator {
+  public:
+    Evaluator(const vk::Context& ctx, const Scene& scene, const Fidelity& fidelity);
+
+    // The desired far field, on the scene's grid or on this fidelity's (coarsened to it
+    // when finer). Uploaded once; every later evaluate() compares against it.
+    void set_desired(const FarField& desired);
+    bool has_desired() const { return desired_norm_lm_.has_value(); }
+    // ||desired||: the l2 of a reflector that sends no light at all.
+    double desired_norm_lm() const { return desired_norm_lm_.value_or(0.0); }
+
+    // Traces the reflector (the height field is rebuilt only when it changed; the
+    // rayset is kept) and, with a desired far field, reduces l2 on the device.
+    CandidateResult evaluate(const ReflectorDesc& reflector);
+    // l2 of the last traced far field to the desired one (needs both).
+    double compare(double* compare_ms = nullptr) const;
+
+    // l2 between this evaluator's last far field and another's of the same grid (e.g.
+    // two independent traces of one reflector: the noise floor), reduced on the device.
+    double l2_to(const Evaluator& other) const;
+
+    // The last traced far field, read back (for pictures and files, not per candidate).
+    FarField farfield() const;
+    const vk::Buffer& farfield_buffer() const { return tracer_.farfield_lm(); }
+    std::uint32_t cells() const { return tracer_.farfield_cells(); }
+    const Fidelity& fidelity() const { return fidelity_; }
+    const Scene& scene() const { return scene_; }
+    FastTracer& tracer() { return tracer_; }
+
+  private:
+    const vk::Context* ctx_;
+    Fidelity fidelity_;
+    Scene scene_; // at the fidelity
+    FastTracer tracer_;
+    ReducePass reduce_;
+    vk::Buffer desired_;
+    std::optional<double> desired_norm_lm_;
+    bool traced_ = false;
+};
+
+// One evaluation of the scene as `fird trace` runs it on the fast path: its reflector at
+// the scene's fidelity and, with a [target], the desired far field and l2 (a relative
+// photometric target scaled to this reflector's far-field flux).
+Evaluation evaluate_fast(const vk::Context& ctx, const Scene& scene);
+
+} // namespace fird

@@ -1,0 +1,47 @@
+// What one lighting evaluation produces, whichever backend traced it (the fast path on
+// Vulkan or the CPU reference): the rays' fates, the stage times and the far fields.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "farfield/farfield.hpp"
+
+namespace fird {
+
+// Where the emitted rays went (DESIGN.md §2: emitted = discarded + direct + far field +
+// lost, exactly).
+struct RayTally {
+    std::uint64_t emitted = 0;
+    std::uint64_t discarded = 0;
+    std::uint64_t direct = 0;
+    std::uint64_t farfield = 0;
+    std::uint64_t lost = 0;
+    std::uint64_t below_surface = 0;           // subset of lost: rays born inside the solid
+    std::vector<std::uint64_t> by_reflections; // far-field rays by reflection count
+};
+
+struct StageTimings {
+    double rayset_ms = 0.0;
+    double heightfield_ms = 0.0;
+    double trace_ms = 0.0;
+    double histogram_ms = 0.0;
+    double compare_ms = 0.0;
+    double total_ms = 0.0;
+};
+
+struct Evaluation {
+    std::string device;
+    std::string backend; // "cpu" or "gpu"
+    RayTally tally;
+    std::uint64_t rays_aborted = 0; // bounded device loops that ran out (counted as lost)
+    double energy_per_ray_lm = 0.0;
+    FarField farfield;
+    std::optional<FarField> target_farfield;
+    std::optional<double> l2_lm;
+    StageTimings timings;
+};
+
+} // namespace fird

@@ -1,0 +1,58 @@
+#include "source_clearance.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include <fmt/format.h>
+#include <glm/geometric.hpp>
+
+namespace fird {
+
+namespace {
+
+struct SourceBox {
+    glm::dvec3 lo, hi;
+};
+
+SourceBox source_box(const SourceDesc& s) {
+    // Half extents: a cylinder of axis a reaches L/2 |a_k| + r sqrt(1 - a_k^2) along
+    // axis k; a sphere r; a point 0.
+    glm::dvec3 half(s.radius_mm);
+    if (s.kind == SourceKind::Cylinder) {
+        const glm::dvec3 a = glm::normalize(s.axis);
+        for (int k = 0; k < 3; ++k)
+            half[k] = 0.5 * s.length_mm * std::abs(a[k]) +
+                      s.radius_mm * std::sqrt(std::max(0.0, 1.0 - a[k] * a[k]));
+    } else if (s.kind == SourceKind::Point) {
+        half = glm::dvec3(0.0);
+    }
+    return {s.center_mm - half, s.center_mm + half};
+}
+
+} // namespace
+
+double source_clearance_mm(const Surface& surface, const SourceDesc& source) {
+    const SourceBox box = source_box(source);
+    const Holder& h = surface.holder();
+    const double x0 = std::max(box.lo.x, h.min_mm.x), x1 = std::min(box.hi.x, h.max_mm.x);
+    const double y0 = std::max(box.lo.y, h.min_mm.y), y1 = std::min(box.hi.y, h.max_mm.y);
+    if (x0 > x1 || y0 > y1) return std::numeric_limits<double>::infinity();
+    // The height range is conservative: it may refuse a reflector that only nearly
+    // touches the source, never accept one that cuts it.
+    return box.lo.z - surface.bounds(x0, x1, y0, y1).hi;
+}
+
+void check_reflector_clear_of_source(const Surface& surface, const SourceDesc& source) {
+    const double clearance = source_clearance_mm(surface, source);
+    if (clearance <= 0.0) {
+        const double lowest = source_box(source).lo.z;
+        throw std::invalid_argument(fmt::format(
+            "the reflector cuts the light source: the surface reaches z = {:.3f} mm under the "
+            "source, whose lowest point is z = {:.3f} mm",
+            lowest - clearance, lowest));
+    }
+}
+
+} // namespace fird
