@@ -10,7 +10,7 @@ packages=(
   build-essential cmake ninja-build pkg-config git
   libvulkan-dev mesa-vulkan-drivers vulkan-validationlayers vulkan-tools
   glslang-tools spirv-tools
-  libglfw3-dev libglm-dev libimgui-dev libstb-dev
+  libglfw3-dev libglm-dev libimgui-dev libcairo2-dev fonts-dejavu-core
   libtomlplusplus-dev libcli11-dev nlohmann-json3-dev libfmt-dev libnlopt-cxx-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   xvfb xauth

@@ -10,8 +10,8 @@
 #include <fmt/format.h>
 
 #include "evaluation/evaluator.hpp"
-#include "io/raster.hpp"
 #include "io/scene_file.hpp"
+#include "plot/chart.hpp"
 #include "reference/reference_tracer.hpp"
 
 namespace fird {
@@ -126,50 +126,21 @@ void write_bench_csv(const std::string& path, const std::vector<BenchRow>& rows)
 }
 
 void write_bench_plot(const std::string& path, const std::vector<BenchRow>& rows) {
-    constexpr int kW = 960, kH = 600, kL = 90, kB = 60, kT = 40, kR = 240;
-    Raster img(kW, kH, {255, 255, 255});
-    const Rgb ink{20, 20, 20};
-    double tmin = 1e300, tmax = 1e-300, emin = 1e300, emax = 1e-300;
-    for (const BenchRow& r : rows) {
-        const double t = std::max(r.trace_ms, 1e-3), e = std::max(r.l2_lm, 1e-9);
-        tmin = std::min(tmin, t), tmax = std::max(tmax, t);
-        emin = std::min(emin, e), emax = std::max(emax, e);
+    plot::Chart chart{.title = "Run time against error",
+                      .x = {"trace stage time (ms)", plot::Scale::Log},
+                      .y = {"l2 to the reference far field (lm)", plot::Scale::Log}};
+    for (const char* mode : {"paper", "refined"}) {
+        plot::Series s{.kind = plot::Series::Kind::Points,
+                       .label = std::string(mode) + " hit mode",
+                       .colour = plot::palette(mode[0] == 'p' ? 1 : 0)};
+        for (const BenchRow& r : rows)
+            if (r.mode == mode) {
+                s.x.push_back(std::max(r.trace_ms, 1e-3));
+                s.y.push_back(std::max(r.l2_lm, 1e-9));
+            }
+        if (!s.x.empty()) chart.series.push_back(std::move(s));
     }
-    if (rows.empty()) tmin = emin = 1, tmax = emax = 10;
-    const double lt0 = std::floor(std::log10(tmin)),
-                 lt1 = std::ceil(std::log10(tmax)) + (tmin == tmax);
-    const double le0 = std::floor(std::log10(emin)),
-                 le1 = std::ceil(std::log10(emax)) + (emin == emax);
-    const auto px = [&](double t) {
-        return kL + int((std::log10(t) - lt0) / (lt1 - lt0) * (kW - kL - kR));
-    };
-    const auto py = [&](double e) {
-        return kH - kB - int((std::log10(e) - le0) / (le1 - le0) * (kH - kB - kT));
-    };
-    img.fill_rect(kL, kT, kL + 1, kH - kB, ink);
-    img.fill_rect(kL, kH - kB, kW - kR, kH - kB + 1, ink);
-    for (double d = lt0; d <= lt1; ++d) {
-        const int x = px(std::pow(10.0, d));
-        img.fill_rect(x, kH - kB, x + 1, kH - kB + 6, ink);
-        img.text(x - 12, kH - kB + 10, fmt::format("1e{}", int(d)), ink);
-    }
-    for (double d = le0; d <= le1; ++d) {
-        const int y = py(std::pow(10.0, d));
-        img.fill_rect(kL - 6, y, kL, y + 1, ink);
-        img.text(kL - 60, y - 6, fmt::format("1e{}", int(d)), ink);
-    }
-    img.text(kL + 150, kH - 24, "trace stage time (ms, log)", ink);
-    img.text(8, 10, "l2 to the reference far field (lm, log)", ink);
-    const Rgb paper{200, 60, 30}, refined{30, 90, 200};
-    for (const BenchRow& r : rows) {
-        const int x = px(std::max(r.trace_ms, 1e-3)), y = py(std::max(r.l2_lm, 1e-9));
-        img.fill_rect(x - 3, y - 3, x + 4, y + 4, r.mode == "paper" ? paper : refined);
-    }
-    img.fill_rect(kW - kR + 20, kT + 10, kW - kR + 30, kT + 20, paper);
-    img.text(kW - kR + 36, kT + 8, "paper hit mode", ink);
-    img.fill_rect(kW - kR + 20, kT + 34, kW - kR + 30, kT + 44, refined);
-    img.text(kW - kR + 36, kT + 32, "refined hit mode", ink);
-    img.write_png(path);
+    plot::write_chart_png(path, chart, 960, 600);
 }
 
 } // namespace fird

@@ -7,9 +7,9 @@
 
 #include <fmt/format.h>
 
-#include "io/farfield_png.hpp"
 #include "io/npy.hpp"
 #include "photometry/farfield_photometry.hpp"
+#include "plot/farfield_picture.hpp"
 #include "photometry/photometry_file.hpp"
 #include "reference/reference_tracer.hpp"
 
@@ -131,7 +131,7 @@ void write_evaluation_outputs(const std::string& dir, const Scene& scene, const 
     const auto path = [&](const char* name) { return (fs::path(dir) / name).string(); };
     const FarField& f = e.farfield;
     write_npy_f32(path("farfield.npy"), f.lm, f.height, f.width);
-    write_farfield_png(path("farfield.png"), f, {.title = scene.name + ": far field"});
+    plot::write_farfield_png(path("farfield.png"), f, {.title = scene.name + ": far field"});
     // The far field as luminaire files (5 deg C planes, 1 deg gamma) for photometric
     // tools, when it holds light and its cells are no coarser than that grid.
     if (f.total_lm() > 0.0 && f.width >= 72 && f.height >= 180) {
@@ -146,11 +146,11 @@ void write_evaluation_outputs(const std::string& dir, const Scene& scene, const 
     if (e.target_farfield) {
         const FarField& t = *e.target_farfield;
         write_npy_f32(path("target.npy"), t.lm, t.height, t.width);
-        write_farfield_png(path("target.png"), t, {.title = scene.name + ": desired far field"});
+        plot::write_farfield_png(path("target.png"), t, {.title = scene.name + ": desired far field"});
         FarField diff = f;
         for (std::size_t i = 0; i < diff.lm.size(); ++i)
             diff.lm[i] -= t.lm[i];
-        write_farfield_png(path("difference.png"), diff,
+        plot::write_farfield_png(path("difference.png"), diff,
                            {.title = fmt::format("{}: obtained - desired, l2 = {:.4g} lm",
                                                  scene.name, e.l2_lm.value_or(0.0)),
                             .signed_values = true});

@@ -222,6 +222,20 @@ struct RawBounds {
 
 } // namespace
 
+bool in_control_group(const ControlGroup& group, int i, int j, int nx, int ny) {
+    switch (group.kind) {
+    case ControlGroup::Kind::Point:
+        return i == group.i && j == group.j;
+    case ControlGroup::Kind::Row:
+        return j == group.i;
+    case ControlGroup::Kind::Column:
+        return i == group.i;
+    case ControlGroup::Kind::Ring:
+        return std::min({i, j, nx - 1 - i, ny - 1 - j}) == group.i;
+    }
+    return false;
+}
+
 std::vector<double> bspline_heights(const BSplineDesc& s,
                                     const std::map<std::string, double>& parameters) {
     std::vector<double> h = s.heights_mm;
@@ -229,24 +243,9 @@ std::vector<double> bspline_heights(const BSplineDesc& s,
         const auto it = parameters.find(name);
         if (it == parameters.end()) continue;
         for (int j = 0; j < s.ny; ++j)
-            for (int i = 0; i < s.nx; ++i) {
-                bool in = false;
-                switch (group.kind) {
-                case ControlGroup::Kind::Point:
-                    in = i == group.i && j == group.j;
-                    break;
-                case ControlGroup::Kind::Row:
-                    in = j == group.i;
-                    break;
-                case ControlGroup::Kind::Column:
-                    in = i == group.i;
-                    break;
-                case ControlGroup::Kind::Ring:
-                    in = std::min({i, j, s.nx - 1 - i, s.ny - 1 - j}) == group.i;
-                    break;
-                }
-                if (in) h[std::size_t(j) * s.nx + i] = it->second;
-            }
+            for (int i = 0; i < s.nx; ++i)
+                if (in_control_group(group, i, j, s.nx, s.ny))
+                    h[std::size_t(j) * s.nx + i] = it->second;
     }
     return h;
 }

@@ -62,6 +62,9 @@ class Surface {
     Holder holder_;
 };
 
+// Whether control height (i, j) of an nx x ny grid belongs to the group.
+bool in_control_group(const ControlGroup& group, int i, int j, int nx, int ny);
+
 // Applies the B-spline's parameters (group values) to its control heights.
 std::vector<double> bspline_heights(const BSplineDesc& spline,
                                     const std::map<std::string, double>& parameters);

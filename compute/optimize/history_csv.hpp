@@ -1,0 +1,37 @@
+// history.csv: every candidate of a search, one row each, flushed as it is evaluated so a
+// killed search keeps what it did; read back by --resume.
+#pragma once
+
+#include <cstdio>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "optimize/search_types.hpp"
+
+namespace fird {
+
+// Columns: index, stage (its number), stage_name, rays, farfield_w, farfield_h, one per
+// parameter (by name), l2_lm (empty when infeasible), feasible (1 or 0), ms. Numbers are
+// written with 17 significant digits, so a resumed search reads back the very values.
+class HistoryWriter {
+  public:
+    // Creates the file with its header, or (append) opens an existing one to continue it.
+    HistoryWriter(const std::string& path, const std::vector<std::string>& names, bool append);
+    ~HistoryWriter();
+    HistoryWriter(const HistoryWriter&) = delete;
+    HistoryWriter& operator=(const HistoryWriter&) = delete;
+    void write(const Candidate& candidate, const StageSummary& stage);
+
+  private:
+    std::string path_;
+    std::FILE* file_ = nullptr;
+};
+
+std::string history_header(const std::vector<std::string>& names);
+
+// Reads a history written for these parameter names. A last line without its newline (a
+// row cut short by a kill) is dropped, and the file truncated to the whole rows.
+std::vector<Candidate> read_history(const std::string& path, const std::vector<std::string>& names);
+
+} // namespace fird

@@ -1,0 +1,126 @@
+#include "objective.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <thread>
+
+#include <fmt/format.h>
+
+namespace fird {
+
+Objective::Objective(const vk::Context& ctx, const Scene& scene, ParameterSpace space,
+                     FarField desired, SearchSettings settings, SearchControl* control,
+                     std::vector<Candidate> replay, CandidateCallback on_candidate)
+    : ctx_(&ctx), scene_(scene), space_(std::move(space)), desired_(std::move(desired)),
+      settings_(std::move(settings)), control_(control), replay_(std::move(replay)),
+      on_candidate_(std::move(on_candidate)) {}
+
+void Objective::begin_stage(const std::string& name, const Fidelity& fidelity) {
+    if (evaluator_ && !(evaluator_->fidelity() == fidelity)) evaluator_.reset();
+    stages_.push_back({.name = name, .fidelity = fidelity});
+    stage_memo_.clear();
+    threshold_applies_ = settings_.threshold_lm > 0.0 && fidelity.farfield_w == desired_.width &&
+                         fidelity.farfield_h == desired_.height;
+    const FarField coarse =
+        fidelity.farfield_w == desired_.width && fidelity.farfield_h == desired_.height
+            ? desired_
+            : coarsen_farfield(desired_, fidelity.farfield_w, fidelity.farfield_h);
+    double sum = 0.0;
+    for (double v : coarse.lm)
+        sum += v * v;
+    stage_desired_norm_lm_ = std::sqrt(sum);
+}
+
+const Candidate* Objective::stage_best() const {
+    const auto& best = stage().best;
+    return best ? &history_[*best] : nullptr;
+}
+
+std::uint64_t Objective::remaining() const {
+    return settings_.max_evaluations > history_.size() ? settings_.max_evaluations - history_.size()
+                                                       : 0;
+}
+
+double Objective::penalty(const Feasibility& f) const {
+    const double dz = scene_.holder.max_mm.z - scene_.holder.min_mm.z;
+    return (stage_desired_norm_lm_ + scene_.source.flux_lm) *
+           (1.0 + std::max(0.0, -f.clearance_mm) / dz);
+}
+
+double Objective::operator()(const std::vector<double>& x) {
+    if (stages_.empty()) throw std::logic_error("Objective: no stage begun");
+    if (const auto it = stage_memo_.find(x); it != stage_memo_.end()) {
+        const Candidate& c = history_[it->second];
+        return c.feasible
+                   ? c.l2_lm
+                   : penalty(candidate_feasibility(scene_, space_.reflector(scene_.reflector, x)));
+    }
+    if (control_) {
+        while (control_->pause.load() && !control_->stop.load())
+            std::this_thread::sleep_for(std::chrono::milliseconds(20));
+        if (control_->stop.load()) throw SearchStopped{StopReason::Interrupted};
+    }
+    if (history_.size() >= settings_.max_evaluations)
+        throw SearchStopped{StopReason::MaxEvaluations};
+    const double value = trace(x);
+    if (threshold_applies_ && history_.back().feasible && value < settings_.threshold_lm)
+        throw SearchStopped{StopReason::Threshold};
+    return value;
+}
+
+double Objective::trace(const std::vector<double>& x) {
+    const auto t0 = std::chrono::steady_clock::now();
+    Candidate c{.index = history_.size(), .stage = std::uint32_t(stages_.size() - 1), .x = x};
+    const ReflectorDesc reflector = space_.reflector(scene_.reflector, x);
+    const Feasibility f = candidate_feasibility(scene_, reflector);
+    c.feasible = f.feasible;
+    c.l2_lm = std::numeric_limits<double>::quiet_NaN();
+    if (c.index < replay_.size()) {
+        // A resumed search: the recorded candidate must be this one, or the search differs.
+        const Candidate& r = replay_[c.index];
+        if (r.stage != c.stage || r.x != x || r.feasible != c.feasible)
+            throw std::runtime_error(fmt::format(
+                "history row {} does not match the resumed search (its scene or settings "
+                "changed since it was recorded)",
+                c.index));
+        c.l2_lm = r.l2_lm;
+        c.ms = r.ms;
+        c.replayed = true;
+    } else if (c.feasible) {
+        if (!evaluator_) {
+            evaluator_ = std::make_unique<Evaluator>(*ctx_, scene_, stage().fidelity);
+            evaluator_->set_desired(desired_);
+        }
+        const CandidateResult result = evaluator_->evaluate(reflector);
+        c.l2_lm = *result.l2_lm;
+        if (!std::isfinite(c.l2_lm))
+            throw std::runtime_error(fmt::format(
+                "candidate {}: the far field's l2 is not finite ({})", c.index, c.l2_lm));
+        c.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
+                   .count();
+    }
+    const Candidate& stored = record(std::move(c));
+    return stored.feasible ? stored.l2_lm : penalty(f);
+}
+
+const Candidate& Objective::record(Candidate c) {
+    StageSummary& s = stages_.back();
+    ++s.evaluations;
+    if (!c.feasible) ++s.infeasible;
+    if (!c.replayed && c.feasible) {
+        ++s.traced;
+        s.traced_ms += c.ms;
+    }
+    if (c.feasible && (!s.best || c.l2_lm < s.best_l2_lm)) {
+        s.best = c.index;
+        s.best_l2_lm = c.l2_lm;
+    }
+    stage_memo_[c.x] = c.index;
+    history_.push_back(std::move(c));
+    if (on_candidate_) on_candidate_(history_.back(), s);
+    return history_.back();
+}
+
+} // namespace fird

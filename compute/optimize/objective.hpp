@@ -1,0 +1,77 @@
+// The objective every search method calls: l2 of a parameter vector at the current stage's
+// fidelity, through the evaluation seam. It keeps the history, the best candidate of each
+// stage (NLopt's COBYLA returns its last point, not its best), the stop rules (threshold,
+// maximum evaluations, interruption) and, for a resumed search, replays the recorded
+// candidates instead of tracing them again.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "evaluation/evaluator.hpp"
+#include "optimize/parameter_space.hpp"
+#include "optimize/search_types.hpp"
+
+namespace fird {
+
+// Thrown by Objective::operator() when the search must end; methods let it through.
+struct SearchStopped {
+    StopReason reason;
+};
+
+class Objective {
+  public:
+    Objective(const vk::Context& ctx, const Scene& scene, ParameterSpace space, FarField desired,
+              SearchSettings settings, SearchControl* control, std::vector<Candidate> replay,
+              CandidateCallback on_candidate);
+
+    // Starts a stage at `fidelity`. Its evaluator is built when a candidate is first
+    // traced, and kept from the previous stage when the fidelity is the same (the rayset
+    // too). The threshold applies on the scene's far-field grid only.
+    void begin_stage(const std::string& name, const Fidelity& fidelity);
+
+    // l2 of x at the current stage; an infeasible x is not traced and scores penalty().
+    // The same x twice in a stage is answered from the first. Throws SearchStopped.
+    double operator()(const std::vector<double>& x);
+
+    const ParameterSpace& space() const { return space_; }
+    const Scene& scene() const { return scene_; }
+    const SearchSettings& settings() const { return settings_; }
+    const std::vector<Candidate>& history() const { return history_; }
+    const std::vector<StageSummary>& stages() const { return stages_; }
+    const StageSummary& stage() const { return stages_.back(); }
+    // The current stage's best feasible candidate, if any.
+    const Candidate* stage_best() const;
+    std::uint64_t evaluations() const { return history_.size(); }
+    std::uint64_t remaining() const;
+    // The score of an infeasible candidate: above any traced l2 (l2 <= ||desired|| + the
+    // source's flux), growing with how deep the surface cuts the source, so model-based
+    // methods are pushed back to the feasible side.
+    double penalty(const Feasibility& feasibility) const;
+
+  private:
+    double trace(const std::vector<double>& x);
+    const Candidate& record(Candidate c);
+
+    const vk::Context* ctx_;
+    Scene scene_;
+    ParameterSpace space_;
+    FarField desired_;
+    SearchSettings settings_;
+    SearchControl* control_;
+    std::vector<Candidate> replay_;
+    CandidateCallback on_candidate_;
+
+    std::vector<Candidate> history_;
+    std::vector<StageSummary> stages_;
+    std::map<std::vector<double>, std::uint64_t> stage_memo_; // x -> history index
+    std::unique_ptr<Evaluator> evaluator_;
+    double stage_desired_norm_lm_ = 0.0;
+    bool threshold_applies_ = false;
+};
+
+} // namespace fird

@@ -1,0 +1,127 @@
+#include "parameter_space.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+#include "model/source_clearance.hpp"
+#include "model/surface.hpp"
+
+namespace fird {
+
+namespace {
+
+// A parameter's start: its value in the scene, or for a B-spline group without one the
+// mean of the control heights it moves.
+double start_value(const ReflectorDesc& r, const std::string& name) {
+    if (const auto it = r.parameters.find(name); it != r.parameters.end()) return it->second;
+    const BSplineDesc& s = r.bspline;
+    const auto g = s.groups.find(name);
+    if (g == s.groups.end()) return 0.0;
+    double sum = 0.0;
+    int count = 0;
+    for (int j = 0; j < s.ny; ++j)
+        for (int i = 0; i < s.nx; ++i)
+            if (in_control_group(g->second, i, j, s.nx, s.ny)) {
+                sum += s.heights_mm[std::size_t(j) * s.nx + i];
+                ++count;
+            }
+    return count ? sum / count : 0.0;
+}
+
+} // namespace
+
+std::vector<std::uint64_t> ParameterSpace::lattice_counts() const {
+    std::vector<std::uint64_t> counts;
+    for (std::size_t k = 0; k < size(); ++k)
+        // The tolerance keeps hi itself when (hi - lo) / step is whole but rounds below.
+        counts.push_back(std::uint64_t(std::floor((hi[k] - lo[k]) / step[k] + 1e-9)) + 1);
+    return counts;
+}
+
+std::uint64_t ParameterSpace::lattice_size() const {
+    std::uint64_t n = 1;
+    for (std::uint64_t c : lattice_counts())
+        n = c != 0 && n > std::numeric_limits<std::uint64_t>::max() / c
+                ? std::numeric_limits<std::uint64_t>::max()
+                : n * c;
+    return n;
+}
+
+std::vector<double> ParameterSpace::lattice_point(std::uint64_t index) const {
+    const auto counts = lattice_counts();
+    std::vector<double> x(size());
+    for (std::size_t k = size(); k-- > 0;) {
+        x[k] = lo[k] + double(index % counts[k]) * step[k];
+        index /= counts[k];
+    }
+    return x;
+}
+
+std::vector<double> ParameterSpace::snap(const std::vector<double>& x) const {
+    const auto counts = lattice_counts();
+    std::vector<double> s(size());
+    for (std::size_t k = 0; k < size(); ++k) {
+        const double i =
+            std::clamp(std::round((x[k] - lo[k]) / step[k]), 0.0, double(counts[k] - 1));
+        s[k] = lo[k] + i * step[k];
+    }
+    return s;
+}
+
+std::map<std::string, double> ParameterSpace::named(const std::vector<double>& x) const {
+    std::map<std::string, double> m;
+    for (std::size_t k = 0; k < size(); ++k)
+        m[names[k]] = x[k];
+    return m;
+}
+
+ReflectorDesc ParameterSpace::reflector(const ReflectorDesc& base,
+                                        const std::vector<double>& x) const {
+    ReflectorDesc r = base;
+    for (std::size_t k = 0; k < size(); ++k)
+        r.parameters[names[k]] = x[k];
+    return r;
+}
+
+ParameterSpace parameter_space(const Scene& scene) {
+    const ReflectorDesc& r = scene.reflector;
+    if (r.optimize.empty())
+        throw std::invalid_argument(fmt::format(
+            "{}: [reflector.optimize] is missing: give bounds and a step for each parameter to "
+            "search (e.g. fx = {{ min = 10.0, max = 20.0, step = 0.5 }})",
+            scene.path));
+    ParameterSpace s;
+    for (const auto& [name, range] : r.optimize) {
+        s.names.push_back(name);
+        s.lo.push_back(range.min);
+        s.hi.push_back(range.max);
+        s.step.push_back(range.step);
+        s.start.push_back(std::clamp(start_value(r, name), range.min, range.max));
+    }
+    return s;
+}
+
+Feasibility candidate_feasibility(const Scene& scene, const ReflectorDesc& reflector) {
+    Feasibility f;
+    try {
+        const Surface surface = Surface::make(reflector, scene.holder);
+        f.clearance_mm = source_clearance_mm(surface, scene.source);
+    } catch (const std::invalid_argument& e) {
+        f.feasible = false;
+        f.clearance_mm = 0.0;
+        f.reason = e.what();
+        return f;
+    }
+    if (!(f.clearance_mm > 0.0)) {
+        f.feasible = false;
+        f.reason =
+            fmt::format("the surface cuts the light source ({:.3g} mm deep)", -f.clearance_mm);
+    }
+    return f;
+}
+
+} // namespace fird

@@ -1,0 +1,47 @@
+// The box a search explores ([reflector.optimize]: bounds and a step per parameter), its
+// lattice of steps (the paper's stepped search, §5), and the feasibility of a candidate.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "model/scene.hpp"
+
+namespace fird {
+
+struct ParameterSpace {
+    // The optimized parameters in [reflector.optimize]'s order (sorted by name).
+    std::vector<std::string> names;
+    std::vector<double> lo, hi, step;
+    std::vector<double> start; // the scene's reflector, clamped into the box
+
+    std::size_t size() const { return names.size(); }
+    // Lattice values per parameter: lo, lo + step, ... up to hi.
+    std::vector<std::uint64_t> lattice_counts() const;
+    // The product of the counts, saturating at UINT64_MAX.
+    std::uint64_t lattice_size() const;
+    // Lattice point `index` in odometer order: the last parameter varies fastest.
+    std::vector<double> lattice_point(std::uint64_t index) const;
+    // The nearest lattice point, coordinate by coordinate.
+    std::vector<double> snap(const std::vector<double>& x) const;
+    std::map<std::string, double> named(const std::vector<double>& x) const;
+    // The base reflector with x's values.
+    ReflectorDesc reflector(const ReflectorDesc& base, const std::vector<double>& x) const;
+};
+
+// Throws std::invalid_argument naming the scene when it has no [reflector.optimize].
+ParameterSpace parameter_space(const Scene& scene);
+
+struct Feasibility {
+    bool feasible = true;
+    double clearance_mm = 0.0; // source clearance (negative: how deep the surface cuts it)
+    std::string reason;        // why not, in one line
+};
+
+// A candidate is infeasible when its surface cuts the light source or its values make
+// no surface (e.g. a zero focal length): it is then never traced (DESIGN.md §2).
+Feasibility candidate_feasibility(const Scene& scene, const ReflectorDesc& reflector);
+
+} // namespace fird

@@ -1,0 +1,231 @@
+#include "search.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <numeric>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+#include "model/surface_distance.hpp"
+#include "optimize/methods.hpp"
+#include "optimize/objective.hpp"
+
+namespace fird {
+
+namespace {
+
+// Streams of a search's seed (stream_seed): one per stage, then the final and noise runs.
+constexpr std::uint64_t kFinalStream = 1000;
+constexpr std::uint64_t kNoiseStream = 1001;
+
+std::uint64_t splitmix64(std::uint64_t x) {
+    x += 0x9E3779B97F4A7C15ull;
+    x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
+    x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
+    return x ^ (x >> 31);
+}
+
+nlopt::algorithm nlopt_algorithm(SearchMethod m) {
+    switch (m) {
+    case SearchMethod::Bobyqa:
+        return nlopt::LN_BOBYQA;
+    case SearchMethod::Sbplx:
+        return nlopt::LN_SBPLX;
+    case SearchMethod::Cobyla:
+        return nlopt::LN_COBYLA;
+    case SearchMethod::DirectL:
+        return nlopt::GN_DIRECT_L;
+    case SearchMethod::Crs2:
+        return nlopt::GN_CRS2_LM;
+    case SearchMethod::Auto:
+    case SearchMethod::Grid:
+        break;
+    }
+    throw std::logic_error("not an NLopt method");
+}
+
+// One NLopt method alone: from the start, initial steps of a quarter of each range (no
+// finer than the step), tolerances of one step, flat directions held.
+StopReason run_single(Objective& f, SearchMethod method, const std::vector<FlatDirection>& flat) {
+    const ParameterSpace& space = f.space();
+    NloptRun run{.algorithm = nlopt_algorithm(method),
+                 .x0 = space.start,
+                 .free = std::vector<bool>(space.size(), true),
+                 .seed = f.settings().seed};
+    for (std::size_t k = 0; k < space.size(); ++k) {
+        for (const FlatDirection& d : flat)
+            if (d.held == space.names[k]) run.free[k] = false;
+        run.initial_step.push_back(std::max(space.step[k], 0.25 * (space.hi[k] - space.lo[k])));
+        run.xtol.push_back(space.step[k]);
+    }
+    return run_nlopt(f, run);
+}
+
+double ms_since(std::chrono::steady_clock::time_point t0) {
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+} // namespace
+
+const char* stop_reason_name(StopReason r) {
+    switch (r) {
+    case StopReason::None:
+        return "none";
+    case StopReason::Threshold:
+        return "threshold";
+    case StopReason::Converged:
+        return "converged";
+    case StopReason::MaxEvaluations:
+        return "max_evaluations";
+    case StopReason::Exhausted:
+        return "exhausted";
+    case StopReason::Interrupted:
+        return "interrupted";
+    }
+    return "?";
+}
+
+SearchSettings search_settings(const Scene& scene) {
+    const OptimizeSettings& o = scene.optimize;
+    SearchSettings s{.method = o.method,
+                     .rays = o.rays,
+                     .threshold_lm = o.threshold_lm,
+                     .max_evaluations = o.max_evaluations,
+                     .seed = scene.trace.seed};
+    if (s.rays.empty()) {
+        if (s.method == SearchMethod::Auto)
+            for (std::uint64_t n : {100000ull, 1000000ull})
+                if (n < scene.trace.rays) s.rays.push_back(n);
+        s.rays.push_back(scene.trace.rays);
+    }
+    return s;
+}
+
+std::uint64_t stream_seed(std::uint64_t seed, std::uint64_t stream, std::uint64_t avoid) {
+    std::uint64_t s = splitmix64(splitmix64(seed) ^ splitmix64(stream + 0x5EEDull));
+    while (s == avoid)
+        s = splitmix64(s);
+    return s;
+}
+
+std::pair<std::uint32_t, std::uint32_t> stage_farfield(std::uint32_t w, std::uint32_t h,
+                                                       std::uint64_t rays) {
+    const std::uint32_t g = std::gcd(w, h);
+    for (std::uint32_t d = 1; d <= g; ++d)
+        if (g % d == 0 && std::uint64_t(w / d) * (h / d) * 20 <= rays) return {w / d, h / d};
+    return {w / g, h / g};
+}
+
+std::vector<Fidelity> search_stages(const Scene& scene, const SearchSettings& settings) {
+    const Fidelity base = scene_fidelity(scene);
+    const std::uint64_t avoid =
+        scene.target.kind == TargetDesc::Kind::Reflector ? scene.target.seed : ~0ull;
+    const auto stage = [&](std::uint64_t rays, std::size_t k, bool last) {
+        Fidelity f = base;
+        f.rays = rays;
+        f.seed = stream_seed(settings.seed, k, avoid);
+        if (!last)
+            std::tie(f.farfield_w, f.farfield_h) = stage_farfield(f.farfield_w, f.farfield_h, rays);
+        return f;
+    };
+    std::vector<Fidelity> stages;
+    if (settings.method != SearchMethod::Auto) return {stage(settings.rays.back(), 0, true)};
+    for (std::size_t k = 0; k < settings.rays.size(); ++k)
+        stages.push_back(stage(settings.rays[k], k, k + 1 == settings.rays.size()));
+    return stages;
+}
+
+SearchOutcome run_search(const vk::Context& ctx, const Scene& scene, const SearchRequest& req) {
+    const auto t0 = std::chrono::steady_clock::now();
+    if (scene.target.kind == TargetDesc::Kind::None)
+        throw std::invalid_argument(
+            fmt::format("{}: [target] is missing: a search needs a desired far field (a target "
+                        "reflector or an IES / LDT file)",
+                        scene.path));
+    const SearchSettings& settings = req.settings;
+    ParameterSpace space = parameter_space(scene);
+    SearchOutcome out;
+    SearchResult& r = out.result;
+    r.method = method_name(settings.method);
+    r.names = space.names;
+    r.flat_directions = flat_directions(scene.reflector, space.names);
+    r.grid_size = space.lattice_size();
+
+    // The start at the scene's fidelity, with rays of its own stream (the same stream
+    // re-evaluates the best at the end): its l2, and the flux a relative photometric
+    // target is scaled to, once for the whole search.
+    const std::uint64_t avoid =
+        scene.target.kind == TargetDesc::Kind::Reflector ? scene.target.seed : ~0ull;
+    Fidelity final_fidelity = scene_fidelity(scene);
+    final_fidelity.seed = stream_seed(settings.seed, kFinalStream, avoid);
+    Evaluator final_eval(ctx, scene, final_fidelity);
+    const ReflectorDesc start = space.reflector(scene.reflector, space.start);
+    const bool start_feasible = candidate_feasibility(scene, start).feasible;
+    const double start_flux = start_feasible ? final_eval.evaluate(start).farfield_lm : 0.0;
+    if (scene.target.kind == TargetDesc::Kind::Photometric && !scene.target.absolute &&
+        !(start_flux > 0.0))
+        throw std::invalid_argument(fmt::format(
+            "{}: the start reflector sends no light to the far field, so a relative "
+            "photometric target has nothing to be scaled to (set [target] absolute = true or "
+            "start from another reflector)",
+            scene.path));
+    out.desired = desired_farfield(ctx, scene, start_flux);
+    r.desired = out.desired.description;
+    final_eval.set_desired(out.desired.farfield);
+    if (start_feasible) r.start_l2_lm = final_eval.compare();
+
+    Objective f(ctx, scene, space, out.desired.farfield, settings, req.control, req.replay,
+                req.on_candidate);
+    try {
+        switch (settings.method) {
+        case SearchMethod::Grid:
+            f.begin_stage("grid", search_stages(scene, settings)[0]);
+            r.stopped = run_grid(f);
+            break;
+        case SearchMethod::Auto:
+            r.stopped = run_auto(f, search_stages(scene, settings));
+            break;
+        default:
+            f.begin_stage(r.method, search_stages(scene, settings)[0]);
+            r.stopped = run_single(f, settings.method, r.flat_directions);
+            break;
+        }
+    } catch (const SearchStopped& s) {
+        r.stopped = s.reason;
+    }
+    r.history = f.history();
+    r.stages = f.stages();
+    for (const Candidate& c : r.history)
+        r.infeasible += c.feasible ? 0 : 1;
+    for (auto s = r.stages.rbegin(); s != r.stages.rend(); ++s)
+        if (s->best) {
+            r.best = s->best;
+            r.best_l2_lm = s->best_l2_lm;
+            break;
+        }
+    if (r.best) {
+        const std::vector<double>& x = r.history[*r.best].x;
+        r.best_parameters = space.named(x);
+        const ReflectorDesc best = space.reflector(scene.reflector, x);
+        if (scene.target.kind == TargetDesc::Kind::Reflector)
+            r.surface_rms_mm =
+                surface_rms_distance_mm(Surface::make(best, scene.holder),
+                                        Surface::make(target_reflector(scene), scene.holder));
+        // Fresh rays at the scene's fidelity, and a second independent trace: the l2
+        // between those two is what noise alone leaves (skipped when interrupted).
+        if (r.stopped != StopReason::Interrupted) {
+            r.final_l2_lm = *final_eval.evaluate(best).l2_lm;
+            out.best_farfield = final_eval.farfield();
+            Fidelity noise = final_fidelity;
+            noise.seed = stream_seed(settings.seed, kNoiseStream, avoid);
+            Evaluator noise_eval(ctx, scene, noise);
+            (void)noise_eval.evaluate(best);
+            r.noise_floor_l2_lm = final_eval.l2_to(noise_eval);
+        }
+    }
+    r.time_s = ms_since(t0) * 1e-3;
+    return out;
+}
+
+} // namespace fird

@@ -1,0 +1,45 @@
+// One reflector search (fird optimize): the desired far field computed once, the start
+// evaluated, the method run through the Objective, and the best re-evaluated with fresh
+// rays at the scene's fidelity beside the noise floor.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+#include "evaluation/desired_farfield.hpp"
+#include "optimize/search_types.hpp"
+#include "vk/context.hpp"
+
+namespace fird {
+
+struct SearchRequest {
+    SearchSettings settings;
+    SearchControl* control = nullptr; // may be null
+    std::vector<Candidate> replay;    // a resumed search's recorded candidates
+    CandidateCallback on_candidate;   // may be empty
+};
+
+struct SearchOutcome {
+    SearchResult result;
+    DesiredFarField desired;               // on the scene's grid
+    std::optional<FarField> best_farfield; // the best, fresh rays, scene fidelity
+};
+
+SearchOutcome run_search(const vk::Context& ctx, const Scene& scene, const SearchRequest& request);
+
+// The stages' fidelities: `auto` one per ray count (coarser far fields for all but the
+// last, which is the scene's grid), the other methods one at the last count.
+std::vector<Fidelity> search_stages(const Scene& scene, const SearchSettings& settings);
+
+// The seed of stream `stream` of a search seeded `seed` (splitmix64 of both: independent
+// Philox keys), never equal to `avoid` (the target reflector's seed).
+std::uint64_t stream_seed(std::uint64_t seed, std::uint64_t stream, std::uint64_t avoid);
+
+// The coarsest grid whose cells are blocks of the scene's and that has no more cells than
+// rays / 20 (so a stage's histogram is not mostly counting noise); the scene's own grid
+// when no block size divides both sides.
+std::pair<std::uint32_t, std::uint32_t> stage_farfield(std::uint32_t width, std::uint32_t height,
+                                                       std::uint64_t rays);
+
+} // namespace fird

@@ -1,0 +1,34 @@
+// The far field in false colour with degree axes and a colour bar, laid out as the
+// paper's figures: azimuth across (-180..180 deg), altitude down (+90 at the top).
+#pragma once
+
+#include <optional>
+#include <string>
+#include <utility>
+
+#include "farfield/farfield.hpp"
+#include "plot/chart.hpp"
+
+namespace fird::plot {
+
+struct FarFieldPicture {
+    std::string title;
+    bool signed_values = false; // a difference: diverging colours around 0
+    bool log_scale = false;     // colour by log10 over four decades below the peak
+    // Altitudes shown, degrees (high, low); empty: the whole sphere.
+    std::optional<std::pair<double, double>> altitude_deg;
+};
+
+void draw_farfield(Canvas& canvas, const Rect& area, const FarField& farfield,
+                   const FarFieldPicture& options);
+
+// The picture alone: one pixel per cell up to 1800 x 900 (each pixel the largest |value|
+// of its cells, so narrow peaks survive).
+void write_farfield_png(const std::string& path, const FarField& farfield,
+                        const FarFieldPicture& options);
+
+// The altitude band (high, low, degrees) that holds all but `fraction` of the light,
+// widened by a margin: where a zoomed view should look.
+std::pair<double, double> lit_altitude_band(const FarField& farfield, double fraction = 1e-3);
+
+} // namespace fird::plot
