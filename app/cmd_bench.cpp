@@ -7,18 +7,9 @@
 
 #include "bench/bench.hpp"
 #include "commands.hpp"
+#include "parse.hpp"
 
 namespace fird::app {
-
-namespace {
-std::vector<std::string> split(const std::string& s) {
-    std::vector<std::string> out;
-    std::stringstream ss(s);
-    for (std::string item; std::getline(ss, item, ',');)
-        if (!item.empty()) out.push_back(item);
-    return out;
-}
-} // namespace
 
 void register_bench(CLI::App& app, const GlobalOptions& global, std::function<int()>& run) {
     auto* cmd = app.add_subcommand("bench", "Run time against error of the fast path");
@@ -47,35 +38,22 @@ void register_bench(CLI::App& app, const GlobalOptions& global, std::function<in
             BenchOptions o;
             o.scenes = a->scenes;
             o.heightfields.clear();
-            for (const auto& wh : split(a->heightfields)) {
+            for (const auto& wh : split_list(a->heightfields)) {
                 unsigned w = 0, h = 0;
                 char x = 0;
                 std::istringstream is(wh);
                 if (!(is >> w >> x >> h) || x != 'x' || w == 0 || h == 0)
-                    throw std::invalid_argument(fmt::format("--heightfields: '{}' is not WxH", wh));
+                    throw UsageError(fmt::format("--heightfields: '{}' is not WxH", wh));
                 o.heightfields.emplace_back(w, h);
             }
-            o.rays.clear();
-            for (const auto& r : split(a->rays)) {
-                double v = 0;
-                try {
-                    v = std::stod(r);
-                } catch (const std::exception&) {
-                    throw std::invalid_argument(fmt::format("--rays: '{}' is not a number", r));
-                }
-                if (!(v >= 1 && v < 4e9))
-                    throw std::invalid_argument(fmt::format("--rays: {} out of range", r));
-                o.rays.push_back(std::uint64_t(v));
-            }
+            o.rays = parse_counts("--rays", a->rays, 4e9);
             o.modes.clear();
-            for (const auto& m : split(a->modes)) {
+            for (const auto& m : split_list(a->modes)) {
                 if (m != "paper" && m != "refined")
-                    throw std::invalid_argument(
-                        fmt::format("--modes: '{}' is not paper or refined", m));
+                    throw UsageError(fmt::format("--modes: '{}' is not paper or refined", m));
                 o.modes.push_back(m == "paper" ? HitMode::Paper : HitMode::Refined);
             }
-            if (!(a->reference_rays >= 1))
-                throw std::invalid_argument("--reference-rays must be >= 1");
+            if (!(a->reference_rays >= 1)) throw UsageError("--reference-rays must be >= 1");
             o.reference_rays = std::uint64_t(a->reference_rays);
             o.same_rays = a->same_rays;
             const auto ctx = vk::Context::create(

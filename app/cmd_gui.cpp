@@ -10,7 +10,8 @@ namespace fird::app {
 void register_gui(CLI::App& app, const GlobalOptions& global, std::function<int()>& run) {
     auto* cmd = app.add_subcommand("gui", "Open the interactive workbench window");
     auto frames = std::make_shared<std::uint32_t>(0);
-    cmd->add_option("--frames", *frames, "Close after this many frames (0: run until closed)");
+    cmd->add_option("--frames", *frames, "Close after this many frames (0: run until closed)")
+        ->check(CLI::NonNegativeNumber);
     cmd->callback([&global, &run, frames] {
         run = [&global, frames]() -> int {
 #ifdef FIRD_HAVE_UI

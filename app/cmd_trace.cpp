@@ -25,13 +25,16 @@ void register_trace(CLI::App& app, const GlobalOptions& global, std::function<in
     };
     auto a = std::make_shared<Args>();
     cmd->add_option("SCENE", a->scene, "Scene file (TOML)")->required();
-    cmd->add_option("--rays", a->rays, "Rays to emit (overrides [trace] rays)");
-    cmd->add_option("--seed", a->seed, "Seed (overrides [trace] seed)");
+    cmd->add_option("--rays", a->rays, "Rays to emit (overrides [trace] rays)")
+        ->check(CLI::Range(1.0, 1e10));
+    cmd->add_option("--seed", a->seed, "Seed (overrides [trace] seed)")
+        ->check(CLI::NonNegativeNumber);
     cmd->add_option("--backend", a->backend, "gpu (the fast path) or cpu (the exact reference)")
         ->check(CLI::IsMember({"gpu", "cpu"}));
     cmd->add_option("--sampler", a->sampler, "random or sobol (overrides [trace] sampler)")
         ->check(CLI::IsMember({"random", "sobol"}));
-    cmd->add_option("--threads", a->threads, "CPU threads for the reference (0: all)");
+    cmd->add_option("--threads", a->threads, "CPU threads for the reference (0: all)")
+        ->check(CLI::Range(0.0, 4096.0));
     cmd->add_flag("--json", a->json, "Print one JSON object");
     cmd->add_option("--out", a->out, "Write farfield.npy and images to this directory");
     cmd->callback([&global, &run, a, cmd] {

@@ -7,6 +7,7 @@
 #include <CLI/CLI.hpp>
 
 #include "commands.hpp"
+#include "parse.hpp"
 #include "vk/check.hpp"
 
 int main(int argc, char** argv) {
@@ -47,6 +48,12 @@ int main(int argc, char** argv) {
         global.validation = true;
     try {
         return run();
+    } catch (const fird::app::UsageError& e) {
+        std::fprintf(stderr, "fird: error: %s\n", e.what());
+        std::fprintf(stderr, "usage: see fird %s --help\n",
+                     app.get_subcommands().empty() ? ""
+                                                   : app.get_subcommands()[0]->get_name().c_str());
+        return 2;
     } catch (const fird::vk::NoDeviceError& e) {
         std::fprintf(stderr, "fird: error: %s\n", e.what());
         return 1;

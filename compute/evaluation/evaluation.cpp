@@ -7,10 +7,11 @@
 
 #include <fmt/format.h>
 
+#include "io/atomic_file.hpp"
 #include "io/npy.hpp"
 #include "photometry/farfield_photometry.hpp"
-#include "plot/farfield_picture.hpp"
 #include "photometry/photometry_file.hpp"
+#include "plot/farfield_picture.hpp"
 #include "reference/reference_tracer.hpp"
 
 namespace fird {
@@ -121,13 +122,10 @@ nlohmann::json evaluation_json(const Evaluation& e) {
     return j;
 }
 
-void write_evaluation_outputs(const std::string& dir, const Scene& scene, const Evaluation& e) {
+void write_evaluation_outputs(const std::string& dir, const Scene& scene, const Evaluation& e,
+                              const std::string& producer) {
     namespace fs = std::filesystem;
-    std::error_code ec;
-    fs::create_directories(dir, ec);
-    if (ec)
-        throw std::runtime_error(
-            fmt::format("{}: cannot create the output directory: {}", dir, ec.message()));
+    create_output_directory(dir);
     const auto path = [&](const char* name) { return (fs::path(dir) / name).string(); };
     const FarField& f = e.farfield;
     write_npy_f32(path("farfield.npy"), f.lm, f.height, f.width);
@@ -138,7 +136,7 @@ void write_evaluation_outputs(const std::string& dir, const Scene& scene, const 
         const CandelaTable table = table_from_farfield(f, 5.0, 1.0);
         const PhotometryLabels labels{
             .luminaire = scene.name,
-            .test = fmt::format("fird trace, {} backend, {} rays", e.backend, e.tally.emitted),
+            .test = fmt::format("{}, {} backend, {} rays", producer, e.backend, e.tally.emitted),
             .other = scene.path};
         write_photometry(path("farfield.ies"), table, labels);
         write_photometry(path("farfield.ldt"), table, labels);
@@ -146,14 +144,15 @@ void write_evaluation_outputs(const std::string& dir, const Scene& scene, const 
     if (e.target_farfield) {
         const FarField& t = *e.target_farfield;
         write_npy_f32(path("target.npy"), t.lm, t.height, t.width);
-        plot::write_farfield_png(path("target.png"), t, {.title = scene.name + ": desired far field"});
+        plot::write_farfield_png(path("target.png"), t,
+                                 {.title = scene.name + ": desired far field"});
         FarField diff = f;
         for (std::size_t i = 0; i < diff.lm.size(); ++i)
             diff.lm[i] -= t.lm[i];
         plot::write_farfield_png(path("difference.png"), diff,
-                           {.title = fmt::format("{}: obtained - desired, l2 = {:.4g} lm",
-                                                 scene.name, e.l2_lm.value_or(0.0)),
-                            .signed_values = true});
+                                 {.title = fmt::format("{}: obtained - desired, l2 = {:.4g} lm",
+                                                       scene.name, e.l2_lm.value_or(0.0)),
+                                  .signed_values = true});
     }
 }
 

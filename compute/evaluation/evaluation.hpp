@@ -32,8 +32,10 @@ nlohmann::json evaluation_json(const Evaluation& evaluation);
 
 // farfield.npy (float32, (H, W), lumens), farfield.png, and with a target
 // target.npy / target.png / difference.png.
+// `producer` names the command in the luminaire files' test label.
 void write_evaluation_outputs(const std::string& directory, const Scene& scene,
-                              const Evaluation& evaluation);
+                              const Evaluation& evaluation,
+                              const std::string& producer = "fird trace");
 
 // The far field of a photometric [target] (IES / LDT) on the scene's grid, integrated
 // over each cell; scaled to `reflector_farfield_lm` unless [target] absolute = true.

@@ -1,10 +1,14 @@
 // The multi-fidelity default. Stage k traces stages[k] (more rays, a finer far field as
 // the search narrows; common random numbers within each stage):
-//   explore  (first)            BOBYQA from the start, steps of a quarter of each range;
+//   explore  (first)            DIRECT over the whole box: global, because the l2
+//                               landscape has several basins a few steps wide and is flat
+//                               between them (local methods from the start stall in the
+//                               nearest; DIRECT-L, locally biased, did too on Model A);
 //   refine   (middle stages)    BOBYQA from the best so far, steps of two lattice steps;
 //   lattice  (the last of those) the best snapped to the step lattice, moved along any
 //                               flat direction to each lattice value of its held
-//                               parameter, then a compass search on the lattice;
+//                               parameter, then a compass search on the lattice (pairs
+//                               of parameters stepped together where single steps fail);
 //   confirm  (last: the scene's rays and grid) the compass search again, from there.
 // The continuous stages hold each flat direction's parameter fixed; the lattice stages
 // move every parameter (a strict descent cannot wander along a flat direction).
@@ -69,14 +73,17 @@ StopReason run_auto(Objective& f, const std::vector<Fidelity>& stages) {
     std::vector<double> x = space.start;
     for (std::size_t s = 0; s + 1 < stages.size(); ++s) {
         f.begin_stage(s == 0 ? "explore" : "refine", stages[s]);
-        NloptRun run{.algorithm = nlopt::LN_BOBYQA, .x0 = x, .free = continuous};
+        NloptRun run{.algorithm = s == 0 ? nlopt::GN_DIRECT : nlopt::LN_BOBYQA,
+                     .x0 = x,
+                     .free = continuous};
         for (std::size_t k = 0; k < n; ++k) {
-            const double range = space.hi[k] - space.lo[k];
-            run.initial_step.push_back(
-                std::max(space.step[k], s == 0 ? 0.25 * range : 2.0 * space.step[k]));
+            run.initial_step.push_back(2.0 * space.step[k]);
             run.xtol.push_back(space.step[k] * (s == 0 ? 2.0 : 1.0));
         }
-        run.max_evaluations = (s == 0 ? 30 : 20) * (n + 1);
+        const std::size_t m = std::size_t(std::count(continuous.begin(), continuous.end(), true));
+        // Budgets measured on Models A, B and C (docs/optimization.md): DIRECT needs about
+        // 12 m (m + 1) coarse candidates to visit every basin of m free parameters.
+        run.max_evaluations = s == 0 ? 12 * m * (m + 1) : 10 * (m + 1);
         (void)run_nlopt(f, run);
         x = best_x(f, x);
     }
@@ -88,11 +95,11 @@ StopReason run_auto(Objective& f, const std::vector<Fidelity>& stages) {
             const double l2 = f(y);
             if (l2 < entry_l2) entry = y, entry_l2 = l2;
         }
-        (void)run_lattice_descent(f, entry, all);
+        (void)run_lattice_descent(f, entry, all, true);
         x = best_x(f, entry);
     }
     f.begin_stage("confirm", stages.back());
-    return run_lattice_descent(f, x, all);
+    return run_lattice_descent(f, x, all, false);
 }
 
 } // namespace fird

@@ -4,8 +4,28 @@
 
 namespace fird {
 
+namespace {
+
+// The lattice neighbour of `centre` moved by `moves` (parameter, +-1 step); false when it
+// leaves the box.
+bool neighbour(const ParameterSpace& space, const std::vector<double>& centre,
+               std::initializer_list<std::pair<std::size_t, double>> moves,
+               std::vector<double>& out) {
+    out = centre;
+    for (const auto& [k, dir] : moves) {
+        out[k] = centre[k] + dir * space.step[k];
+        if (out[k] < space.lo[k] - 1e-9 * space.step[k] ||
+            out[k] > space.hi[k] + 1e-9 * space.step[k])
+            return false;
+    }
+    out = space.snap(out);
+    return true;
+}
+
+} // namespace
+
 StopReason run_lattice_descent(Objective& objective, const std::vector<double>& x0,
-                               const std::vector<bool>& free) {
+                               const std::vector<bool>& free, bool diagonal) {
     const ParameterSpace& space = objective.space();
     std::vector<double> centre = space.snap(x0);
     double centre_l2 = objective(centre);
@@ -13,21 +33,26 @@ StopReason run_lattice_descent(Objective& objective, const std::vector<double>& 
     // moving to the first improvement would follow the noise more often.
     const std::uint64_t rounds = space.lattice_size();
     for (std::uint64_t round = 0; round < rounds; ++round) {
-        std::vector<double> best = centre;
+        std::vector<double> best = centre, x;
         double best_l2 = centre_l2;
-        for (std::size_t k = 0; k < space.size(); ++k) {
-            if (!free[k]) continue;
-            for (double dir : {-1.0, 1.0}) {
-                std::vector<double> x = centre;
-                x[k] = centre[k] + dir * space.step[k];
-                if (x[k] < space.lo[k] - 1e-9 * space.step[k] ||
-                    x[k] > space.hi[k] + 1e-9 * space.step[k])
-                    continue;
-                x = space.snap(x);
-                const double l2 = objective(x);
-                if (l2 < best_l2) best = x, best_l2 = l2;
-            }
-        }
+        const auto poll = [&](std::initializer_list<std::pair<std::size_t, double>> moves) {
+            if (!neighbour(space, centre, moves, x)) return;
+            const double l2 = objective(x);
+            if (l2 < best_l2) best = x, best_l2 = l2;
+        };
+        for (std::size_t k = 0; k < space.size(); ++k)
+            if (free[k])
+                for (double dir : {-1.0, 1.0})
+                    poll({{k, dir}});
+        // Correlated parameters (a focal length and the vertex height, say) improve only
+        // together: where no single step helps, try the steps of two at once.
+        if (best == centre && diagonal)
+            for (std::size_t i = 0; i < space.size(); ++i)
+                for (std::size_t j = i + 1; j < space.size(); ++j)
+                    if (free[i] && free[j])
+                        for (double di : {-1.0, 1.0})
+                            for (double dj : {-1.0, 1.0})
+                                poll({{i, di}, {j, dj}});
         if (best == centre) return StopReason::Converged;
         centre = best;
         centre_l2 = best_l2;

@@ -28,9 +28,10 @@ struct NloptRun {
 StopReason run_nlopt(Objective& objective, const NloptRun& run);
 
 // Compass search on the step lattice from x0 (snapped): poll every free parameter's two
-// neighbours one step away, move to the best that improves, stop when none does.
+// neighbours one step away (and, with `diagonal`, where none improves, every pair of
+// parameters stepped together), move to the best that improves, stop when none does.
 StopReason run_lattice_descent(Objective& objective, const std::vector<double>& x0,
-                               const std::vector<bool>& free);
+                               const std::vector<bool>& free, bool diagonal);
 
 // The multi-fidelity default (docs/optimization.md): few rays on a coarse far field for
 // the early, coarse candidates, more as the search narrows, then the step lattice.

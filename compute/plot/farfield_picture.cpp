@@ -148,7 +148,7 @@ void draw_farfield(Canvas& cv, const Rect& a, const FarField& f, const FarFieldP
 
 void write_farfield_png(const std::string& path, const FarField& f, const FarFieldPicture& o) {
     const auto [r0, r1] = shown_rows(f, o);
-    const double map_w = std::clamp<double>(f.width, 360.0, 1800.0);
+    const double map_w = std::clamp<double>(f.width, 720.0, 1800.0);
     const double map_h = std::clamp<double>(double(r1 - r0) * map_w / f.width, 180.0, 900.0);
     const int w = int(map_w + kMarginLeft + kBarGap + kBarW + kBarLabels);
     const int h = int(map_h + kMarginTop + kMarginBottom);

@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <array>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <sstream>
@@ -196,10 +197,15 @@ TEST(Cli, BenchSameRaysErrorIsTheDiscretizationAlone) {
     }
 }
 
-TEST(Cli, BenchRejectsMalformedLists) {
-    EXPECT_EQ(run("bench --heightfields 300by200").code, 1);
-    EXPECT_EQ(run("bench --rays lots").code, 1);
-    EXPECT_EQ(run("bench --modes fast").code, 1);
+// A malformed option value is a usage error (exit 2) naming the option.
+TEST(Cli, BenchRejectsMalformedListsAsUsageErrors) {
+    for (const char* bad : {"--heightfields 300by200", "--rays lots", "--modes fast"}) {
+        const auto r = run(std::string("bench ") + bad);
+        EXPECT_EQ(r.code, 2) << bad << ": " << r.out;
+        EXPECT_NE(r.out.find(std::string(bad).substr(0, std::string(bad).find(' '))),
+                  std::string::npos)
+            << r.out;
+    }
 }
 
 TEST(Cli, PhotometryInfoJsonHasEveryContractField) {
@@ -269,3 +275,93 @@ TEST(Cli, MissingOrBrokenIesTargetIsOneLineNamingSceneKeyAndFile) {
 }
 
 } // namespace
+
+// fird optimize: the JSON contract, the files of --out, and one history row per
+// evaluation.
+TEST(CliOptimize, JsonHasTheContractKeysAndOutHasTheFiles) {
+    const std::string dir = ::testing::TempDir() + "/fird_optimize_out";
+    std::filesystem::remove_all(dir);
+    const auto r = run("optimize " + std::string(FIRD_SOURCE_DIR) +
+                       "/scenes/test/mirror_search.toml --json --out " + dir);
+    ASSERT_EQ(r.code, 0) << r.out;
+    const auto j = nlohmann::json::parse(r.out.substr(r.out.find('{')));
+    for (const char* key :
+         {"method", "evaluations", "infeasible", "best_parameters", "best_l2", "final_l2",
+          "noise_floor_l2", "rays_per_evaluation", "time_s", "stopped"})
+        EXPECT_TRUE(j.contains(key)) << key;
+    EXPECT_EQ(j["method"], "auto");
+    EXPECT_TRUE(j["best_parameters"].contains("sx") && j["best_parameters"].contains("sy"));
+    for (const char* name :
+         {"history.csv", "progress.png", "best.toml", "search.json", "options.json", "farfield.png",
+          "target.png", "difference.png", "farfield.npy"})
+        EXPECT_TRUE(std::filesystem::is_regular_file(dir + "/" + name)) << name;
+    std::ifstream history(dir + "/history.csv");
+    std::string line;
+    std::getline(history, line);
+    EXPECT_EQ(line.rfind("index,stage,stage_name,rays,", 0), 0u) << line;
+    std::size_t rows = 0;
+    while (std::getline(history, line))
+        ++rows;
+    EXPECT_EQ(rows, j["evaluations"].get<std::size_t>());
+    // best.toml traces as it is, from anywhere, and gives the best reflector.
+    const auto t = run("trace " + dir + "/best.toml --json --rays 1000");
+    EXPECT_EQ(t.code, 0) << t.out;
+}
+
+TEST(CliOptimize, BadOptionsAreUsageErrorsAndAMissingBoxIsRefused) {
+    const std::string scene = std::string(FIRD_SOURCE_DIR) + "/scenes/test/mirror_search.toml";
+    for (const char* bad : {"--method nope", "--rays 0", "--rays 1e5,x", "--max-evals 0",
+                            "--threshold -1", "--max-evals -3", "--seed x"}) {
+        const auto r = run("optimize " + scene + " " + bad);
+        EXPECT_EQ(r.code, 2) << bad << ": " << r.out;
+        EXPECT_NE(r.out.find("error"), std::string::npos) << bad;
+    }
+    const auto no_box =
+        run("optimize " + std::string(FIRD_SOURCE_DIR) + "/scenes/test/flat_mirror.toml");
+    EXPECT_EQ(no_box.code, 1) << no_box.out;
+    EXPECT_NE(no_box.out.find("[reflector.optimize] is missing"), std::string::npos) << no_box.out;
+    EXPECT_EQ(std::count(no_box.out.begin(), no_box.out.end(), '\n'), 1) << no_box.out;
+    const auto no_dir = run("optimize " + scene + " --resume /nonexistent/fird");
+    EXPECT_EQ(no_dir.code, 1) << no_dir.out;
+    EXPECT_NE(no_dir.out.find("options.json"), std::string::npos) << no_dir.out;
+    const auto both = run("optimize " + scene + " --resume /tmp --method grid");
+    EXPECT_EQ(both.code, 2) << both.out;
+}
+
+// A search killed with SIGKILL mid-way and resumed gives what an uninterrupted one gives.
+TEST(CliOptimize, KilledSearchResumedEndsWhereAnUninterruptedOneDoes) {
+    const std::string scene = std::string(FIRD_SOURCE_DIR) + "/scenes/test/mirror_search.toml";
+    const std::string whole = ::testing::TempDir() + "/fird_whole",
+                      cut = ::testing::TempDir() + "/fird_cut";
+    std::filesystem::remove_all(whole);
+    std::filesystem::remove_all(cut);
+    const auto w = run("optimize " + scene + " --method grid --out " + whole);
+    ASSERT_EQ(w.code, 0) << w.out;
+    // Start it again, wait (bounded) for 40 history rows, kill it hard.
+    const std::string kill_script =
+        "sh -c '" + std::string(FIRD_BINARY) + " optimize " + scene + " --method grid --out " +
+        cut + " >/dev/null 2>&1 & pid=$!; i=0; while [ $i -lt 600 ]; do n=$(cat " + cut +
+        "/history.csv 2>/dev/null | wc -l); [ $n -gt 40 ] && break; sleep 0.05; i=$((i+1)); "
+        "done; kill -9 $pid; wait $pid; exit 0'";
+    ASSERT_EQ(std::system(kill_script.c_str()), 0);
+    const auto r = run("optimize " + scene + " --resume " + cut);
+    ASSERT_EQ(r.code, 0) << r.out;
+    const auto read = [](const std::string& path) {
+        std::ifstream in(path);
+        return nlohmann::json::parse(in);
+    };
+    const auto a = read(whole + "/search.json"), b = read(cut + "/search.json");
+    EXPECT_EQ(a["best_parameters"], b["best_parameters"]);
+    EXPECT_EQ(a["best_l2"], b["best_l2"]);
+    EXPECT_EQ(a["final_l2"], b["final_l2"]);
+    EXPECT_EQ(a["evaluations"], b["evaluations"]);
+    std::ifstream ha(whole + "/history.csv"), hb(cut + "/history.csv");
+    std::string la, lb;
+    std::size_t rows = 0;
+    // Same rows, apart from the ms column (a row's wall time).
+    while (std::getline(ha, la) && std::getline(hb, lb)) {
+        EXPECT_EQ(la.substr(0, la.rfind(',')), lb.substr(0, lb.rfind(','))) << rows;
+        ++rows;
+    }
+    EXPECT_EQ(rows, 170u);
+}

@@ -1,0 +1,221 @@
+// fird optimize SCENE: search the reflector's parameters for the desired far field.
+#include <atomic>
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+#include <unistd.h>
+
+#include "commands.hpp"
+#include "io/atomic_file.hpp"
+#include "io/scene_file.hpp"
+#include "optimize/history_csv.hpp"
+#include "optimize/parameter_space.hpp"
+#include "optimize/search_report.hpp"
+#include "parse.hpp"
+#include "vk/context.hpp"
+
+namespace fird::app {
+
+namespace {
+
+// The one piece of process state: a signal handler can reach nothing else. It points
+// at the running search's control while a search runs.
+std::atomic<SearchControl*> g_interrupt_target{nullptr};
+
+extern "C" void on_interrupt(int) {
+    if (SearchControl* c = g_interrupt_target.load()) c->stop.store(true);
+}
+
+struct Args {
+    std::string scene, method, rays, out, resume;
+    std::uint64_t max_evals = 0, seed = 0;
+    double threshold = -1.0;
+    bool json = false;
+};
+
+// The settings a search was started with, kept beside its history so that --resume
+// continues the very same search.
+nlohmann::json settings_json(const SearchSettings& s, const Scene& scene) {
+    return {
+        {"method", method_name(s.method)},      {"rays", s.rays}, {"threshold_lm", s.threshold_lm},
+        {"max_evaluations", s.max_evaluations}, {"seed", s.seed}, {"scene", scene_to_toml(scene)}};
+}
+
+SearchSettings resumed_settings(const std::string& dir, const Scene& scene) {
+    const std::string path = (std::filesystem::path(dir) / "options.json").string();
+    std::ifstream in(path);
+    if (!in)
+        throw std::runtime_error(fmt::format(
+            "--resume {}: no options.json there (not the --out directory of a search)", dir));
+    nlohmann::json j;
+    try {
+        in >> j;
+        if (j.at("scene").get<std::string>() != scene_to_toml(scene))
+            throw std::runtime_error(
+                fmt::format("--resume {}: {} has changed since the search began", dir, scene.path));
+        SearchSettings s;
+        s.method = method_from_name(j.at("method").get<std::string>()).value();
+        s.rays = j.at("rays").get<std::vector<std::uint64_t>>();
+        s.threshold_lm = j.at("threshold_lm").get<double>();
+        s.max_evaluations = j.at("max_evaluations").get<std::uint64_t>();
+        s.seed = j.at("seed").get<std::uint64_t>();
+        return s;
+    } catch (const nlohmann::json::exception& e) {
+        throw std::runtime_error(fmt::format("{}: {}", path, e.what()));
+    } catch (const std::bad_optional_access&) {
+        throw std::runtime_error(fmt::format("{}: unknown method", path));
+    }
+}
+
+std::string duration(double s) {
+    const auto t = std::uint64_t(s + 0.5);
+    return t >= 3600 ? fmt::format("{}:{:02}:{:02}", t / 3600, t / 60 % 60, t % 60)
+                     : fmt::format("{}:{:02}", t / 60, t % 60);
+}
+
+int run_optimize(const GlobalOptions& global, const Args& a, const CLI::App& cmd) {
+    const Scene scene = load_scene(a.scene);
+    (void)parameter_space(scene); // no [reflector.optimize]: refused before any work
+    SearchSettings settings = search_settings(scene);
+    std::string out = a.out;
+    SearchRequest request;
+    if (!a.resume.empty()) {
+        for (const char* o : {"--method", "--rays", "--max-evals", "--threshold", "--seed"})
+            if (cmd.count(o))
+                throw UsageError(fmt::format(
+                    "{} cannot be given with --resume: the search continues with the settings "
+                    "it began with",
+                    o));
+        if (!out.empty() && std::filesystem::path(out) != std::filesystem::path(a.resume))
+            throw UsageError("--out must be the --resume directory (or left out)");
+        out = a.resume;
+        settings = resumed_settings(a.resume, scene);
+        request.replay = read_history((std::filesystem::path(out) / "history.csv").string(),
+                                      parameter_space(scene).names);
+    } else {
+        if (!a.method.empty()) settings.method = *method_from_name(a.method);
+        if (!a.rays.empty()) settings.rays = parse_counts("--rays", a.rays, 4e9);
+        if (cmd.count("--max-evals")) settings.max_evaluations = a.max_evals;
+        if (cmd.count("--threshold")) settings.threshold_lm = a.threshold;
+        if (cmd.count("--seed")) settings.seed = a.seed;
+        if (settings.max_evaluations == 0) throw UsageError("--max-evals must be at least 1");
+        if (!(settings.threshold_lm >= 0.0))
+            throw UsageError("--threshold must be >= 0 lm (0: never stop early)");
+        if (settings.method != SearchMethod::Auto && settings.rays.size() > 1)
+            settings.rays = {settings.rays.back()};
+    }
+
+    std::unique_ptr<HistoryWriter> history;
+    if (!out.empty()) {
+        create_output_directory(out);
+        const auto path = [&](const char* n) { return (std::filesystem::path(out) / n).string(); };
+        if (a.resume.empty())
+            write_text_file(path("options.json"), settings_json(settings, scene).dump(2) + "\n");
+        history = std::make_unique<HistoryWriter>(path("history.csv"), parameter_space(scene).names,
+                                                  !a.resume.empty());
+    }
+    const bool live = isatty(fileno(stderr)) != 0;
+    const auto t0 = std::chrono::steady_clock::now();
+    const std::uint64_t grid = parameter_space(scene).lattice_size();
+    std::uint64_t infeasible = 0;
+    double best = HUGE_VAL;
+    request.settings = settings;
+    request.on_candidate = [&](const Candidate& c, const StageSummary& s) {
+        if (history) history->write(c, s);
+        infeasible += c.feasible ? 0 : 1;
+        if (s.best) best = s.best_l2_lm;
+        if (!live) return;
+        const double elapsed =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        std::string eta;
+        if (settings.method == SearchMethod::Grid && c.index + 1 < grid)
+            eta = " | ETA " + duration(elapsed / double(c.index + 1) * double(grid - c.index - 1));
+        std::fprintf(stderr,
+                     "\r\033[Koptimize: %llu evaluations (%llu infeasible) | %s %.0e rays | best "
+                     "l2 %.5g lm | %s%s",
+                     static_cast<unsigned long long>(c.index + 1),
+                     static_cast<unsigned long long>(infeasible), s.name.c_str(),
+                     double(s.fidelity.rays), best, duration(elapsed).c_str(), eta.c_str());
+    };
+    SearchControl control;
+    request.control = &control;
+    g_interrupt_target.store(&control);
+    struct sigaction action {};
+    action.sa_handler = on_interrupt;
+    action.sa_flags = SA_RESETHAND; // a second Ctrl-C ends the process at once
+    sigaction(SIGINT, &action, nullptr);
+    sigaction(SIGTERM, &action, nullptr);
+
+    const auto ctx =
+        vk::Context::create({.validation = global.validation, .device_name = global.device_name});
+    SearchOutcome outcome;
+    try {
+        outcome = run_search(ctx, scene, request);
+    } catch (...) {
+        g_interrupt_target.store(nullptr);
+        throw;
+    }
+    g_interrupt_target.store(nullptr);
+    if (live) std::fprintf(stderr, "\n");
+    const SearchResult& r = outcome.result;
+    for (const FlatDirection& d : r.flat_directions)
+        std::fprintf(stderr, "fird: note: %s: %s\n", scene.path.c_str(), describe(d).c_str());
+    if (!out.empty()) write_search_outputs(out, scene, outcome);
+    if (ctx.validation_errors() > 0)
+        throw std::runtime_error("Vulkan validation errors were reported (see above)");
+    if (a.json) {
+        std::printf("%s\n", search_json(r).dump(2).c_str());
+    } else {
+        std::printf("%s: %s search, %zu evaluations (%llu infeasible), stopped: %s, %.1f s\n",
+                    scene.name.c_str(), r.method.c_str(), r.history.size(),
+                    static_cast<unsigned long long>(r.infeasible), stop_reason_name(r.stopped),
+                    r.time_s);
+        if (r.best) {
+            std::string params;
+            for (const auto& [k, v] : r.best_parameters)
+                params += fmt::format(" {}={:.6g}", k, v);
+            std::printf("best:%s (l2 %.6g lm at evaluation %llu)\n", params.c_str(), r.best_l2_lm,
+                        static_cast<unsigned long long>(*r.best));
+        }
+        if (r.final_l2_lm && r.noise_floor_l2_lm)
+            std::printf("final l2 %.6g lm with fresh rays; noise floor %.6g lm (ratio %.3f)\n",
+                        *r.final_l2_lm, *r.noise_floor_l2_lm,
+                        *r.final_l2_lm / *r.noise_floor_l2_lm);
+        if (!out.empty()) std::printf("wrote %s/\n", out.c_str());
+    }
+    return r.stopped == StopReason::Interrupted ? 130 : 0;
+}
+
+} // namespace
+
+void register_optimize(CLI::App& app, const GlobalOptions& global, std::function<int()>& run) {
+    auto* cmd = app.add_subcommand("optimize",
+                                   "Search the reflector's parameters for the desired far field");
+    auto a = std::make_shared<Args>();
+    cmd->add_option("SCENE", a->scene, "Scene file (TOML) with [reflector.optimize] and [target]")
+        ->required();
+    cmd->add_option("--method", a->method,
+                    "auto (default), grid, bobyqa, sbplx, cobyla, direct, crs2")
+        ->check(CLI::IsMember(method_names()));
+    cmd->add_option("--rays", a->rays,
+                    "Rays per evaluation, one count per stage (auto), e.g. 1e5,1e6,1e7");
+    cmd->add_option("--max-evals", a->max_evals, "Most candidates to consider")
+        ->check(CLI::Range(1.0, 1e8));
+    cmd->add_option("--threshold", a->threshold, "Stop once l2 falls below this (lm)");
+    cmd->add_option("--seed", a->seed, "Seed of the search's rays")->check(CLI::NonNegativeNumber);
+    cmd->add_flag("--json", a->json, "Print one JSON object");
+    cmd->add_option("--out", a->out,
+                    "Write history.csv, progress.png, best.toml and the best far field here");
+    cmd->add_option("--resume", a->resume, "Continue the search recorded in this --out directory");
+    cmd->callback([&global, &run, a, cmd] {
+        run = [&global, a, cmd] { return run_optimize(global, *a, *cmd); };
+    });
+}
+
+} // namespace fird::app

@@ -1,0 +1,62 @@
+#include "parse.hpp"
+
+#include <cmath>
+#include <sstream>
+
+#include <fmt/format.h>
+
+namespace fird::app {
+
+namespace {
+double number(const std::string& option, const std::string& text) {
+    std::size_t used = 0;
+    double v = 0.0;
+    try {
+        v = std::stod(text, &used);
+    } catch (const std::exception&) {
+        used = 0;
+    }
+    if (used == 0 || used != text.size() || !std::isfinite(v))
+        throw UsageError(fmt::format("{}: '{}' is not a number", option, text));
+    return v;
+}
+} // namespace
+
+std::vector<std::string> split_list(const std::string& text, char separator) {
+    std::vector<std::string> out;
+    std::stringstream ss(text);
+    for (std::string item; std::getline(ss, item, separator);)
+        if (!item.empty()) out.push_back(item);
+    return out;
+}
+
+std::uint64_t parse_count(const std::string& option, const std::string& text, double max) {
+    const double v = number(option, text);
+    if (!(v >= 1.0 && v <= max) || v != std::floor(v))
+        throw UsageError(
+            fmt::format("{}: {} must be a whole number between 1 and {:g}", option, text, max));
+    return std::uint64_t(v);
+}
+
+std::vector<std::uint64_t> parse_counts(const std::string& option, const std::string& text,
+                                        double max) {
+    std::vector<std::uint64_t> out;
+    for (const auto& item : split_list(text))
+        out.push_back(parse_count(option, item, max));
+    if (out.empty()) throw UsageError(fmt::format("{}: no value given", option));
+    return out;
+}
+
+std::map<std::string, double> parse_assignments(const std::string& option,
+                                                const std::string& text) {
+    std::map<std::string, double> out;
+    for (const auto& item : split_list(text)) {
+        const auto eq = item.find('=');
+        if (eq == std::string::npos || eq == 0)
+            throw UsageError(fmt::format("{}: '{}' is not NAME=VALUE", option, item));
+        out[item.substr(0, eq)] = number(option, item.substr(eq + 1));
+    }
+    return out;
+}
+
+} // namespace fird::app

@@ -1,0 +1,188 @@
+#include "search_report.hpp"
+
+#include <cmath>
+#include <filesystem>
+
+#include <fmt/format.h>
+
+#include "evaluation/evaluation.hpp"
+#include "io/atomic_file.hpp"
+#include "io/scene_file.hpp"
+#include "plot/chart.hpp"
+
+namespace fird {
+
+namespace {
+
+nlohmann::json optional_number(const std::optional<double>& v) {
+    return v ? nlohmann::json(*v) : nlohmann::json(nullptr);
+}
+
+std::string stage_label(const StageSummary& s) {
+    return fmt::format("{}: {:.0e} rays, {} × {}", s.name, double(s.fidelity.rays),
+                       s.fidelity.farfield_w, s.fidelity.farfield_h);
+}
+
+} // namespace
+
+nlohmann::json search_json(const SearchResult& r) {
+    nlohmann::json stages = nlohmann::json::array();
+    for (const StageSummary& s : r.stages)
+        stages.push_back({{"stage", s.name},
+                          {"rays", s.fidelity.rays},
+                          {"seed", s.fidelity.seed},
+                          {"farfield", {s.fidelity.farfield_w, s.fidelity.farfield_h}},
+                          {"heightfield", {s.fidelity.heightfield_w, s.fidelity.heightfield_h}},
+                          {"evaluations", s.evaluations},
+                          {"infeasible", s.infeasible},
+                          {"traced", s.traced},
+                          {"ms_per_evaluation", s.traced ? s.traced_ms / double(s.traced) : 0.0},
+                          {"best_l2", s.best ? nlohmann::json(s.best_l2_lm) : nullptr}});
+    nlohmann::json flat = nlohmann::json::array();
+    for (const FlatDirection& d : r.flat_directions)
+        flat.push_back({{"parameters", d.parameters},
+                        {"invariant", d.invariant},
+                        {"held", d.held},
+                        {"message", describe(d)}});
+    nlohmann::json best = nlohmann::json::object();
+    for (const auto& [k, v] : r.best_parameters)
+        best[k] = v;
+    return {{"method", r.method},
+            {"evaluations", r.history.size()},
+            {"infeasible", r.infeasible},
+            {"best_parameters", best},
+            {"best_evaluation", r.best ? nlohmann::json(*r.best) : nullptr},
+            {"best_l2", r.best ? nlohmann::json(r.best_l2_lm) : nullptr},
+            {"start_l2", optional_number(r.start_l2_lm)},
+            {"final_l2", optional_number(r.final_l2_lm)},
+            {"noise_floor_l2", optional_number(r.noise_floor_l2_lm)},
+            {"surface_rms_mm", optional_number(r.surface_rms_mm)},
+            {"rays_per_evaluation", stages},
+            {"grid_size", r.grid_size},
+            {"flat_directions", flat},
+            {"desired", r.desired},
+            {"time_s", r.time_s},
+            {"stopped", stop_reason_name(r.stopped)}};
+}
+
+void write_progress_png(const std::string& out, const SearchResult& r) {
+    const std::size_t n = r.names.size();
+    const int cols = 2, rows = int((n + 1) / 2);
+    const int w = 1100, top_h = 440, panel_h = 250;
+    plot::Canvas cv(w, top_h + rows * panel_h);
+
+    // Every candidate's l2, coloured by stage, and each stage's best so far.
+    plot::Chart l2{.title =
+                       fmt::format("Search progress ({}): l2 of each reflector tested", r.method),
+                   .x = {"evaluation", plot::Scale::Linear},
+                   .y = {"l2 to the desired far field (lm)", plot::Scale::Log}};
+    for (std::size_t s = 0; s < r.stages.size(); ++s) {
+        plot::Series points{.kind = plot::Series::Kind::Points,
+                            .label = stage_label(r.stages[s]),
+                            .colour = plot::palette(s)};
+        plot::Series best{.colour = plot::palette(s), .width = 2.2};
+        double running = HUGE_VAL;
+        for (const Candidate& c : r.history) {
+            if (c.stage != s || !c.feasible) continue;
+            points.x.push_back(double(c.index));
+            points.y.push_back(c.l2_lm);
+            points.radius_px.push_back(2.5);
+            running = std::min(running, c.l2_lm);
+            best.x.push_back(double(c.index));
+            best.y.push_back(running);
+        }
+        l2.series.push_back(std::move(points));
+        l2.series.push_back(std::move(best));
+    }
+    if (r.final_l2_lm)
+        l2.marks.push_back({.vertical = false,
+                            .value = *r.final_l2_lm,
+                            .label = fmt::format("final l2 {:.4g} lm (fresh rays)", *r.final_l2_lm),
+                            .colour = plot::kInk});
+    if (r.noise_floor_l2_lm)
+        l2.marks.push_back({.vertical = false,
+                            .value = *r.noise_floor_l2_lm,
+                            .label = fmt::format("noise floor {:.4g} lm", *r.noise_floor_l2_lm),
+                            .colour = {0.5, 0.5, 0.5}});
+    plot::draw_chart(cv, {0, 0, double(w), double(top_h)}, l2);
+
+    // Each parameter: every candidate's value (grey) and the best so far (the path).
+    for (std::size_t k = 0; k < n; ++k) {
+        plot::Chart p{.title = r.names[k],
+                      .x = {"evaluation", plot::Scale::Linear},
+                      .y = {r.names[k], plot::Scale::Linear},
+                      .legend = false};
+        plot::Series tried{.kind = plot::Series::Kind::Points, .colour = {0.6, 0.6, 0.6}};
+        plot::Series path{.colour = plot::palette(0), .width = 2.2};
+        double best = HUGE_VAL;
+        std::uint32_t stage = 0;
+        for (const Candidate& c : r.history) {
+            tried.x.push_back(double(c.index));
+            tried.y.push_back(c.x[k]);
+            tried.radius_px.push_back(c.feasible ? 2.0 : 1.2);
+            if (c.stage != stage) stage = c.stage, best = HUGE_VAL; // l2 of a new stage
+            if (c.feasible && c.l2_lm < best) {
+                best = c.l2_lm;
+                if (!path.x.empty()) {
+                    path.x.push_back(double(c.index));
+                    path.y.push_back(path.y.back());
+                }
+                path.x.push_back(double(c.index));
+                path.y.push_back(c.x[k]);
+            }
+        }
+        if (!path.x.empty()) {
+            path.x.push_back(double(r.history.size()));
+            path.y.push_back(path.y.back());
+        }
+        p.series = {std::move(tried), std::move(path)};
+        const auto it = r.best_parameters.find(r.names[k]);
+        if (it != r.best_parameters.end())
+            p.marks.push_back({.vertical = false,
+                               .value = it->second,
+                               .label = fmt::format("best {:.4g}", it->second),
+                               .colour = plot::palette(1)});
+        const double x = double(k % cols) * w / cols;
+        const double y = top_h + double(k / cols) * panel_h;
+        plot::draw_chart(cv, {x, y, double(w) / cols, double(panel_h)}, p);
+    }
+    cv.write_png(out);
+}
+
+std::string best_scene_toml(const Scene& scene, const SearchResult& r) {
+    namespace fs = std::filesystem;
+    Scene best = scene;
+    for (const auto& [k, v] : r.best_parameters)
+        best.reflector.parameters[k] = v;
+    if (!best.reflector.mesh.file.empty())
+        best.reflector.mesh.file = fs::absolute(best.reflector.mesh.resolved_path).string();
+    if (!best.target.file.empty())
+        best.target.file = fs::absolute(best.target.resolved_path).string();
+    std::string text = fmt::format(
+        "# {}: the best reflector of fird optimize ({}, l2 {:.6g} lm at evaluation {})\n",
+        scene.name, r.method, r.best_l2_lm, r.best ? *r.best : 0);
+    return text + scene_to_toml(best);
+}
+
+void write_search_outputs(const std::string& dir, const Scene& scene, const SearchOutcome& o) {
+    namespace fs = std::filesystem;
+    create_output_directory(dir);
+    const auto path = [&](const char* name) { return (fs::path(dir) / name).string(); };
+    const SearchResult& r = o.result;
+    write_text_file(path("search.json"), search_json(r).dump(2) + "\n");
+    write_progress_png(path("progress.png"), r);
+    if (!r.best) return;
+    Scene best = scene;
+    best.name = scene.name + " (best)";
+    write_text_file(path("best.toml"), best_scene_toml(scene, r));
+    if (!o.best_farfield) return;
+    Evaluation e;
+    e.backend = "gpu";
+    e.farfield = *o.best_farfield;
+    e.target_farfield = o.desired.farfield;
+    e.l2_lm = r.final_l2_lm;
+    e.tally.emitted = scene.trace.rays;
+    write_evaluation_outputs(dir, best, e, "fird optimize (best reflector)");
+}
+
+} // namespace fird
