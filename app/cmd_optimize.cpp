@@ -1,7 +1,5 @@
 // fird optimize SCENE: search the reflector's parameters for the desired far field.
-#include <atomic>
 #include <chrono>
-#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -12,25 +10,19 @@
 #include <unistd.h>
 
 #include "commands.hpp"
+#include "interrupt.hpp"
 #include "io/atomic_file.hpp"
 #include "io/scene_file.hpp"
 #include "optimize/history_csv.hpp"
 #include "optimize/parameter_space.hpp"
 #include "optimize/search_report.hpp"
 #include "parse.hpp"
+#include "progress.hpp"
 #include "vk/context.hpp"
 
 namespace fird::app {
 
 namespace {
-
-// The one piece of process state: a signal handler can reach nothing else. It points
-// at the running search's control while a search runs.
-std::atomic<SearchControl*> g_interrupt_target{nullptr};
-
-extern "C" void on_interrupt(int) {
-    if (SearchControl* c = g_interrupt_target.load()) c->stop.store(true);
-}
 
 struct Args {
     std::string scene, method, rays, out, resume;
@@ -71,12 +63,6 @@ SearchSettings resumed_settings(const std::string& dir, const Scene& scene) {
     } catch (const std::bad_optional_access&) {
         throw std::runtime_error(fmt::format("{}: unknown method", path));
     }
-}
-
-std::string duration(double s) {
-    const auto t = std::uint64_t(s + 0.5);
-    return t >= 3600 ? fmt::format("{}:{:02}:{:02}", t / 3600, t / 60 % 60, t % 60)
-                     : fmt::format("{}:{:02}", t / 60, t % 60);
 }
 
 int run_optimize(const GlobalOptions& global, const Args& a, const CLI::App& cmd) {
@@ -120,8 +106,7 @@ int run_optimize(const GlobalOptions& global, const Args& a, const CLI::App& cmd
         history = std::make_unique<HistoryWriter>(path("history.csv"), parameter_space(scene).names,
                                                   !a.resume.empty());
     }
-    const bool live = isatty(fileno(stderr)) != 0;
-    const auto t0 = std::chrono::steady_clock::now();
+    ProgressLine progress;
     const std::uint64_t grid = parameter_space(scene).lattice_size();
     std::uint64_t infeasible = 0;
     double best = HUGE_VAL;
@@ -130,39 +115,27 @@ int run_optimize(const GlobalOptions& global, const Args& a, const CLI::App& cmd
         if (history) history->write(c, s);
         infeasible += c.feasible ? 0 : 1;
         if (s.best) best = s.best_l2_lm;
-        if (!live) return;
-        const double elapsed =
-            std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        if (!progress.live()) return;
+        const double elapsed = progress.elapsed_s();
         std::string eta;
         if (settings.method == SearchMethod::Grid && c.index + 1 < grid)
-            eta = " | ETA " + duration(elapsed / double(c.index + 1) * double(grid - c.index - 1));
-        std::fprintf(stderr,
-                     "\r\033[Koptimize: %llu evaluations (%llu infeasible) | %s %.0e rays | best "
-                     "l2 %.5g lm | %s%s",
-                     static_cast<unsigned long long>(c.index + 1),
-                     static_cast<unsigned long long>(infeasible), s.name.c_str(),
-                     double(s.fidelity.rays), best, duration(elapsed).c_str(), eta.c_str());
+            eta =
+                " | ETA " + clock_time(elapsed / double(c.index + 1) * double(grid - c.index - 1));
+        progress.show(fmt::format(
+            "optimize: {} evaluations ({} infeasible) | {} {:.0e} rays | best l2 {:.5g} lm | {}{}",
+            c.index + 1, infeasible, s.name, double(s.fidelity.rays), best, clock_time(elapsed),
+            eta));
     };
     SearchControl control;
     request.control = &control;
-    g_interrupt_target.store(&control);
-    struct sigaction action {};
-    action.sa_handler = on_interrupt;
-    action.sa_flags = SA_RESETHAND; // a second Ctrl-C ends the process at once
-    sigaction(SIGINT, &action, nullptr);
-    sigaction(SIGTERM, &action, nullptr);
-
     const auto ctx =
         vk::Context::create({.validation = global.validation, .device_name = global.device_name});
     SearchOutcome outcome;
-    try {
+    {
+        const InterruptScope interrupts(control);
         outcome = run_search(ctx, scene, request);
-    } catch (...) {
-        g_interrupt_target.store(nullptr);
-        throw;
     }
-    g_interrupt_target.store(nullptr);
-    if (live) std::fprintf(stderr, "\n");
+    progress.finish();
     const SearchResult& r = outcome.result;
     for (const FlatDirection& d : r.flat_directions)
         std::fprintf(stderr, "fird: note: %s: %s\n", scene.path.c_str(), describe(d).c_str());

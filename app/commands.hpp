@@ -21,6 +21,7 @@ void register_gui(CLI::App& app, const GlobalOptions& global, std::function<int(
 void register_trace(CLI::App& app, const GlobalOptions& global, std::function<int()>& run);
 void register_photometry(CLI::App& app, const GlobalOptions& global, std::function<int()>& run);
 void register_optimize(CLI::App& app, const GlobalOptions& global, std::function<int()>& run);
+void register_calibrate(CLI::App& app, const GlobalOptions& global, std::function<int()>& run);
 void register_bench(CLI::App& app, const GlobalOptions& global, std::function<int()>& run);
 
 } // namespace fird::app

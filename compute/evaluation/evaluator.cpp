@@ -70,6 +70,12 @@ CandidateResult Evaluator::evaluate(const ReflectorDesc& reflector) {
     return r;
 }
 
+void Evaluator::set_seed(std::uint64_t seed) {
+    fidelity_.seed = seed;
+    scene_.trace.seed = seed;
+    tracer_.set_seed(seed);
+}
+
 double Evaluator::compare(double* compare_ms) const {
     if (!traced_ || !has_desired())
         throw std::logic_error("Evaluator::compare: needs a trace and a desired far field");

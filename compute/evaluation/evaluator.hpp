@@ -53,6 +53,9 @@ class Evaluator {
     // Traces the reflector (the height field is rebuilt only when it changed; the
     // rayset is kept) and, with a desired far field, reduces l2 on the device.
     CandidateResult evaluate(const ReflectorDesc& reflector);
+    // Fresh rays from `seed` for the next evaluations (nothing else is rebuilt).
+    void set_seed(std::uint64_t seed);
+
     // l2 of the last traced far field to the desired one (needs both).
     double compare(double* compare_ms = nullptr) const;
 

@@ -140,6 +140,14 @@ void FastTracer::set_reflector(const ReflectorDesc& reflector) {
     heightfield_dirty_ = true;
 }
 
+void FastTracer::set_seed(std::uint64_t seed) {
+    gpu::SceneParams p = scene_params(scene_, seed);
+    if (reflector_) (void)set_reflector_params(p, *reflector_); // B-spline controls unchanged
+    params_ = p;
+    upload_params();
+    rayset_chunks_.clear(); // the next run generates (and keeps) the new seed's rays
+}
+
 double FastTracer::order_rays(const vk::Buffer& from, const vk::Buffer& to, std::uint64_t count,
                               bool reflected) {
     if (count == 0) return 0.0;

@@ -40,6 +40,10 @@ class FastTracer {
     // already there (the rayset is kept either way).
     void set_reflector(const ReflectorDesc& reflector);
 
+    // Draws a fresh rayset from `seed` at the next run (the pipelines, buffers and the
+    // height field stay): independent runs of one reflector, as calibration makes them.
+    void set_seed(std::uint64_t seed);
+
     // Traces every ray of the scene; the far field stays on the device (farfield_lm()).
     FastRun run();
 

@@ -365,3 +365,46 @@ TEST(CliOptimize, KilledSearchResumedEndsWhereAnUninterruptedOneDoes) {
     }
     EXPECT_EQ(rows, 170u);
 }
+
+TEST(CliCalibrate, RaysJsonHasTheContractKeysAndOutHasTheTable) {
+    const std::string dir = ::testing::TempDir() + "/fird_calibrate_rays";
+    const auto r =
+        run("calibrate rays " + std::string(FIRD_SOURCE_DIR) +
+            "/scenes/test/mirror_search.toml --counts 1e3,1e4 --runs 3 --json --out " + dir);
+    ASSERT_EQ(r.code, 0) << r.out;
+    const auto j = nlohmann::json::parse(r.out);
+    for (const char* key : {"rows", "desired_rays", "slope"})
+        EXPECT_TRUE(j.contains(key)) << key;
+    ASSERT_EQ(j["rows"].size(), 2u);
+    for (const char* key : {"rays", "runs", "mean_l2", "var_l2", "predicted_l2"})
+        EXPECT_TRUE(j["rows"][0].contains(key)) << key;
+    for (const char* name : {"table1.csv", "table1.md", "table1.png"})
+        EXPECT_TRUE(std::filesystem::is_regular_file(dir + "/" + name)) << name;
+}
+
+TEST(CliCalibrate, SemivariogramWritesStepsThatTraceAndRefusesBadInput) {
+    const std::string scene = std::string(FIRD_SOURCE_DIR) + "/scenes/test/mirror_search.toml";
+    const std::string dir = ::testing::TempDir() + "/fird_calibrate_sv";
+    const std::string steps = ::testing::TempDir() + "/fird_calibrated.toml";
+    const auto r = run("calibrate semivariogram " + scene + " --points 9 --rays 1e4 --json --out " +
+                       dir + " --write-steps " + steps);
+    ASSERT_EQ(r.code, 0) << r.out;
+    const auto j = nlohmann::json::parse(r.out);
+    ASSERT_EQ(j["parameters"].size(), 2u);
+    for (const char* key :
+         {"series", "lags", "gamma", "pairs", "model", "recommended_step", "resolvable_step"})
+        EXPECT_TRUE(j["parameters"][0].contains(key)) << key;
+    for (const char* key : {"type", "nugget", "sill", "range"})
+        EXPECT_TRUE(j["parameters"][0]["model"].contains(key)) << key;
+    for (const char* name :
+         {"series.csv", "semivariogram.csv", "semivariogram_sx.png", "semivariogram_sy.png"})
+        EXPECT_TRUE(std::filesystem::is_regular_file(dir + "/" + name)) << name;
+    EXPECT_EQ(run("trace " + steps + " --rays 1000").code, 0);
+    for (const char* bad : {"--parameter z0", "--points 2", "--rays 0", "--points x"}) {
+        const auto b = run("calibrate semivariogram " + scene + " " + bad);
+        EXPECT_EQ(b.code, 2) << bad << ": " << b.out;
+    }
+    const auto c = run("calibrate rays " + scene + " --counts 1e3,0");
+    EXPECT_EQ(c.code, 2) << c.out;
+    EXPECT_NE(c.out.find("--counts"), std::string::npos) << c.out;
+}

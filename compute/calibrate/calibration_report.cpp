@@ -1,0 +1,187 @@
+#include "calibration_report.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+
+#include <fmt/format.h>
+
+#include "io/atomic_file.hpp"
+#include "plot/chart.hpp"
+
+namespace fird {
+
+namespace {
+
+std::string in_dir(const std::string& dir, const std::string& name) {
+    return (std::filesystem::path(dir) / name).string();
+}
+
+nlohmann::json fit_json(const VariogramFit& f) {
+    return {{"type", variogram_model_name(f.model)},
+            {"nugget", f.nugget},
+            {"sill", f.sill},
+            {"range", f.range},
+            {"residual", f.residual}};
+}
+
+} // namespace
+
+nlohmann::json rays_table_json(const RaysTable& t) {
+    nlohmann::json rows = nlohmann::json::array();
+    for (const RaysRow& r : t.rows)
+        rows.push_back({{"rays", r.rays},
+                        {"runs", r.runs},
+                        {"mean_l2", r.mean_l2},
+                        {"var_l2", r.var_l2},
+                        {"predicted_l2", r.predicted_l2},
+                        {"time_s", r.time_s}});
+    return {{"rows", rows},
+            {"desired_rays", t.desired_rays ? nlohmann::json(t.desired_rays) : nullptr},
+            {"desired", t.desired},
+            {"slope", t.slope},
+            {"time_s", t.time_s}};
+}
+
+std::string rays_table_markdown(const RaysTable& t, const std::string& scene) {
+    std::string s = fmt::format("{}: l2 of independent simulations of the desired reflector "
+                                "against {} ({:.1f} s in all)\n\n",
+                                scene, t.desired, t.time_s);
+    s += "| Rays | Mean l2 error | Variance l2 error | Predicted (noise) | Runs | s |\n";
+    s += "|---|---|---|---|---|---|\n";
+    for (const RaysRow& r : t.rows)
+        s += fmt::format("| {} | {:.4g} | {:.3g} | {:.4g} | {} | {:.1f} |\n", r.rays, r.mean_l2,
+                         r.var_l2, r.predicted_l2, r.runs, r.time_s);
+    s += fmt::format("\nSlope of log mean against log rays: {:.3f} (-0.5 where noise "
+                     "dominates).\n",
+                     t.slope);
+    return s;
+}
+
+void write_rays_table(const std::string& dir, const RaysTable& t, const std::string& scene) {
+    create_output_directory(dir);
+    std::string csv = "rays,runs,mean_l2_lm,var_l2_lm2,predicted_l2_lm,time_s\n";
+    for (const RaysRow& r : t.rows)
+        csv += fmt::format("{},{},{:.9g},{:.9g},{:.9g},{:.3f}\n", r.rays, r.runs, r.mean_l2,
+                           r.var_l2, r.predicted_l2, r.time_s);
+    write_text_file(in_dir(dir, "table1.csv"), csv);
+    write_text_file(in_dir(dir, "table1.md"), rays_table_markdown(t, scene));
+    write_text_file(in_dir(dir, "calibration.json"), rays_table_json(t).dump(2) + "\n");
+    plot::Chart c{.title = scene + ": l2 error against rays (Table 1)",
+                  .x = {"rays", plot::Scale::Log},
+                  .y = {"l2 to the desired far field (lm)", plot::Scale::Log}};
+    plot::Series band{.kind = plot::Series::Kind::Band,
+                      .label = "mean ± one standard deviation",
+                      .colour = plot::palette(0)};
+    plot::Series mean{
+        .kind = plot::Series::Kind::Line, .label = "mean", .colour = plot::palette(0)};
+    plot::Series points{.kind = plot::Series::Kind::Points, .colour = plot::palette(0)};
+    plot::Series predicted{.label = "Monte Carlo prediction (noise alone)",
+                           .colour = plot::palette(1),
+                           .dashed = true};
+    for (const RaysRow& r : t.rows) {
+        const double sd = std::sqrt(r.var_l2);
+        band.x.push_back(double(r.rays));
+        band.y.push_back(std::max(r.mean_l2 - sd, 1e-3 * r.mean_l2));
+        band.y_upper.push_back(r.mean_l2 + sd);
+        for (plot::Series* s : {&mean, &points, &predicted})
+            s->x.push_back(double(r.rays));
+        mean.y.push_back(r.mean_l2);
+        points.y.push_back(r.mean_l2);
+        predicted.y.push_back(r.predicted_l2);
+    }
+    c.series = {band, mean, points, predicted};
+    plot::write_chart_png(in_dir(dir, "table1.png"), c);
+}
+
+nlohmann::json semivariogram_json(const SemivariogramResult& r) {
+    nlohmann::json params = nlohmann::json::array();
+    for (const ParameterSemivariogram& p : r.parameters) {
+        nlohmann::json l2 = nlohmann::json::array();
+        for (double v : p.l2)
+            l2.push_back(std::isfinite(v) ? nlohmann::json(v) : nullptr);
+        nlohmann::json fits = nlohmann::json::array();
+        for (const VariogramFit& f : p.fits)
+            fits.push_back(fit_json(f));
+        params.push_back({{"parameter", p.parameter},
+                          {"series", {{"x", p.x}, {"l2", l2}}},
+                          {"lags", p.empirical.lags},
+                          {"gamma", p.empirical.gamma},
+                          {"pairs", p.empirical.pairs},
+                          {"model", fit_json(p.model)},
+                          {"models", fits},
+                          {"recommended_step", p.recommended_step},
+                          {"resolvable_step", p.resolvable_step ? nlohmann::json(*p.resolvable_step)
+                                                                : nlohmann::json(nullptr)},
+                          {"calibrated_step", calibrated_step(p)},
+                          {"time_s", p.time_s}});
+    }
+    return {{"parameters", params},
+            {"rays", r.rays},
+            {"points", r.points},
+            {"desired", r.desired},
+            {"time_s", r.time_s}};
+}
+
+void write_semivariograms(const std::string& dir, const SemivariogramResult& r,
+                          const std::string& scene) {
+    create_output_directory(dir);
+    std::string series = "parameter,x,l2_lm\n", sv = "parameter,lag,gamma_lm2,pairs,model_lm2\n";
+    for (const ParameterSemivariogram& p : r.parameters) {
+        for (std::size_t i = 0; i < p.x.size(); ++i)
+            series += fmt::format("{},{:.9g},{}\n", p.parameter, p.x[i],
+                                  std::isfinite(p.l2[i]) ? fmt::format("{:.9g}", p.l2[i]) : "");
+        for (std::size_t k = 0; k < p.empirical.lags.size(); ++k)
+            sv += fmt::format("{},{:.9g},{:.9g},{},{:.9g}\n", p.parameter, p.empirical.lags[k],
+                              p.empirical.gamma[k], p.empirical.pairs[k],
+                              variogram(p.model, p.empirical.lags[k]));
+        // Figure 8: points sized by their pair count, the fitted curve, range and nugget.
+        plot::Chart c{.title = fmt::format("{}: semivariogram of l2 along {} ({:.0e} rays)", scene,
+                                           p.parameter, double(r.rays)),
+                      .x = {"lag h (" + p.parameter + ")", plot::Scale::Linear},
+                      .y = {"γ(h) (lm²)", plot::Scale::Linear}};
+        plot::Series pts{.kind = plot::Series::Kind::Points,
+                         .label = "empirical (size: pairs)",
+                         .colour = plot::palette(0)};
+        const double most =
+            double(*std::max_element(p.empirical.pairs.begin(), p.empirical.pairs.end()));
+        for (std::size_t k = 0; k < p.empirical.lags.size(); ++k) {
+            pts.x.push_back(p.empirical.lags[k]);
+            pts.y.push_back(p.empirical.gamma[k]);
+            pts.radius_px.push_back(2.0 + 4.0 * std::sqrt(double(p.empirical.pairs[k]) / most));
+        }
+        plot::Series curve{.label = fmt::format("{} model", variogram_model_name(p.model.model)),
+                           .colour = plot::palette(1),
+                           .width = 2.2};
+        const double top = p.empirical.lags.back();
+        for (int i = 0; i <= 200; ++i) {
+            const double h = top * i / 200.0;
+            curve.x.push_back(h);
+            curve.y.push_back(i == 0 ? p.model.nugget : variogram(p.model, h));
+        }
+        c.series = {pts, curve};
+        c.marks = {{.vertical = true,
+                    .value = p.model.range,
+                    .label = fmt::format("range {:.3g}", p.model.range),
+                    .colour = plot::palette(2)},
+                   {.vertical = false,
+                    .value = p.model.nugget,
+                    .label = fmt::format("nugget {:.3g}", p.model.nugget),
+                    .colour = {0.45, 0.45, 0.45}},
+                   {.vertical = false,
+                    .value = p.model.sill,
+                    .label = fmt::format("sill {:.3g}", p.model.sill),
+                    .colour = {0.45, 0.45, 0.45}}};
+        if (p.resolvable_step)
+            c.marks.push_back({.vertical = true,
+                               .value = *p.resolvable_step,
+                               .label = fmt::format("resolvable {:.3g}", *p.resolvable_step),
+                               .colour = plot::palette(3)});
+        plot::write_chart_png(in_dir(dir, "semivariogram_" + p.parameter + ".png"), c);
+    }
+    write_text_file(in_dir(dir, "series.csv"), series);
+    write_text_file(in_dir(dir, "semivariogram.csv"), sv);
+    write_text_file(in_dir(dir, "calibration.json"), semivariogram_json(r).dump(2) + "\n");
+}
+
+} // namespace fird

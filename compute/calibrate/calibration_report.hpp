@@ -1,0 +1,24 @@
+// Calibration results as JSON, CSV, Markdown (the paper's Table 1 layout) and pictures
+// (Table 1 on log-log axes; each semivariogram with its fitted model, as Figure 8).
+#pragma once
+
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "calibrate/calibration.hpp"
+
+namespace fird {
+
+nlohmann::json rays_table_json(const RaysTable& table);
+std::string rays_table_markdown(const RaysTable& table, const std::string& scene_name);
+// table1.csv, table1.md, table1.png and calibration.json in the directory.
+void write_rays_table(const std::string& directory, const RaysTable& table,
+                      const std::string& scene_name);
+
+nlohmann::json semivariogram_json(const SemivariogramResult& result);
+// series.csv, semivariogram.csv, semivariogram_NAME.png and calibration.json.
+void write_semivariograms(const std::string& directory, const SemivariogramResult& result,
+                          const std::string& scene_name);
+
+} // namespace fird

@@ -1,0 +1,78 @@
+// Calibration on the device: Table 1's mean l2 follows the Monte Carlo prediction, the
+// semivariogram's series and steps, --write-steps' scene round trips, bad input refused.
+#include <cmath>
+
+#include "calibrate/calibration.hpp"
+#include "io/scene_file.hpp"
+#include "vulkan_fixture.hpp"
+
+namespace fird::test {
+namespace {
+
+Scene mirror() {
+    return load_scene(std::string(FIRD_SOURCE_DIR) + "/scenes/test/mirror_search.toml");
+}
+
+using Calibration = VulkanTest;
+
+// The target reflector against itself: the l2 is noise alone, so its mean must follow
+// flux sqrt(sum p (1 - p) (1/n + 1/N)) within 6 % at each count, and fall as n^-1/2.
+TEST_F(Calibration, MeanL2FollowsTheMonteCarloPrediction) {
+    const RaysTable t = calibrate_rays(
+        ctx(), mirror(), {.counts = {2000, 20000, 200000}, .runs = 16, .desired_rays = 4000000});
+    ASSERT_EQ(t.rows.size(), 3u);
+    for (const RaysRow& r : t.rows) {
+        EXPECT_EQ(r.runs, 16u);
+        EXPECT_NEAR(r.mean_l2 / r.predicted_l2, 1.0, 0.06) << r.rays;
+        EXPECT_GT(r.var_l2, 0.0);
+    }
+    EXPECT_GT(t.rows[0].mean_l2, 5.0 * t.rows[2].mean_l2);
+    EXPECT_NEAR(t.slope, -0.5, 0.05);
+}
+
+TEST_F(Calibration, SemivariogramSeriesStepsAndWriteStepsRoundTrip) {
+    const Scene s = mirror();
+    const SemivariogramResult r =
+        calibrate_semivariogram(ctx(), s, {.parameters = {"sx"}, .points = 13, .rays = 20000});
+    ASSERT_EQ(r.parameters.size(), 1u);
+    const ParameterSemivariogram& p = r.parameters[0];
+    ASSERT_EQ(p.x.size(), 13u);
+    EXPECT_DOUBLE_EQ(p.x.front(), -0.3);
+    EXPECT_NEAR(p.x.back(), 0.3, 1e-12);
+    EXPECT_EQ(p.empirical.lags.size(), 6u);
+    EXPECT_EQ(p.empirical.pairs.front(), 12u);
+    // l2 is least at the target's sx (0.15) and grows away from it.
+    const auto best = std::min_element(p.l2.begin(), p.l2.end()) - p.l2.begin();
+    EXPECT_NEAR(p.x[std::size_t(best)], 0.15, 0.051);
+    EXPECT_GT(p.model.range, 0.0);
+    const Scene stepped = scene_with_steps(s, r);
+    EXPECT_DOUBLE_EQ(stepped.reflector.optimize.at("sx").step, calibrated_step(p));
+    EXPECT_EQ(stepped.reflector.optimize.at("sy"), s.reflector.optimize.at("sy"));
+    const Scene back = parse_scene(scene_to_toml(stepped), s.path);
+    EXPECT_EQ(back, stepped);
+}
+
+TEST_F(Calibration, BadInputIsRefusedNamingIt) {
+    const Scene s = mirror();
+    const auto message = [&](auto&& call) {
+        try {
+            call();
+        } catch (const std::invalid_argument& e) {
+            return std::string(e.what());
+        }
+        return std::string();
+    };
+    EXPECT_NE(message([&] {
+                  calibrate_semivariogram(ctx(), s, {.parameters = {"z0"}});
+              }).find("--parameter z0"),
+              std::string::npos);
+    EXPECT_NE(message([&] { calibrate_semivariogram(ctx(), s, {.points = 2}); }).find("--points 2"),
+              std::string::npos);
+    EXPECT_NE(message([&] {
+                  calibrate_rays(ctx(), s, {.counts = {1000, 0}});
+              }).find("0"),
+              std::string::npos);
+}
+
+} // namespace
+} // namespace fird::test
