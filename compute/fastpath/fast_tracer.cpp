@@ -17,6 +17,8 @@
 #include "trace_comp.h"
 #include "vk/check.hpp"
 
+#include <glm/geometric.hpp>
+
 namespace fird {
 
 namespace {
@@ -54,7 +56,8 @@ FastTracer::FastTracer(const vk::Context& ctx, const Scene& scene, std::uint64_t
                             "fird.heightfield", spec_),
       maxmip_pipeline_(ctx, fird_spv_maxmip_comp, {kSB, kSB, kSB}, sizeof(gpu::MaxMipPush),
                        "fird.maxmip"),
-      trace_pipeline_(ctx, fird_spv_trace_comp, {kSB, kSB, kSB, kSB, kTB, kTB, kTB, kSB, kSB, kSB},
+      trace_pipeline_(ctx, fird_spv_trace_comp,
+                      {kSB, kSB, kSB, kSB, kTB, kTB, kTB, kSB, kSB, kSB, kSB},
                       sizeof(gpu::TracePush), "fird.trace", spec_),
       to_lm_pipeline_(ctx, fird_spv_counts_to_lm_comp, {kSB, kSB}, sizeof(ToLmPush),
                       "fird.counts_to_lm"),
@@ -89,7 +92,8 @@ FastTracer::FastTracer(const vk::Context& ctx, const Scene& scene, std::uint64_t
         rays_work_ = vk::Buffer(ctx, ray_bytes, storage, vk::MemoryUse::Device, "fird.rayset");
     rays_ping_ = vk::Buffer(ctx, ray_bytes, storage, vk::MemoryUse::Device, "fird.rays.ping");
     rays_pong_ = vk::Buffer(ctx, ray_bytes, storage, vk::MemoryUse::Device, "fird.rays.pong");
-    hits_ = vk::Buffer(ctx, 16, storage, vk::MemoryUse::Device, "fird.hits.unused");
+    hits_ = vk::Buffer(ctx, 32, storage, vk::MemoryUse::Device, "fird.hits.unused");
+    texel_hits_ = vk::Buffer(ctx, 16, storage, vk::MemoryUse::Device, "fird.texel_hits.unused");
     const QuadtreeLayout q = quadtree_layout(params_.hf_w, params_.hf_h);
     if (q.total_floats > limits.max_texel_buffer_elements)
         throw std::invalid_argument(fmt::format(
@@ -205,6 +209,24 @@ void FastTracer::build_heightfield(FastRun& run) {
     heightfield_dirty_ = false;
 }
 
+void FastTracer::dispatch_trace(VkCommandBuffer cb, const vk::Buffer& in, const vk::Buffer& out,
+                                const vk::Buffer& counters, const vk::Buffer& farfield,
+                                const gpu::TracePush& push) {
+    const vk::Binding b[] = {
+        vk::storage(params_buffer_),
+        vk::storage(in),
+        vk::storage(out),
+        vk::storage(counters),
+        vk::texel(params_.hit_mode == gpu::kHitModePaper ? paper_view_ : refined_view_),
+        vk::texel(paper_view_),
+        vk::texel(gradients_view_),
+        vk::storage(farfield),
+        vk::storage(hits_),
+        vk::storage(order_buckets_),
+        vk::storage(texel_hits_)};
+    trace_pipeline_.dispatch(cb, b, &push, groups(push.active_count, FIRD_TRACE_WORKGROUP_SIZE));
+}
+
 void FastTracer::trace_batch(const vk::Buffer& rays, std::uint64_t effective, FastRun& run,
                              bool record_hits) {
     auto* counters = static_cast<std::uint32_t*>(counters_.data());
@@ -223,23 +245,13 @@ void FastTracer::trace_batch(const vk::Buffer& rays, std::uint64_t effective, Fa
             vkCmdFillBuffer(cb, counters_.get(), gpu::kCounterActiveOut * 4, 4, 0);
             if (order) vkCmdFillBuffer(cb, order_buckets_.get(), 0, VK_WHOLE_SIZE, 0);
             vk::barrier_all(cb);
-            const vk::Binding b[] = {
-                vk::storage(params_buffer_),
-                vk::storage(*in),
-                vk::storage(*out),
-                vk::storage(counters_),
-                vk::texel(params_.hit_mode == gpu::kHitModePaper ? paper_view_ : refined_view_),
-                vk::texel(paper_view_),
-                vk::texel(gradients_view_),
-                vk::storage(farfield_counts_),
-                vk::storage(hits_),
-                vk::storage(order_buckets_)};
             const gpu::TracePush push{.bounce = bounce,
                                       .final_check = bounce == params_.max_bounces ? 1u : 0u,
                                       .active_count = std::uint32_t(active),
                                       .record_hits = record_hits && bounce == 0 ? 1u : 0u,
-                                      .order_output = order ? 1u : 0u};
-            trace_pipeline_.dispatch(cb, b, &push, groups(active, FIRD_TRACE_WORKGROUP_SIZE));
+                                      .order_output = order ? 1u : 0u,
+                                      .count_texel_hits = count_texel_hits_ ? 1u : 0u};
+            dispatch_trace(cb, *in, *out, counters_, farfield_counts_, push);
             timer_.end(cb);
         });
         run.timings.trace_ms += timer_.supported() ? timer_.elapsed_ms() : ms_since(t0);
@@ -293,6 +305,7 @@ FastRun FastTracer::run() {
     build_heightfield(run);
     ctx_->submit_and_wait([&](VkCommandBuffer cb) {
         vkCmdFillBuffer(cb, farfield_counts_.get(), 0, VK_WHOLE_SIZE, 0);
+        if (count_texel_hits_) vkCmdFillBuffer(cb, texel_hits_.get(), 0, VK_WHOLE_SIZE, 0);
     });
     auto* counters = static_cast<std::uint32_t*>(counters_.data());
     std::size_t batch = 0;
@@ -362,7 +375,7 @@ FastRun FastTracer::run_rays(const std::vector<Ray>& rays, std::vector<glm::vec4
                         vk::MemoryUse::Device, "fird.rays.uploaded");
     uploaded.upload(*ctx_, std::span<const float>(packed));
     if (hits)
-        hits_ = vk::Buffer(*ctx_, std::max<std::size_t>(rays.size(), 1) * 16, vk::kStorageUsage,
+        hits_ = vk::Buffer(*ctx_, std::max<std::size_t>(rays.size(), 1) * 32, vk::kStorageUsage,
                            vk::MemoryUse::Readback, "fird.hits");
     ctx_->submit_and_wait([&](VkCommandBuffer cb) {
         vkCmdFillBuffer(cb, farfield_counts_.get(), 0, VK_WHOLE_SIZE, 0);
@@ -371,10 +384,129 @@ FastRun FastTracer::run_rays(const std::vector<Ray>& rays, std::vector<glm::vec4
     trace_batch(uploaded, rays.size(), run, hits != nullptr);
     finish(run);
     if (hits) {
-        *hits = hits_.download_as<glm::vec4>(*ctx_, rays.size());
-        hits_ = vk::Buffer(*ctx_, 16, vk::kStorageUsage, vk::MemoryUse::Device, "fird.hits.unused");
+        const auto both = hits_.download_as<glm::vec4>(*ctx_, 2 * rays.size());
+        hits->resize(rays.size());
+        for (std::size_t i = 0; i < rays.size(); ++i)
+            (*hits)[i] = both[2 * i];
+        hits_ = vk::Buffer(*ctx_, 32, vk::kStorageUsage, vk::MemoryUse::Device, "fird.hits.unused");
     }
     return run;
+}
+
+void FastTracer::set_count_texel_hits(bool on) {
+    count_texel_hits_ = on;
+    const std::uint64_t bytes = on ? std::uint64_t(params_.hf_w) * params_.hf_h * 8 : 16;
+    texel_hits_ =
+        vk::Buffer(*ctx_, bytes, vk::kStorageUsage, vk::MemoryUse::Readback, "fird.texel_hits");
+}
+
+TexelHits FastTracer::read_texel_hits() const {
+    if (!count_texel_hits_) throw std::logic_error("FastTracer: texel hits are not counted");
+    const std::size_t n = std::size_t(params_.hf_w) * params_.hf_h;
+    const auto all = texel_hits_.download_as<std::uint32_t>(*ctx_, 2 * n);
+    return {params_.hf_w,
+            params_.hf_h,
+            {all.begin(), all.begin() + std::ptrdiff_t(n)},
+            {all.begin() + std::ptrdiff_t(n), all.end()}};
+}
+
+std::vector<float> FastTracer::read_quadtree() {
+    FastRun unused;
+    build_heightfield(unused);
+    const QuadtreeLayout q = quadtree_layout(params_.hf_w, params_.hf_h);
+    return paper_tree_.download_as<float>(*ctx_, q.total_floats);
+}
+
+std::vector<glm::vec2> FastTracer::read_gradients() {
+    FastRun unused;
+    build_heightfield(unused);
+    return gradients_.download_as<glm::vec2>(*ctx_, std::size_t(params_.hf_w) * params_.hf_h);
+}
+
+std::vector<RayPath> FastTracer::trace_paths(const std::vector<Ray>& rays) {
+    if (!reflector_) throw std::logic_error("FastTracer::trace_paths: no reflector set");
+    if (rays.size() > batch_capacity_)
+        throw std::invalid_argument("trace_paths: more rays than one batch holds");
+    FastRun unused;
+    build_heightfield(unused);
+    const std::size_t n = rays.size();
+    std::vector<RayPath> paths(n);
+    struct Live {
+        std::size_t path;
+        glm::vec3 origin, direction;
+        std::uint32_t texel;
+    };
+    std::vector<Live> live;
+    for (std::size_t i = 0; i < n; ++i) {
+        paths[i].vertices.push_back(rays[i].origin);
+        live.push_back({i, glm::vec3(rays[i].origin), glm::vec3(rays[i].direction), 0});
+    }
+    // Scratch so that the run's far field and counters are left as they are.
+    const std::size_t slots = std::max<std::size_t>(n, 1);
+    vk::Buffer in(*ctx_, slots * kRayBytes, vk::kStorageUsage, vk::MemoryUse::Upload,
+                  "fird.paths.in");
+    vk::Buffer out(*ctx_, slots * kRayBytes, vk::kStorageUsage, vk::MemoryUse::Device,
+                   "fird.paths.out");
+    vk::Buffer counters(*ctx_, gpu::kCounterCount * 4, vk::kStorageUsage, vk::MemoryUse::Device,
+                        "fird.paths.counters");
+    vk::Buffer farfield(*ctx_, std::uint64_t(farfield_cells()) * 4, vk::kStorageUsage,
+                        vk::MemoryUse::Device, "fird.paths.farfield");
+    vk::Buffer kept_hits = std::move(hits_);
+    hits_ = vk::Buffer(*ctx_, slots * 32, vk::kStorageUsage, vk::MemoryUse::Readback,
+                       "fird.paths.hits");
+    // One bounce per submission, as the fast path traces them: a reflection's ray
+    // starts at its hit, skipping the texel it left (the w components carry it).
+    for (std::uint32_t bounce = 0; bounce < params_.max_bounces && !live.empty(); ++bounce) {
+        std::vector<float> packed(live.size() * 8, 0.0f);
+        for (std::size_t k = 0; k < live.size(); ++k) {
+            const Live& l = live[k];
+            for (int c = 0; c < 3; ++c) {
+                packed[k * 8 + c] = l.origin[c];
+                packed[k * 8 + 4 + c] = l.direction[c];
+            }
+            if (bounce > 0) {
+                const std::int32_t tx = std::int32_t(l.texel % params_.hf_w);
+                const std::int32_t ty = std::int32_t(l.texel / params_.hf_w);
+                std::memcpy(&packed[k * 8 + 3], &tx, 4);
+                std::memcpy(&packed[k * 8 + 7], &ty, 4);
+            }
+        }
+        in.upload(*ctx_, std::span<const float>(packed));
+        ctx_->submit_and_wait([&](VkCommandBuffer cb) {
+            vkCmdFillBuffer(cb, counters.get(), 0, VK_WHOLE_SIZE, 0);
+            vk::barrier_all(cb);
+            const gpu::TracePush push{
+                .bounce = bounce, .active_count = std::uint32_t(live.size()), .record_hits = 1u};
+            dispatch_trace(cb, in, out, counters, farfield, push);
+        });
+        const auto hits = hits_.download_as<glm::vec4>(*ctx_, 2 * live.size());
+        std::vector<Live> next;
+        for (std::size_t k = 0; k < live.size(); ++k) {
+            RayPath& path = paths[live[k].path];
+            if (hits[2 * k].w < 0.0f) continue; // it leaves with its current direction
+            const glm::vec3 p(hits[2 * k]);
+            const glm::vec3 r(hits[2 * k + 1]);
+            std::uint32_t texel = 0;
+            std::memcpy(&texel, &hits[2 * k + 1].w, 4);
+            path.vertices.push_back(glm::dvec3(p));
+            ++path.reflections;
+            next.push_back({live[k].path, p, r, texel});
+        }
+        for (Live& l : next)
+            paths[l.path].direction = glm::dvec3(l.direction);
+        live = std::move(next);
+    }
+    hits_ = std::move(kept_hits);
+    // Each path ends with its segment leaving the holder box.
+    for (std::size_t i = 0; i < n; ++i) {
+        RayPath& path = paths[i];
+        if (path.reflections == 0) path.direction = rays[i].direction;
+        const Ray last{path.vertices.back(), glm::normalize(path.direction)};
+        double t0 = 0.0, t1 = 0.0;
+        const bool inside = clip_to_box(last, scene_.holder.min_mm, scene_.holder.max_mm, t0, t1);
+        path.vertices.push_back(last.origin + (inside ? t1 : 0.0) * last.direction);
+    }
+    return paths;
 }
 
 std::vector<Ray> FastTracer::rayset() const {

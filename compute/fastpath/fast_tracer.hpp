@@ -6,6 +6,8 @@
 #include <optional>
 #include <vector>
 
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
 
 #include "fastpath/mesh_raster.hpp"
@@ -27,6 +29,21 @@ struct FastRun {
     StageTimings timings; // device time where timestamps exist
     bool rayset_reused = false;
     bool heightfield_reused = false;
+};
+
+// Reflections per texel of the last run (all bounces, and first reflections only), for
+// exports and views (FastTracer::set_count_texel_hits).
+struct TexelHits {
+    std::uint32_t width = 0, height = 0;
+    std::vector<std::uint32_t> all, first; // row-major, height rows of width texels
+};
+
+// One ray's path on the fast path: its origin, each reflection's hit point, and the
+// point where it leaves the holder box.
+struct RayPath {
+    std::vector<glm::dvec3> vertices;
+    std::uint32_t reflections = 0;
+    glm::dvec3 direction{0.0}; // the direction it leaves with
 };
 
 class FastTracer {
@@ -51,6 +68,17 @@ class FastTracer {
     // ray, its first hit point and t (t < 0: no hit). For comparisons with the reference.
     FastRun run_rays(const std::vector<Ray>& rays, std::vector<glm::vec4>* hits);
 
+    // Count reflections per texel in the next runs (off by default: one atomic per hit).
+    void set_count_texel_hits(bool on);
+    TexelHits read_texel_hits() const;
+    // The current height field's max-mip quadtree (the paper's: level 0 is the texel
+    // heights; quadtree_layout gives the levels' offsets) and its gradients.
+    std::vector<float> read_quadtree();
+    std::vector<glm::vec2> read_gradients();
+    // The paths of the given rays (at most one batch), bounce by bounce through the same
+    // trace pass; the run's far field and counters are left as they are.
+    std::vector<RayPath> trace_paths(const std::vector<Ray>& rays);
+
     // The rayset of the last run() as traced (ordered by direction), when it was kept
     // (it fits the cache budget); for tests and views of the rays.
     std::vector<Ray> rayset() const;
@@ -60,6 +88,9 @@ class FastTracer {
     std::uint32_t farfield_cells() const { return params_.ff_w * params_.ff_h; }
 
   private:
+    void dispatch_trace(VkCommandBuffer cb, const vk::Buffer& in, const vk::Buffer& out,
+                        const vk::Buffer& counters, const vk::Buffer& farfield,
+                        const gpu::TracePush& push);
     void trace_batch(const vk::Buffer& rays, std::uint64_t effective, FastRun& run,
                      bool record_hits);
     void build_heightfield(FastRun& run);
@@ -83,11 +114,12 @@ class FastTracer {
     bool cache_rayset_ = false;              // the whole rayset fits the cache budget
     std::vector<RaysetChunk> rayset_chunks_; // batch i's kept rays at [i]
     bool heightfield_dirty_ = true;
+    bool count_texel_hits_ = false;
 
     std::array<std::uint32_t, FIRD_SPEC_COUNT> spec_; // the scene's fixed shader choices
     vk::ComputePipeline rayset_pipeline_, heightfield_pipeline_, maxmip_pipeline_, trace_pipeline_,
         to_lm_pipeline_, order_pipeline_, bucket_scan_pipeline_;
-    vk::Buffer params_buffer_, counters_, rays_work_, rays_ping_, rays_pong_, hits_;
+    vk::Buffer params_buffer_, counters_, rays_work_, rays_ping_, rays_pong_, hits_, texel_hits_;
     vk::Buffer paper_tree_, refined_tree_, gradients_, control_, order_buckets_;
     vk::TexelView paper_view_, refined_view_, gradients_view_; // as the trace reads them
     vk::Buffer farfield_counts_, farfield_lm_;

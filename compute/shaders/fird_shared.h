@@ -92,6 +92,7 @@ FIRD_CONSTANT(uint, kTraceBindGradients, 6u);
 FIRD_CONSTANT(uint, kTraceBindFarField, 7u);
 FIRD_CONSTANT(uint, kTraceBindHits, 8u);
 FIRD_CONSTANT(uint, kTraceBindBuckets, 9u); // rays appended per direction bucket
+FIRD_CONSTANT(uint, kTraceBindTexelHits, 10u); // reflections per texel (exports, views)
 
 // Counter slots (uint) in the counters buffer.
 FIRD_CONSTANT(uint, kCounterEffective, 0u);  // rays appended by the rayset pass
@@ -162,8 +163,10 @@ struct TracePush {
     uint bounce;       // reflections so far (0: rays from the source)
     uint final_check;  // strict policy: only test for another hit
     uint active_count; // rays in rays_in (read back by the host after the previous pass)
-    uint record_hits;  // write hits[i] = (hit point, t) or t = -1 for input ray i
+    uint record_hits;  // hits[2i] = (hit point, t) or t = -1 for input ray i, and
+                       // hits[2i + 1] = (reflected direction, hit texel's index as bits)
     uint order_output; // count the appended rays per direction bucket (rayset_order.comp)
+    uint count_texel_hits; // texel_hits[t] += reflections at texel t; [W H + t] first ones
 };
 
 struct MeshRasterPush {

@@ -23,6 +23,7 @@ layout(binding = kTraceBindGradients) uniform samplerBuffer gradients;
 layout(std430, binding = kTraceBindFarField) buffer FarField { uint farfield[]; };
 layout(std430, binding = kTraceBindHits) writeonly buffer Hits { vec4 hits[]; };
 layout(std430, binding = kTraceBindBuckets) buffer Buckets { uint buckets[]; };
+layout(std430, binding = kTraceBindTexelHits) buffer TexelHits { uint texel_hits[]; };
 layout(push_constant) uniform Push { TracePush pc; };
 
 const int kMiss = 0;
@@ -288,7 +289,10 @@ void main() {
     const uint i = gl_GlobalInvocationID.x;
     if (i >= pc.active_count) return;
     const Ray ray = rays_in[i];
-    if (pc.record_hits != 0u) hits[i] = vec4(0.0, 0.0, 0.0, -1.0);
+    if (pc.record_hits != 0u) {
+        hits[2u * i] = vec4(0.0, 0.0, 0.0, -1.0);
+        hits[2u * i + 1u] = vec4(0.0);
+    }
     const vec3 lo = holder_min(), hi = holder_max();
     const vec2 texel_mm = (hi.xy - lo.xy) / vec2(P.hf_w, P.hf_h);
     Walk w;
@@ -329,12 +333,21 @@ void main() {
                 lost_again = true; // strict policy: it would hit again
             } else {
                 vec3 p = w.o + t_hit * w.d;
-                if (pc.record_hits != 0u) hits[i] = vec4(p, t_hit);
+                const vec3 p_hit = p; // where the ray meets the surface (before the paper lift)
                 const vec2 q = texel_pos(w, t_hit);
                 const vec2 g = kHitMode == kHitModePaper ? gradient_at(hit_texel) : bilinear_gradient(q);
                 const vec3 n = normalize(vec3(-g, 1.0));
                 const vec3 r = normalize(w.d - 2.0 * dot(w.d, n) * n);
                 if (kHitMode == kHitModePaper) p.z = max(p.z, height_at(hit_texel)); // on the texel top
+                const uint texel = uint(hit_texel.y) * P.hf_w + uint(hit_texel.x);
+                if (pc.record_hits != 0u) {
+                    hits[2u * i] = vec4(p_hit, t_hit);
+                    hits[2u * i + 1u] = vec4(r, uintBitsToFloat(texel));
+                }
+                if (pc.count_texel_hits != 0u) {
+                    atomicAdd(texel_hits[texel], 1u);
+                    if (pc.bounce == 0u) atomicAdd(texel_hits[P.hf_w * P.hf_h + texel], 1u);
+                }
                 if (pc.bounce + 1u == P.max_bounces && kStrictPolicy == 0u) {
                     far_final = true; // "paper": leave with the last reflected direction
                     far_dir = r;
