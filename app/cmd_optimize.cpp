@@ -10,6 +10,7 @@
 #include <unistd.h>
 
 #include "commands.hpp"
+#include "export/scene_export.hpp"
 #include "interrupt.hpp"
 #include "io/atomic_file.hpp"
 #include "io/scene_file.hpp"
@@ -139,7 +140,10 @@ int run_optimize(const GlobalOptions& global, const Args& a, const CLI::App& cmd
     const SearchResult& r = outcome.result;
     for (const FlatDirection& d : r.flat_directions)
         std::fprintf(stderr, "fird: note: %s: %s\n", scene.path.c_str(), describe(d).c_str());
-    if (!out.empty()) write_search_outputs(out, scene, outcome);
+    if (!out.empty()) {
+        write_search_outputs(out, scene, outcome);
+        (void)export_search_reflectors(scene, r, out); // reflectors.pvd for ParaView
+    }
     if (ctx.validation_errors() > 0)
         throw std::runtime_error("Vulkan validation errors were reported (see above)");
     if (a.json) {

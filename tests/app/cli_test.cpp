@@ -408,3 +408,25 @@ TEST(CliCalibrate, SemivariogramWritesStepsThatTraceAndRefusesBadInput) {
     EXPECT_EQ(c.code, 2) << c.out;
     EXPECT_NE(c.out.find("--counts"), std::string::npos) << c.out;
 }
+
+TEST(CliExport, WritesEveryFileAndRefusesBadValues) {
+    const std::string scene = std::string(FIRD_SOURCE_DIR) + "/scenes/test/mirror_search.toml";
+    const std::string dir = ::testing::TempDir() + "/fird_export_cli";
+    const auto r = run("export " + scene + " --paths 20 --parameters sx=0.1 --out " + dir);
+    ASSERT_EQ(r.code, 0) << r.out;
+    for (const char* name : {"reflector.vts", "quadtree.vtu", "rays.vtp", "farfield.vti",
+                             "farfield_sphere.vtp", "source.vtp", "holder.vtp", "scene.pvd"}) {
+        EXPECT_TRUE(std::filesystem::is_regular_file(dir + "/" + name)) << name;
+        EXPECT_NE(r.out.find(name), std::string::npos) << name; // sizes are reported
+    }
+    for (const char* bad : {"--parameters sx", "--paths -1", "--rays 0", "--levels x"}) {
+        const auto b = run("export " + scene + " " + bad + " --out " + dir);
+        EXPECT_EQ(b.code, 2) << bad << ": " << b.out;
+    }
+    const auto unknown = run("export " + scene + " --parameters nope=1 --out " + dir);
+    EXPECT_EQ(unknown.code, 1) << unknown.out;
+    EXPECT_NE(unknown.out.find("nope"), std::string::npos) << unknown.out;
+    const auto cuts = run("export " + scene + " --parameters z0=5.5 --out " + dir);
+    EXPECT_EQ(cuts.code, 1) << cuts.out;
+    EXPECT_NE(cuts.out.find("cuts the light source"), std::string::npos) << cuts.out;
+}
