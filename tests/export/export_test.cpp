@@ -10,6 +10,8 @@
 #include <regex>
 #include <sstream>
 
+#include <unistd.h>
+
 #include <glm/geometric.hpp>
 #include <vtkCell.h>
 #include <vtkCellData.h>
@@ -55,7 +57,9 @@ class Export : public VulkanTest {
   protected:
     static void SetUpTestSuite() {
         VulkanTest::SetUpTestSuite();
-        dir_ = (fs::path(::testing::TempDir()) / "fird_export_b").string();
+        // One directory per process: CTest runs each test case as a process of its own.
+        dir_ = (fs::path(::testing::TempDir()) / ("fird_export_b." + std::to_string(::getpid())))
+                   .string();
         fs::remove_all(dir_);
         report_ = export_scene(ctx(), model_b(), {.paths = 300}, dir_);
     }
@@ -225,7 +229,9 @@ TEST_F(ExportLimits, AQuadtreeRequestPastTheLimitIsClampedWithANote) {
     Scene s = model_b();
     s.trace.heightfield_w = s.trace.heightfield_h = 2400;
     s.trace.rays = 2000;
-    const auto dir = (fs::path(::testing::TempDir()) / "fird_export_big").string();
+    const auto dir =
+        (fs::path(::testing::TempDir()) / ("fird_export_big." + std::to_string(::getpid())))
+            .string();
     const ExportReport r = export_scene(ctx(), s, {.paths = 10, .levels = 13}, dir);
     ASSERT_EQ(r.notes.size(), 1u);
     EXPECT_NE(r.notes[0].find("--levels 13"), std::string::npos) << r.notes[0];
