@@ -57,7 +57,7 @@ FastTracer::FastTracer(const vk::Context& ctx, const Scene& scene, std::uint64_t
       maxmip_pipeline_(ctx, fird_spv_maxmip_comp, {kSB, kSB, kSB}, sizeof(gpu::MaxMipPush),
                        "fird.maxmip"),
       trace_pipeline_(ctx, fird_spv_trace_comp,
-                      {kSB, kSB, kSB, kSB, kTB, kTB, kTB, kSB, kSB, kSB, kSB},
+                      {kSB, kSB, kSB, kSB, kTB, kTB, kTB, kSB, kSB, kSB, kSB, kSB},
                       sizeof(gpu::TracePush), "fird.trace", spec_),
       to_lm_pipeline_(ctx, fird_spv_counts_to_lm_comp, {kSB, kSB}, sizeof(ToLmPush),
                       "fird.counts_to_lm"),
@@ -94,6 +94,7 @@ FastTracer::FastTracer(const vk::Context& ctx, const Scene& scene, std::uint64_t
     rays_pong_ = vk::Buffer(ctx, ray_bytes, storage, vk::MemoryUse::Device, "fird.rays.pong");
     hits_ = vk::Buffer(ctx, 32, storage, vk::MemoryUse::Device, "fird.hits.unused");
     texel_hits_ = vk::Buffer(ctx, 16, storage, vk::MemoryUse::Device, "fird.texel_hits.unused");
+    walk_ = vk::Buffer(ctx, 16, storage, vk::MemoryUse::Device, "fird.walk.unused");
     const QuadtreeLayout q = quadtree_layout(params_.hf_w, params_.hf_h);
     if (q.total_floats > limits.max_texel_buffer_elements)
         throw std::invalid_argument(fmt::format(
@@ -211,7 +212,7 @@ void FastTracer::build_heightfield(FastRun& run) {
 
 void FastTracer::dispatch_trace(VkCommandBuffer cb, const vk::Buffer& in, const vk::Buffer& out,
                                 const vk::Buffer& counters, const vk::Buffer& farfield,
-                                const gpu::TracePush& push) {
+                                const gpu::TracePush& push, bool record_walk) {
     const vk::Binding b[] = {
         vk::storage(params_buffer_),
         vk::storage(in),
@@ -223,8 +224,10 @@ void FastTracer::dispatch_trace(VkCommandBuffer cb, const vk::Buffer& in, const 
         vk::storage(farfield),
         vk::storage(hits_),
         vk::storage(order_buckets_),
-        vk::storage(texel_hits_)};
-    trace_pipeline_.dispatch(cb, b, &push, groups(push.active_count, FIRD_TRACE_WORKGROUP_SIZE));
+        vk::storage(texel_hits_),
+        vk::storage(walk_)};
+    const vk::ComputePipeline& p = record_walk ? *trace_walk_pipeline_ : trace_pipeline_;
+    p.dispatch(cb, b, &push, groups(push.active_count, FIRD_TRACE_WORKGROUP_SIZE));
 }
 
 void FastTracer::trace_batch(const vk::Buffer& rays, std::uint64_t effective, FastRun& run,
@@ -423,7 +426,8 @@ std::vector<glm::vec2> FastTracer::read_gradients() {
     return gradients_.download_as<glm::vec2>(*ctx_, std::size_t(params_.hf_w) * params_.hf_h);
 }
 
-std::vector<RayPath> FastTracer::trace_paths(const std::vector<Ray>& rays) {
+std::vector<RayPath> FastTracer::trace_paths(const std::vector<Ray>& rays, std::size_t pick,
+                                             std::vector<WalkStep>* walk) {
     if (!reflector_) throw std::logic_error("FastTracer::trace_paths: no reflector set");
     if (rays.size() > batch_capacity_)
         throw std::invalid_argument("trace_paths: more rays than one batch holds");
@@ -454,6 +458,23 @@ std::vector<RayPath> FastTracer::trace_paths(const std::vector<Ray>& rays) {
     vk::Buffer kept_hits = std::move(hits_);
     hits_ = vk::Buffer(*ctx_, slots * 32, vk::kStorageUsage, vk::MemoryUse::Readback,
                        "fird.paths.hits");
+    const bool record = walk != nullptr && pick < n;
+    vk::Buffer kept_walk;
+    if (record) {
+        if (!trace_walk_pipeline_) {
+            auto spec = spec_;
+            spec[FIRD_SPEC_RECORD_WALK] = 1;
+            trace_walk_pipeline_.emplace(
+                *ctx_, fird_spv_trace_comp,
+                std::initializer_list<VkDescriptorType>{kSB, kSB, kSB, kSB, kTB, kTB, kTB, kSB, kSB,
+                                                        kSB, kSB, kSB},
+                std::uint32_t(sizeof(gpu::TracePush)), "fird.trace.walk", spec);
+        }
+        kept_walk = std::move(walk_);
+        walk_ = vk::Buffer(*ctx_, (1 + 2 * std::uint64_t(gpu::kWalkCapacity)) * 16,
+                           vk::kStorageUsage, vk::MemoryUse::Readback, "fird.walk");
+        walk->clear();
+    }
     // One bounce per submission, as the fast path traces them: a reflection's ray
     // starts at its hit, skipping the texel it left (the w components carry it).
     for (std::uint32_t bounce = 0; bounce < params_.max_bounces && !live.empty(); ++bounce) {
@@ -497,6 +518,7 @@ std::vector<RayPath> FastTracer::trace_paths(const std::vector<Ray>& rays) {
         live = std::move(next);
     }
     hits_ = std::move(kept_hits);
+    if (record) walk_ = std::move(kept_walk);
     // Each path ends with its segment leaving the holder box.
     for (std::size_t i = 0; i < n; ++i) {
         RayPath& path = paths[i];

@@ -46,6 +46,15 @@ struct RayPath {
     glm::dvec3 direction{0.0}; // the direction it leaves with
 };
 
+// One step of a ray's RQRM walk (the node it tests), as the trace recorded it.
+struct WalkStep {
+    std::uint32_t bounce = 0;   // reflections before it
+    std::uint32_t level = 0;    // quadtree level (0: a texel)
+    std::uint32_t x = 0, y = 0; // the node at that level
+    float max_height_mm = 0.0f;
+    float t = 0.0f, t_exit = 0.0f; // along the ray: where it is, where it leaves the node
+};
+
 class FastTracer {
   public:
     // `seed` drives the rayset; scene.trace gives rays, grids, bounces and hit mode.
@@ -76,8 +85,11 @@ class FastTracer {
     std::vector<float> read_quadtree();
     std::vector<glm::vec2> read_gradients();
     // The paths of the given rays (at most one batch), bounce by bounce through the same
-    // trace pass; the run's far field and counters are left as they are.
-    std::vector<RayPath> trace_paths(const std::vector<Ray>& rays);
+    // trace pass; the run's far field and counters are left as they are. With `walk`,
+    // the trace also records ray `pick`'s walk, step by step (a pipeline variant that
+    // records; at most kWalkCapacity steps per bounce).
+    std::vector<RayPath> trace_paths(const std::vector<Ray>& rays, std::size_t pick = 0,
+                                     std::vector<WalkStep>* walk = nullptr);
 
     // The rayset of the last run() as traced (ordered by direction), when it was kept
     // (it fits the cache budget); for tests and views of the rays.
@@ -90,7 +102,7 @@ class FastTracer {
   private:
     void dispatch_trace(VkCommandBuffer cb, const vk::Buffer& in, const vk::Buffer& out,
                         const vk::Buffer& counters, const vk::Buffer& farfield,
-                        const gpu::TracePush& push);
+                        const gpu::TracePush& push, bool record_walk = false);
     void trace_batch(const vk::Buffer& rays, std::uint64_t effective, FastRun& run,
                      bool record_hits);
     void build_heightfield(FastRun& run);
@@ -119,7 +131,9 @@ class FastTracer {
     std::array<std::uint32_t, FIRD_SPEC_COUNT> spec_; // the scene's fixed shader choices
     vk::ComputePipeline rayset_pipeline_, heightfield_pipeline_, maxmip_pipeline_, trace_pipeline_,
         to_lm_pipeline_, order_pipeline_, bucket_scan_pipeline_;
-    vk::Buffer params_buffer_, counters_, rays_work_, rays_ping_, rays_pong_, hits_, texel_hits_;
+    vk::Buffer params_buffer_, counters_, rays_work_, rays_ping_, rays_pong_, hits_, texel_hits_,
+        walk_;
+    std::optional<vk::ComputePipeline> trace_walk_pipeline_; // built when a walk is asked for
     vk::Buffer paper_tree_, refined_tree_, gradients_, control_, order_buckets_;
     vk::TexelView paper_view_, refined_view_, gradients_view_; // as the trace reads them
     vk::Buffer farfield_counts_, farfield_lm_;

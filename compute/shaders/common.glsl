@@ -15,6 +15,7 @@ layout(constant_id = FIRD_SPEC_SOURCE_KIND) const uint kSourceKind = 0u;
 layout(constant_id = FIRD_SPEC_SAMPLER_KIND) const uint kSamplerKind = 0u;
 layout(constant_id = FIRD_SPEC_FAMILY) const uint kFamily = 0u;
 layout(constant_id = FIRD_SPEC_HIT_MODE) const uint kHitMode = 0u;
+layout(constant_id = FIRD_SPEC_RECORD_WALK) const uint kRecordWalk = 0u;
 layout(constant_id = FIRD_SPEC_STRICT_POLICY) const uint kStrictPolicy = 0u;
 
 const float kPi = 3.14159265358979;

@@ -70,7 +70,8 @@ FIRD_CONSTANT(uint, kHitModeRefined, 1u);
 #define FIRD_SPEC_FAMILY 2
 #define FIRD_SPEC_HIT_MODE 3
 #define FIRD_SPEC_STRICT_POLICY 4
-#define FIRD_SPEC_COUNT 5
+#define FIRD_SPEC_RECORD_WALK 5 // record one ray's RQRM walk (a pipeline of its own)
+#define FIRD_SPEC_COUNT 6
 
 // Bindings of the fast-path passes.
 FIRD_CONSTANT(uint, kBindParams, 0u);
@@ -93,6 +94,10 @@ FIRD_CONSTANT(uint, kTraceBindFarField, 7u);
 FIRD_CONSTANT(uint, kTraceBindHits, 8u);
 FIRD_CONSTANT(uint, kTraceBindBuckets, 9u); // rays appended per direction bucket
 FIRD_CONSTANT(uint, kTraceBindTexelHits, 10u); // reflections per texel (exports, views)
+FIRD_CONSTANT(uint, kTraceBindWalk, 11u); // the picked ray's walk (FIRD_SPEC_RECORD_WALK)
+// Steps the walk buffer holds: walk[0].x counts them; step k is walk[1 + 2k] = (level,
+// node x, node y, node max height) and walk[2 + 2k] = (t, t at the node's exit, 0, 0).
+FIRD_CONSTANT(uint, kWalkCapacity, 8192u);
 
 // Counter slots (uint) in the counters buffer.
 FIRD_CONSTANT(uint, kCounterEffective, 0u);  // rays appended by the rayset pass
@@ -167,6 +172,7 @@ struct TracePush {
                        // hits[2i + 1] = (reflected direction, hit texel's index as bits)
     uint order_output; // count the appended rays per direction bucket (rayset_order.comp)
     uint count_texel_hits; // texel_hits[t] += reflections at texel t; [W H + t] first ones
+    uint walk_ray;         // the input ray whose walk is recorded (FIRD_SPEC_RECORD_WALK)
 };
 
 struct MeshRasterPush {

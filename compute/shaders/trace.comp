@@ -24,6 +24,17 @@ layout(std430, binding = kTraceBindFarField) buffer FarField { uint farfield[]; 
 layout(std430, binding = kTraceBindHits) writeonly buffer Hits { vec4 hits[]; };
 layout(std430, binding = kTraceBindBuckets) buffer Buckets { uint buckets[]; };
 layout(std430, binding = kTraceBindTexelHits) buffer TexelHits { uint texel_hits[]; };
+layout(std430, binding = kTraceBindWalk) buffer WalkSteps { vec4 walk[]; };
+
+// Only in the walk-recording pipeline (folded away elsewhere): one step of the picked ray.
+void record_step(bool picked, int level, ivec2 cell, float h, float t, float t_exit) {
+    if (kRecordWalk == 0u || !picked) return;
+    const uint k = uint(walk[0].x);
+    if (k >= kWalkCapacity) return;
+    walk[1u + 2u * k] = vec4(float(level), vec2(cell), h);
+    walk[2u + 2u * k] = vec4(t, t_exit, 0.0, 0.0);
+    walk[0].x = float(k + 1u);
+}
 layout(push_constant) uniform Push { TracePush pc; };
 
 const int kMiss = 0;
@@ -154,7 +165,8 @@ float refine_in_texel(Walk w, ivec2 cell, float ta, float tb, float t_ignore) {
 }
 
 // RQRM: returns kHit with t_hit and the hit texel, kMiss, kAborted or kBlocked.
-int rqrm(Walk w, float t_start, ivec2 skip_texel, out float t_hit, out ivec2 hit_texel) {
+int rqrm(Walk w, float t_start, ivec2 skip_texel, bool picked, out float t_hit,
+         out ivec2 hit_texel) {
     t_hit = 0.0;
     hit_texel = ivec2(0);
     vec2 t01;
@@ -203,6 +215,7 @@ int rqrm(Walk w, float t_start, ivec2 skip_texel, out float t_hit, out ivec2 hit
             const float ty = w.D.y != 0.0 ? ((w.D.y > 0.0 ? hi.y : lo.y) - w.O.y) * inv_D.y : 3.0e38;
             const float t_exit = min(min(tx, ty), t_end);
             const float h = texelFetch(pyramid, int(level_offset + uint(cell.y) * level_w + uint(cell.x))).r;
+            record_step(picked, level, cell, h, t, t_exit);
             const float z_in = w.o.z + t * w.d.z;
             const float z_out = w.o.z + max(t_exit, t) * w.d.z;
             const bool below = !across && min(z_in, z_out) <= h;
@@ -322,7 +335,7 @@ void main() {
     if (!below) {
         float t_hit;
         ivec2 hit_texel;
-        const int result = rqrm(w, t_start, skip, t_hit, hit_texel);
+        const int result = rqrm(w, t_start, skip, kRecordWalk != 0u && i == pc.walk_ray, t_hit, hit_texel);
         aborted = result == kAborted;
         blocked = result == kBlocked;
         if (result == kMiss) {
