@@ -46,8 +46,8 @@ void register_export(CLI::App& app, const GlobalOptions& global, std::function<i
             std::uint64_t total = 0;
             for (const ExportedFile& f : report.files) {
                 std::printf(
-                    "%s",
-                    fmt::format("{}/{}: {:.2f} MB\n", a->out, f.name, double(f.bytes) * 1e-6).c_str());
+                    "%s", fmt::format("{}/{}: {:.2f} MB\n", a->out, f.name, double(f.bytes) * 1e-6)
+                              .c_str());
                 total += f.bytes;
             }
             std::printf("%s", fmt::format("{:.2f} MB in all; open {}/scene.pvd in ParaView\n",

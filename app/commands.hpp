@@ -23,6 +23,7 @@ void register_photometry(CLI::App& app, const GlobalOptions& global, std::functi
 void register_optimize(CLI::App& app, const GlobalOptions& global, std::function<int()>& run);
 void register_calibrate(CLI::App& app, const GlobalOptions& global, std::function<int()>& run);
 void register_export(CLI::App& app, const GlobalOptions& global, std::function<int()>& run);
+void register_screenshot(CLI::App& app, const GlobalOptions& global, std::function<int()>& run);
 void register_bench(CLI::App& app, const GlobalOptions& global, std::function<int()>& run);
 
 } // namespace fird::app

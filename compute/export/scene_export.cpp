@@ -47,16 +47,6 @@ std::vector<std::uint32_t> coarsest_levels(const QuadtreeLayout& q, std::uint32_
 
 } // namespace
 
-std::vector<Ray> sample_rays(const Scene& s, std::uint32_t k) {
-    std::vector<Ray> rays;
-    const std::uint64_t stride = std::max<std::uint64_t>(1, s.trace.rays / (4ull * k + 1));
-    for (std::uint64_t i = 0; i < s.trace.rays && rays.size() < k; i += stride) {
-        const Ray r = emit_ray(s.source, s.trace.sampler, s.trace.seed, i);
-        if (ray_meets_box(r, s.holder)) rays.push_back(r);
-    }
-    return rays;
-}
-
 ExportReport export_scene(const vk::Context& ctx, const Scene& input, const ExportOptions& o,
                           const std::string& dir) {
     namespace fs = std::filesystem;
@@ -105,7 +95,7 @@ ExportReport export_scene(const vk::Context& ctx, const Scene& input, const Expo
     const std::vector<float> tree = ev.tracer().read_quadtree();
     const std::vector<glm::vec2> gradients = ev.tracer().read_gradients();
     const std::vector<float> heights(tree.begin(), tree.begin() + std::ptrdiff_t(hits.all.size()));
-    const auto paths = ev.tracer().trace_paths(sample_rays(scene, o.paths));
+    const auto paths = ev.tracer().trace_paths(sample_effective_rays(scene, o.paths));
 
     const auto write = [&](const std::string& name, vtkDataObject* data) {
         report.files.push_back({name, vtkio::write_dataset((fs::path(dir) / name).string(), data)});

@@ -41,10 +41,6 @@ struct ExportReport {
     std::uint32_t quadtree_levels = 0;
 };
 
-// K of the scene's effective rays, spread over its emission order: rays the trace itself
-// used (the rayset is the same counter-based stream). rays.vtp shows their paths.
-std::vector<Ray> sample_rays(const Scene& scene, std::uint32_t k);
-
 // Throws std::invalid_argument for a bad override (a parameter the family lacks, a
 // value that makes no surface or cuts the source) or a request past the limits.
 ExportReport export_scene(const vk::Context& ctx, const Scene& scene, const ExportOptions& options,

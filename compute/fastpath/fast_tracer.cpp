@@ -101,7 +101,9 @@ FastTracer::FastTracer(const vk::Context& ctx, const Scene& scene, std::uint64_t
             "heightfield {} x {}: its quadtree ({} nodes) exceeds this device's texel buffer "
             "limit ({})",
             params_.hf_w, params_.hf_h, q.total_floats, limits.max_texel_buffer_elements));
-    const auto tree_usage = storage | VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT;
+    // Also vertex buffers: the viewport draws the height field straight from them.
+    const auto tree_usage =
+        storage | VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT | VK_BUFFER_USAGE_VERTEX_BUFFER_BIT;
     paper_tree_ = vk::Buffer(ctx, q.total_floats * 4, tree_usage, vk::MemoryUse::Device,
                              "fird.quadtree.paper");
     refined_tree_ = vk::Buffer(ctx, q.total_floats * 4, tree_usage, vk::MemoryUse::Device,
@@ -493,13 +495,30 @@ std::vector<RayPath> FastTracer::trace_paths(const std::vector<Ray>& rays, std::
             }
         }
         in.upload(*ctx_, std::span<const float>(packed));
+        // The picked ray's place in this bounce's input (none once it has left).
+        std::uint32_t walk_ray = ~0u;
+        for (std::size_t k = 0; k < live.size(); ++k)
+            if (live[k].path == pick) walk_ray = std::uint32_t(k);
+        const bool walking = record && walk_ray != ~0u;
         ctx_->submit_and_wait([&](VkCommandBuffer cb) {
             vkCmdFillBuffer(cb, counters.get(), 0, VK_WHOLE_SIZE, 0);
+            if (walking) vkCmdFillBuffer(cb, walk_.get(), 0, 16, 0);
             vk::barrier_all(cb);
-            const gpu::TracePush push{
-                .bounce = bounce, .active_count = std::uint32_t(live.size()), .record_hits = 1u};
-            dispatch_trace(cb, in, out, counters, farfield, push);
+            const gpu::TracePush push{.bounce = bounce,
+                                      .active_count = std::uint32_t(live.size()),
+                                      .record_hits = 1u,
+                                      .walk_ray = walk_ray};
+            dispatch_trace(cb, in, out, counters, farfield, push, walking);
         });
+        if (walking) {
+            const auto* w = static_cast<const glm::vec4*>(walk_.data());
+            const auto steps = std::min<std::uint32_t>(std::uint32_t(w[0].x), gpu::kWalkCapacity);
+            for (std::uint32_t k = 0; k < steps; ++k) {
+                const glm::vec4 a = w[1 + 2 * k], b = w[2 + 2 * k];
+                walk->push_back({bounce, std::uint32_t(a.x), std::uint32_t(a.y), std::uint32_t(a.z),
+                                 a.w, b.x, b.y});
+            }
+        }
         const auto hits = hits_.download_as<glm::vec4>(*ctx_, 2 * live.size());
         std::vector<Live> next;
         for (std::size_t k = 0; k < live.size(); ++k) {

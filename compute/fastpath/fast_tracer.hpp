@@ -96,6 +96,13 @@ class FastTracer {
     std::vector<Ray> rayset() const;
 
     const vk::Buffer& farfield_lm() const { return farfield_lm_; }
+    // The device height field as the viewport draws it (no readback): the paper quadtree,
+    // whose first W x H floats are the texel heights, and the gradients (vec2 per texel).
+    // Current after a run (or a read_quadtree()).
+    const vk::Buffer& heights_buffer() const { return paper_tree_; }
+    const vk::Buffer& gradients_buffer() const { return gradients_; }
+    std::uint32_t heightfield_width() const { return params_.hf_w; }
+    std::uint32_t heightfield_height() const { return params_.hf_h; }
     std::vector<double> read_farfield() const;
     std::uint32_t farfield_cells() const { return params_.ff_w * params_.ff_h; }
 

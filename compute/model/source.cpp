@@ -1,5 +1,7 @@
 #include "source.hpp"
 
+#include <algorithm>
+
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -100,6 +102,16 @@ bool ray_meets_box(const Ray& ray, const Holder& holder) {
     double t0 = 0.0;
     double t1 = 0.0;
     return clip_to_box(ray, holder.min_mm, holder.max_mm, t0, t1);
+}
+
+std::vector<Ray> sample_effective_rays(const Scene& s, std::uint32_t k) {
+    std::vector<Ray> rays;
+    const std::uint64_t stride = std::max<std::uint64_t>(1, s.trace.rays / (4ull * k + 1));
+    for (std::uint64_t i = 0; i < s.trace.rays && rays.size() < k; i += stride) {
+        const Ray r = emit_ray(s.source, s.trace.sampler, s.trace.seed, i);
+        if (ray_meets_box(r, s.holder)) rays.push_back(r);
+    }
+    return rays;
 }
 
 } // namespace fird

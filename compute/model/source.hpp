@@ -4,6 +4,7 @@
 
 #include <array>
 #include <cstdint>
+#include <vector>
 
 #include <glm/vec3.hpp>
 
@@ -29,6 +30,10 @@ inline Ray emit_ray(const SourceDesc& source, SamplerKind sampler, std::uint64_t
                     std::uint64_t index) {
     return sample_source(source, ray_uniforms(sampler, seed, index));
 }
+
+// K of the scene's effective rays, spread evenly over its emission order: rays the fast
+// path's rayset holds too (the same counter-based stream), for paths shown or exported.
+std::vector<Ray> sample_effective_rays(const Scene& scene, std::uint32_t k);
 
 // True when the forward half-line (t >= 0) meets the closed holder box.
 bool ray_meets_box(const Ray& ray, const Holder& holder);

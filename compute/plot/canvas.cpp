@@ -158,17 +158,19 @@ void Canvas::write_png(const std::string& out) {
     });
 }
 
-std::vector<std::uint8_t> Canvas::rgba() {
-    cairo_surface_flush(state_->surface);
-    const unsigned char* data = cairo_image_surface_get_data(state_->surface);
-    const int stride = cairo_image_surface_get_stride(state_->surface);
-    std::vector<std::uint8_t> out(std::size_t(width_) * height_ * 4);
-    for (int j = 0; j < height_; ++j)
-        for (int i = 0; i < width_; ++i) {
+namespace {
+std::vector<std::uint8_t> surface_rgba(cairo_surface_t* surface, int w, int h) {
+    cairo_surface_flush(surface);
+    const unsigned char* data = cairo_image_surface_get_data(surface);
+    const int stride = cairo_image_surface_get_stride(surface);
+    const bool alpha = cairo_image_surface_get_format(surface) == CAIRO_FORMAT_ARGB32;
+    std::vector<std::uint8_t> out(std::size_t(w) * h * 4);
+    for (int j = 0; j < h; ++j)
+        for (int i = 0; i < w; ++i) {
             const std::uint32_t p =
                 reinterpret_cast<const std::uint32_t*>(data + std::size_t(j) * stride)[i];
-            const std::uint32_t a = p >> 24;
-            std::uint8_t* q = &out[(std::size_t(j) * width_ + i) * 4];
+            const std::uint32_t a = alpha ? p >> 24 : 255;
+            std::uint8_t* q = &out[(std::size_t(j) * w + i) * 4];
             for (int k = 0; k < 3; ++k) {
                 const std::uint32_t c = (p >> (16 - 8 * k)) & 0xff; // premultiplied
                 q[k] = std::uint8_t(a ? std::min<std::uint32_t>(255, (c * 255 + a / 2) / a) : 0);
@@ -176,6 +178,24 @@ std::vector<std::uint8_t> Canvas::rgba() {
             q[3] = std::uint8_t(a);
         }
     return out;
+}
+} // namespace
+
+std::vector<std::uint8_t> read_png_rgba(const std::string& path, int& width, int& height) {
+    cairo_surface_t* s = cairo_image_surface_create_from_png(path.c_str());
+    if (cairo_surface_status(s) != CAIRO_STATUS_SUCCESS) {
+        cairo_surface_destroy(s);
+        throw std::runtime_error(fmt::format("{}: cannot read it as PNG", path));
+    }
+    width = cairo_image_surface_get_width(s);
+    height = cairo_image_surface_get_height(s);
+    auto out = surface_rgba(s, width, height);
+    cairo_surface_destroy(s);
+    return out;
+}
+
+std::vector<std::uint8_t> Canvas::rgba() {
+    return surface_rgba(state_->surface, width_, height_);
 }
 
 } // namespace fird::plot

@@ -29,6 +29,9 @@ struct Stroke {
     bool dashed = false;
 };
 
+// A PNG read back as non-premultiplied RGBA (for golden-image tests); errors name it.
+std::vector<std::uint8_t> read_png_rgba(const std::string& path, int& width, int& height);
+
 class Canvas {
   public:
     Canvas(int width, int height, Colour background = kWhite);

@@ -27,13 +27,14 @@ layout(std430, binding = kTraceBindTexelHits) buffer TexelHits { uint texel_hits
 layout(std430, binding = kTraceBindWalk) buffer WalkSteps { vec4 walk[]; };
 
 // Only in the walk-recording pipeline (folded away elsewhere): one step of the picked ray.
+// The count is the invocation's own (written out at the end of main), not read back
+// from the buffer between steps.
+uint g_walk_steps = 0u;
 void record_step(bool picked, int level, ivec2 cell, float h, float t, float t_exit) {
-    if (kRecordWalk == 0u || !picked) return;
-    const uint k = uint(walk[0].x);
-    if (k >= kWalkCapacity) return;
-    walk[1u + 2u * k] = vec4(float(level), vec2(cell), h);
-    walk[2u + 2u * k] = vec4(t, t_exit, 0.0, 0.0);
-    walk[0].x = float(k + 1u);
+    if (kRecordWalk == 0u || !picked || g_walk_steps >= kWalkCapacity) return;
+    walk[1u + 2u * g_walk_steps] = vec4(float(level), vec2(cell), h);
+    walk[2u + 2u * g_walk_steps] = vec4(t, t_exit, 0.0, 0.0);
+    ++g_walk_steps;
 }
 layout(push_constant) uniform Push { TracePush pc; };
 
@@ -372,6 +373,7 @@ void main() {
             }
         }
     }
+    if (kRecordWalk != 0u && i == pc.walk_ray) walk[0] = vec4(float(g_walk_steps), 0.0, 0.0, 0.0);
     if (far_miss || far_final) atomicAdd(farfield[far_field_cell(far_dir)], 1u);
     FIRD_COUNT(counters, kCounterBelow, below);
     FIRD_COUNT(counters, kCounterAborted, aborted);

@@ -36,8 +36,8 @@ GraphicsPipeline make_graphics_pipeline(const Context& ctx, const GraphicsPipeli
         .binding = 0, .stride = desc.vertex_stride, .inputRate = VK_VERTEX_INPUT_RATE_VERTEX};
     const VkPipelineVertexInputStateCreateInfo vertex_input{
         .sType = VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO,
-        .vertexBindingDescriptionCount = 1,
-        .pVertexBindingDescriptions = &binding,
+        .vertexBindingDescriptionCount = desc.bindings.empty() ? 1u : std::uint32_t(desc.bindings.size()),
+        .pVertexBindingDescriptions = desc.bindings.empty() ? &binding : desc.bindings.data(),
         .vertexAttributeDescriptionCount = std::uint32_t(desc.attributes.size()),
         .pVertexAttributeDescriptions = desc.attributes.data()};
     const VkPipelineInputAssemblyStateCreateInfo assembly{

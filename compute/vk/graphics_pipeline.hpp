@@ -19,7 +19,9 @@ struct GraphicsPipelineDesc {
     VkShaderStageFlags push_stages = VK_SHADER_STAGE_VERTEX_BIT;
     std::uint32_t push_bytes = 0;
     std::uint32_t vertex_stride = 0;
-    std::span<const VkVertexInputAttributeDescription> attributes; // all of binding 0
+    std::span<const VkVertexInputAttributeDescription> attributes; // of binding 0 unless...
+    // ...several vertex buffers are bound (empty: one, binding 0, of vertex_stride).
+    std::span<const VkVertexInputBindingDescription> bindings;
     VkPrimitiveTopology topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
     VkCompareOp depth_compare = VK_COMPARE_OP_LESS_OR_EQUAL; // depth test and write on
     std::span<const VkFormat> colour_formats;

@@ -430,3 +430,23 @@ TEST(CliExport, WritesEveryFileAndRefusesBadValues) {
     EXPECT_EQ(cuts.code, 1) << cuts.out;
     EXPECT_NE(cuts.out.find("cuts the light source"), std::string::npos) << cuts.out;
 }
+
+TEST(CliScreenshot, WritesTheViewsAndRefusesBadValues) {
+    const std::string scene = std::string(FIRD_SOURCE_DIR) + "/scenes/test/focused_paraboloid.toml";
+    const std::string dir = ::testing::TempDir() + "/fird_screenshot";
+    const auto r = run("screenshot " + scene + " --out " + dir +
+                       " --size 320x200 --rays 2e4 --pick-ray 3 --camera 30,40,120");
+    ASSERT_EQ(r.code, 0) << r.out;
+    for (const char* name : {"viewport.png", "farfield.png", "plots.png"})
+        EXPECT_TRUE(std::filesystem::is_regular_file(dir + "/" + name)) << name;
+    for (const char* bad :
+         {"--size 320", "--size 10x10", "--size axb", "--view sideways", "--camera 1,2",
+          "--camera 0,95,10", "--camera 0,10,-5", "--camera a,b,c", "--pick-ray -1"}) {
+        const auto b = run("screenshot " + scene + " --out " + dir + " " + bad);
+        EXPECT_EQ(b.code, 2) << bad << ": " << b.out;
+    }
+    const auto pick =
+        run("screenshot " + scene + " --out " + dir + " --rays 2e4 --pick-ray 100000");
+    EXPECT_EQ(pick.code, 1) << pick.out;
+    EXPECT_NE(pick.out.find("--pick-ray"), std::string::npos) << pick.out;
+}

@@ -146,7 +146,7 @@ TEST_F(Export, QuadtreeNodesHoldTheMaximumOfTheirChildren) {
 TEST_F(Export, RayPathsFollowTheReferenceTracer) {
     const Scene s = model_b();
     const Surface surface = Surface::make(s.reflector, s.holder);
-    const auto rays = sample_rays(s, 300);
+    const auto rays = sample_effective_rays(s, 300);
     const auto d = read<vtkXMLPolyDataReader>(file("rays.vtp"));
     ASSERT_EQ(d->GetNumberOfCells(), vtkIdType(rays.size()));
     vtkDataArray* bounces = d->GetCellData()->GetArray("bounces");

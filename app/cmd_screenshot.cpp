@@ -1,0 +1,126 @@
+// fird screenshot SCENE --out DIR: the views as PNG files, with no window and no display.
+#include <cstdio>
+#include <filesystem>
+
+#include <fmt/format.h>
+
+#include "commands.hpp"
+#include "io/atomic_file.hpp"
+#include "io/scene_file.hpp"
+#include "parse.hpp"
+#include "traced_scene.hpp"
+#include "vk/context.hpp"
+
+namespace fird::app {
+
+namespace {
+
+struct Args {
+    std::string scene, out, size = "1280x800", view = "all", camera, parameters, rays;
+    std::int64_t pick = -1, quadtree_level = -1;
+    std::uint32_t paths = 300;
+    bool height_colours = false, log = false;
+};
+
+std::pair<std::uint32_t, std::uint32_t> parse_size(const std::string& text) {
+    const auto x = text.find('x');
+    if (x == std::string::npos) throw UsageError(fmt::format("--size {}: not WxH", text));
+    const auto w = parse_count("--size", text.substr(0, x), 8192);
+    const auto h = parse_count("--size", text.substr(x + 1), 8192);
+    if (w < 64 || h < 64) throw UsageError(fmt::format("--size {}: at least 64x64", text));
+    return {std::uint32_t(w), std::uint32_t(h)};
+}
+
+render::OrbitCamera parse_camera(const std::string& text, render::OrbitCamera c) {
+    const auto parts = split_list(text);
+    if (parts.size() != 3) throw UsageError(fmt::format("--camera {}: not AZ,EL,DIST", text));
+    const auto number = [&](const std::string& s) {
+        try {
+            std::size_t used = 0;
+            const double v = std::stod(s, &used);
+            if (used == s.size() && std::isfinite(v)) return v;
+        } catch (const std::exception&) {
+        }
+        throw UsageError(fmt::format("--camera {}: '{}' is not a number", text, s));
+    };
+    c.azimuth_deg = number(parts[0]);
+    c.elevation_deg = number(parts[1]);
+    c.distance_mm = number(parts[2]);
+    if (!(c.elevation_deg >= -90 && c.elevation_deg <= 90) || !(c.distance_mm > 0))
+        throw UsageError(
+            fmt::format("--camera {}: elevation within -90..90 deg and a distance > 0 mm", text));
+    return c;
+}
+
+int run_screenshot(const GlobalOptions& global, const Args& a) {
+    const auto [w, h] = parse_size(a.size);
+    static const std::vector<std::string> views{"viewport", "farfield", "plots", "all"};
+    if (std::find(views.begin(), views.end(), a.view) == views.end())
+        throw UsageError(fmt::format("--view {}: one of viewport, farfield, plots, all", a.view));
+    render::TraceForViews t{.paths = a.paths};
+    if (!a.parameters.empty()) t.parameters = parse_assignments("--parameters", a.parameters);
+    if (!a.rays.empty()) t.rays = parse_count("--rays", a.rays, 4e9);
+    if (a.pick >= 0) t.pick = std::size_t(a.pick);
+    const Scene scene = load_scene(a.scene);
+    render::ViewportOptions vo{.camera = render::frame_holder(scene.holder),
+                               .quadtree = a.quadtree_level >= 0,
+                               .quadtree_level =
+                                   std::uint32_t(std::max<std::int64_t>(0, a.quadtree_level)),
+                               .height_colours = a.height_colours};
+    if (!a.camera.empty()) vo.camera = parse_camera(a.camera, vo.camera);
+    const auto ctx =
+        vk::Context::create({.validation = global.validation, .device_name = global.device_name});
+    const render::TracedScene traced = render::trace_for_views(ctx, scene, t);
+    create_output_directory(a.out);
+    const auto path = [&](const char* n) { return (std::filesystem::path(a.out) / n).string(); };
+    const bool all = a.view == "all";
+    if (all || a.view == "viewport") {
+        render::ViewportRenderer renderer(ctx);
+        render::write_rgba_png(path("viewport.png"),
+                               render::render_viewport(ctx, renderer, traced.viewport, vo, w, h), w,
+                               h);
+        std::printf("wrote %s\n", path("viewport.png").c_str());
+    }
+    if (all || a.view == "farfield") {
+        plot::Canvas cv{int(w), int(h)};
+        render::draw_farfield_view(cv, {0, 0, double(w), double(h)}, traced.farfield,
+                                   {.log_scale = a.log});
+        cv.write_png(path("farfield.png"));
+        std::printf("wrote %s\n", path("farfield.png").c_str());
+    }
+    if (all || a.view == "plots") {
+        plot::Canvas cv{int(w), int(h)};
+        render::draw_profile_plots(cv, {0, 0, double(w), double(h)}, traced.farfield);
+        cv.write_png(path("plots.png"));
+        std::printf("wrote %s\n", path("plots.png").c_str());
+    }
+    if (ctx.validation_errors() > 0)
+        throw std::runtime_error("Vulkan validation errors were reported (see above)");
+    return 0;
+}
+
+} // namespace
+
+void register_screenshot(CLI::App& app, const GlobalOptions& global, std::function<int()>& run) {
+    auto* cmd = app.add_subcommand("screenshot", "Trace the scene and write its views as PNG "
+                                                 "(no window, no display)");
+    auto a = std::make_shared<Args>();
+    cmd->add_option("SCENE", a->scene, "Scene file (TOML)")->required();
+    cmd->add_option("--out", a->out, "Output directory")->required();
+    cmd->add_option("--size", a->size, "Image size WxH (default 1280x800)");
+    cmd->add_option("--view", a->view, "viewport, farfield, plots or all (default)");
+    cmd->add_option("--camera", a->camera, "Orbit camera AZ,EL,DIST (deg, deg, mm)");
+    cmd->add_option("--parameters", a->parameters, "Reflector values, e.g. fx=15,fy=10");
+    cmd->add_option("--rays", a->rays, "Rays to trace (default: the scene's)");
+    cmd->add_option("--paths", a->paths, "Sample ray paths drawn")->check(CLI::Range(0.0, 5000.0));
+    cmd->add_option("--pick-ray", a->pick, "Show this sample ray's RQRM walk")
+        ->check(CLI::NonNegativeNumber);
+    cmd->add_option("--quadtree-level", a->quadtree_level, "Draw the quadtree nodes of a level")
+        ->check(CLI::Range(0.0, 64.0));
+    cmd->add_flag("--height-colours", a->height_colours, "Colour the reflector by height");
+    cmd->add_flag("--log", a->log, "Far fields on a log scale");
+    cmd->callback(
+        [&global, &run, a] { run = [&global, a] { return run_screenshot(global, *a); }; });
+}
+
+} // namespace fird::app

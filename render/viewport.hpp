@@ -1,0 +1,71 @@
+// The 3D viewport: the reflector drawn straight from the device height field, the holder,
+// the light source, sample ray paths coloured by bounce, the quadtree nodes of a level as
+// boxes, and one picked ray's RQRM walk (Algorithms 1-4 made visible). Everything large
+// is bounded: the surface is decimated to at most 512 x 512 vertices, the quadtree level
+// drawn to at most kMaxViewportBoxes nodes.
+#pragma once
+
+#include <cstdint>
+#include <limits>
+#include <optional>
+#include <vector>
+
+#include "camera.hpp"
+#include "fastpath/fast_tracer.hpp"
+#include "fastpath/scene_params.hpp"
+#include "flat_pipeline.hpp"
+#include "offscreen_target.hpp"
+#include "vk/buffer.hpp"
+#include "vk/graphics_pipeline.hpp"
+
+namespace fird::render {
+
+inline constexpr std::uint32_t kMaxViewportBoxes = 16384;
+inline constexpr std::uint32_t kMaxSurfaceVertices = 512;
+
+// What the viewport shows, as compute produced it.
+struct ViewportContent {
+    Holder holder;
+    SourceDesc source;
+    const vk::Buffer* heights = nullptr;   // FastTracer::heights_buffer()
+    const vk::Buffer* gradients = nullptr; // FastTracer::gradients_buffer()
+    std::uint32_t width = 0, height = 0;   // of the height field
+    double z_lo_mm = 0, z_hi_mm = 0;       // for the height colours
+    std::vector<RayPath> paths;
+    std::vector<float> quadtree;       // FastTracer::read_quadtree() (for the level boxes)
+    std::optional<std::size_t> picked; // a path whose walk is shown
+    std::vector<WalkStep> walk;        // its walk
+};
+
+struct ViewportOptions {
+    OrbitCamera camera;
+    bool rays = true;
+    bool quadtree = false;
+    std::uint32_t quadtree_level = 4; // clamped to a level of at most kMaxViewportBoxes nodes
+    bool height_colours = false;
+    std::size_t walk_steps = std::numeric_limits<std::size_t>::max(); // steps shown
+    std::array<float, 4> background{0.97f, 0.97f, 0.98f, 1.0f};
+};
+
+// The level drawn for a requested one: the finest at or above it with few enough nodes.
+std::uint32_t viewport_quadtree_level(const QuadtreeLayout& layout, std::uint32_t requested);
+
+class ViewportRenderer {
+  public:
+    explicit ViewportRenderer(const vk::Context& ctx);
+    // Records the whole view into `target` (begin and end included).
+    void record(VkCommandBuffer cb, const OffscreenTarget& target, const ViewportContent& content,
+                const ViewportOptions& options);
+
+  private:
+    const vk::Context* ctx_;
+    vk::GraphicsPipeline surface_;
+    FlatPipeline lines_, triangles_;
+    vk::Buffer indices_, line_vertices_, triangle_vertices_;
+    std::uint32_t index_count_ = 0, index_w_ = 0, index_h_ = 0;
+};
+
+// Colour of the segment after `bounce` reflections.
+std::array<float, 4> bounce_colour(std::uint32_t bounce);
+
+} // namespace fird::render

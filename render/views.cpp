@@ -1,0 +1,103 @@
+#include "views.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "photometry/farfield_photometry.hpp"
+#include "photometry/polar_plot.hpp"
+#include "plot/farfield_picture.hpp"
+
+namespace fird::render {
+
+void draw_farfield_view(plot::Canvas& cv, const plot::Rect& a, const FarFieldContent& c,
+                        const FarFieldViewOptions& o) {
+    const auto band = o.altitude_deg ? *o.altitude_deg : plot::lit_altitude_band(c.obtained);
+    const double maps_w = a.w * 0.62;
+    std::vector<std::pair<std::string, FarField>> maps;
+    if (c.desired) maps.emplace_back("desired", *c.desired);
+    maps.emplace_back("obtained", c.obtained);
+    if (c.desired) {
+        FarField diff = c.obtained;
+        for (std::size_t i = 0; i < diff.lm.size(); ++i)
+            diff.lm[i] -= c.desired->lm[i];
+        maps.emplace_back(c.l2_lm ? fmt::format("obtained − desired, l2 = {:.4g} lm", *c.l2_lm)
+                                  : "obtained − desired",
+                          std::move(diff));
+    }
+    const double h = a.h / double(maps.size());
+    for (std::size_t k = 0; k < maps.size(); ++k)
+        plot::draw_farfield(
+            cv, {a.x, a.y + h * double(k), maps_w, h}, maps[k].second,
+            {.title = c.title.empty() ? maps[k].first : c.title + ": " + maps[k].first,
+             .signed_values = k == 2,
+             .log_scale = o.log_scale,
+             .altitude_deg = band});
+    // Candela curves of the obtained light (and the desired, when there is one), as a
+    // photometric viewer draws them.
+    if (c.obtained.total_lm() > 0.0 && c.obtained.width >= 72 && c.obtained.height >= 36) {
+        const double cstep = std::max(5.0, 360.0 / c.obtained.width);
+        const double gstep = std::max(1.0, 180.0 / c.obtained.height);
+        draw_polar_plot(cv, {a.x + maps_w, a.y, a.w - maps_w, std::min(a.h, (a.w - maps_w) * 1.06)},
+                        table_from_farfield(c.obtained, cstep, gstep));
+    }
+}
+
+void draw_profile_plots(plot::Canvas& cv, const plot::Rect& a, const FarFieldContent& c) {
+    const auto profile = [](const FarField& f, bool by_altitude) {
+        std::vector<double> x, y;
+        const std::uint32_t n = by_altitude ? f.height : f.width;
+        for (std::uint32_t k = 0; k < n; ++k) {
+            double s = 0.0;
+            for (std::uint32_t m = 0; m < (by_altitude ? f.width : f.height); ++m)
+                s += by_altitude ? f.lm[std::size_t(k) * f.width + m]
+                                 : f.lm[std::size_t(m) * f.width + k];
+            x.push_back(by_altitude ? 90.0 - (k + 0.5) * 180.0 / n
+                                    : -180.0 + (k + 0.5) * 360.0 / n);
+            y.push_back(s);
+        }
+        return std::pair{x, y};
+    };
+    for (int panel = 0; panel < 2; ++panel) {
+        const bool alt = panel == 0;
+        plot::Chart ch{.title = alt ? "Light against altitude" : "Light against azimuth",
+                       .x = {alt ? "altitude θ (deg)" : "azimuth φ (deg)", plot::Scale::Linear},
+                       .y = {alt ? "lm per row" : "lm per column", plot::Scale::Linear}};
+        if (alt) {
+            const auto band = plot::lit_altitude_band(c.obtained);
+            ch.x.min = band.second;
+            ch.x.max = band.first;
+        }
+        auto [x, y] = profile(c.obtained, alt);
+        ch.series.push_back({.label = "obtained", .x = x, .y = y, .colour = plot::palette(0)});
+        if (c.desired) {
+            auto [dx, dy] = profile(*c.desired, alt);
+            ch.series.push_back(
+                {.label = "desired", .x = dx, .y = dy, .colour = plot::palette(1), .dashed = true});
+        }
+        plot::draw_chart(cv, {a.x, a.y + a.h / 2 * panel, a.w, a.h / 2}, ch);
+    }
+}
+
+std::vector<std::uint8_t> render_viewport(const vk::Context& ctx, ViewportRenderer& renderer,
+                                          const ViewportContent& content,
+                                          const ViewportOptions& options, std::uint32_t width,
+                                          std::uint32_t height) {
+    const OffscreenTarget target(ctx, width, height, "fird.viewport.target");
+    ctx.submit_and_wait([&](VkCommandBuffer cb) { renderer.record(cb, target, content, options); });
+    return target.read_rgba(ctx);
+}
+
+void write_rgba_png(const std::string& path, const std::vector<std::uint8_t>& rgba,
+                    std::uint32_t width, std::uint32_t height) {
+    plot::Canvas cv{int(width), int(height)};
+    std::vector<std::uint8_t> rgb(std::size_t(width) * height * 3);
+    for (std::size_t i = 0; i < std::size_t(width) * height; ++i)
+        for (int k = 0; k < 3; ++k)
+            rgb[i * 3 + k] = rgba[i * 4 + k];
+    cv.image(rgb, int(width), int(height), 0, 0, double(width), double(height));
+    cv.write_png(path);
+}
+
+} // namespace fird::render

@@ -1,0 +1,48 @@
+// The views a workbench window and a screenshot show, drawn from what compute produced:
+// the 3D viewport (Vulkan, on the shared device), the far fields (desired, obtained and
+// difference in false colour, zoomed to the lit band, with the polar curves of the
+// principal planes) and the profile plots (cairo, compute/plot).
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "farfield/farfield.hpp"
+#include "plot/chart.hpp"
+#include "viewport.hpp"
+
+namespace fird::render {
+
+struct FarFieldViewOptions {
+    bool log_scale = false;
+    // Altitudes shown (high, low, deg); empty: the lit band of the obtained far field.
+    std::optional<std::pair<double, double>> altitude_deg;
+};
+
+struct FarFieldContent {
+    std::string title;
+    FarField obtained;
+    std::optional<FarField> desired;
+    std::optional<double> l2_lm;
+};
+
+// Desired, obtained and difference maps stacked, then the polar curves.
+void draw_farfield_view(plot::Canvas& canvas, const plot::Rect& area, const FarFieldContent& c,
+                        const FarFieldViewOptions& options);
+// Light against altitude and against azimuth, obtained and desired.
+void draw_profile_plots(plot::Canvas& canvas, const plot::Rect& area, const FarFieldContent& c);
+
+// The viewport rendered offscreen and read back (RGBA rows, top first).
+std::vector<std::uint8_t> render_viewport(const vk::Context& ctx, ViewportRenderer& renderer,
+                                          const ViewportContent& content,
+                                          const ViewportOptions& options, std::uint32_t width,
+                                          std::uint32_t height);
+
+// RGBA pixels as a PNG (through cairo), written atomically.
+void write_rgba_png(const std::string& path, const std::vector<std::uint8_t>& rgba,
+                    std::uint32_t width, std::uint32_t height);
+
+} // namespace fird::render

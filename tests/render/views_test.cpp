@@ -1,0 +1,165 @@
+// The views against golden images (lavapipe; stated tolerances, a diff image written on
+// failure), and geometry that does not depend on pixels: the picked ray's recorded walk
+// and its path against the CPU reference.
+//
+// Regenerate the goldens (after a deliberate change to a view) with
+//     scripts/update_goldens.sh
+// which runs these tests with FIRD_UPDATE_GOLDENS=1: they then write the goldens.
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+
+#include <glm/geometric.hpp>
+
+#include "io/scene_file.hpp"
+#include "plot/canvas.hpp"
+#include "reference/reference_tracer.hpp"
+#include "reference/surface_hit.hpp"
+#include "traced_scene.hpp"
+#include "vulkan_fixture.hpp"
+
+namespace fird::test {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr int kW = 320, kH = 200;
+
+Scene paraboloid() {
+    return load_scene(std::string(FIRD_SOURCE_DIR) + "/scenes/test/focused_paraboloid.toml");
+}
+
+// A pixel differs when a channel is more than 16 counts off; at most 0.5 % may, and the
+// mean absolute difference over all channels must stay under 1.5 counts.
+void expect_like_golden(const std::vector<std::uint8_t>& rgba, int w, int h, const char* name) {
+    const fs::path golden = fs::path(FIRD_SOURCE_DIR) / "tests/render/golden" / name;
+    if (const char* u = std::getenv("FIRD_UPDATE_GOLDENS"); u && std::string(u) == "1") {
+        plot::Canvas cv{w, h};
+        std::vector<std::uint8_t> rgb(std::size_t(w) * h * 3);
+        for (std::size_t i = 0; i < std::size_t(w) * h; ++i)
+            for (int k = 0; k < 3; ++k)
+                rgb[i * 3 + k] = rgba[i * 4 + k];
+        cv.image(rgb, w, h, 0, 0, w, h);
+        cv.write_png(golden.string());
+        return;
+    }
+    int gw = 0, gh = 0;
+    const auto g = plot::read_png_rgba(golden.string(), gw, gh);
+    ASSERT_EQ(gw, w) << name;
+    ASSERT_EQ(gh, h) << name;
+    std::size_t differing = 0;
+    double sum = 0.0;
+    std::vector<std::uint8_t> diff(std::size_t(w) * h * 3, 255);
+    for (std::size_t i = 0; i < std::size_t(w) * h; ++i) {
+        int worst = 0;
+        for (int k = 0; k < 3; ++k) {
+            const int d = std::abs(int(rgba[i * 4 + k]) - int(g[i * 4 + k]));
+            worst = std::max(worst, d);
+            sum += d;
+        }
+        if (worst > 16) {
+            ++differing;
+            diff[i * 3] = 220, diff[i * 3 + 1] = diff[i * 3 + 2] = 0;
+        }
+    }
+    const double mean = sum / (3.0 * w * h);
+    const bool ok = differing <= std::size_t(0.005 * w * h) && mean < 1.5;
+    EXPECT_TRUE(ok) << name << ": " << differing << " pixels differ, mean difference " << mean;
+    if (!ok) {
+        plot::Canvas cv{w, h};
+        cv.image(diff, w, h, 0, 0, w, h);
+        const auto out = fs::path(::testing::TempDir()) / (std::string("diff_") + name);
+        cv.write_png(out.string());
+        std::fprintf(stderr, "diff image: %s\n", out.c_str());
+    }
+}
+
+class Views : public VulkanTest {
+  protected:
+    static void SetUpTestSuite() {
+        VulkanTest::SetUpTestSuite();
+        // Pick the first sample ray that meets the reflector (some leave directly).
+        Scene s = paraboloid();
+        s.trace.rays = 20000;
+        const auto rays = sample_effective_rays(s, 60);
+        const Surface surface = Surface::make(s.reflector, s.holder);
+        pick_ = 0;
+        while (pick_ < rays.size() && !first_surface_hit(surface, rays[pick_], 0.0).t)
+            ++pick_;
+        traced_ = std::make_unique<render::TracedScene>(
+            render::trace_for_views(ctx(), s, {.paths = 60, .pick = pick_}));
+    }
+    static void TearDownTestSuite() {
+        traced_.reset();
+        VulkanTest::TearDownTestSuite();
+    }
+    static std::unique_ptr<render::TracedScene> traced_;
+    static std::size_t pick_;
+};
+std::unique_ptr<render::TracedScene> Views::traced_;
+std::size_t Views::pick_ = 0;
+
+TEST_F(Views, ViewportMatchesItsGolden) {
+    render::ViewportRenderer renderer(ctx());
+    render::ViewportOptions o{.camera = render::frame_holder(traced_->scene.holder),
+                              .quadtree = true,
+                              .quadtree_level = 5,
+                              .height_colours = true};
+    const auto rgba = render::render_viewport(ctx(), renderer, traced_->viewport, o, kW, kH);
+    expect_like_golden(rgba, kW, kH, "viewport.png");
+}
+
+TEST_F(Views, FarFieldAndPlotsMatchTheirGoldens) {
+    plot::Canvas far{640, 400};
+    render::draw_farfield_view(far, {0, 0, 640, 400}, traced_->farfield, {});
+    expect_like_golden(far.rgba(), 640, 400, "farfield.png");
+    plot::Canvas plots{kW * 2, kH * 2};
+    render::draw_profile_plots(plots, {0, 0, kW * 2.0, kH * 2.0}, traced_->farfield);
+    expect_like_golden(plots.rgba(), kW * 2, kH * 2, "plots.png");
+}
+
+// The recorded walk of the picked ray: every node it tests contains the ray's position
+// (in texels), in order along the ray, and the last one of its first bounce is the
+// texel where the reference tracer's exact surface is hit.
+TEST_F(Views, PickedRaysWalkVisitsNodesAlongItsPathAndEndsAtTheReferenceHit) {
+    const Scene& s = traced_->scene;
+    const auto rays = sample_effective_rays(s, 60);
+    ASSERT_LT(pick_, rays.size());
+    const Ray& ray = rays[pick_];
+    const auto& walk = traced_->viewport.walk;
+    ASSERT_FALSE(walk.empty());
+    const double tx = (s.holder.max_mm.x - s.holder.min_mm.x) / s.trace.heightfield_w;
+    const double ty = (s.holder.max_mm.y - s.holder.min_mm.y) / s.trace.heightfield_h;
+    double t_prev = -1.0;
+    const WalkStep* last = nullptr;
+    for (const WalkStep& w : walk) {
+        if (w.bounce != 0) continue;
+        const glm::dvec3 p = ray.origin + double(w.t) * ray.direction;
+        const double u = (p.x - s.holder.min_mm.x) / tx, v = (p.y - s.holder.min_mm.y) / ty;
+        const double span = double(1u << w.level);
+        EXPECT_GE(u, w.x * span - 1e-2) << w.level;
+        EXPECT_LE(u, (w.x + 1) * span + 1e-2) << w.level;
+        EXPECT_GE(v, w.y * span - 1e-2) << w.level;
+        EXPECT_LE(v, (w.y + 1) * span + 1e-2) << w.level;
+        EXPECT_GE(w.t, t_prev - 1e-4);
+        t_prev = w.t;
+        last = &w;
+    }
+    ASSERT_TRUE(last);
+    EXPECT_EQ(last->level, 0u);
+    const SurfaceHit hit = first_surface_hit(Surface::make(s.reflector, s.holder), ray, 0.0);
+    ASSERT_TRUE(hit.t);
+    const glm::dvec3 h = ray.origin + *hit.t * ray.direction;
+    EXPECT_NEAR(double(last->x), std::floor((h.x - s.holder.min_mm.x) / tx), 1.0);
+    EXPECT_NEAR(double(last->y), std::floor((h.y - s.holder.min_mm.y) / ty), 1.0);
+    // The recorded path's vertices against the reference, within the hit tolerance.
+    std::vector<glm::dvec3> ref;
+    (void)trace_path(Surface::make(s.reflector, s.holder), s.holder, ray, s.trace.max_bounces,
+                     s.trace.bounce_policy, &ref);
+    const RayPath& path = traced_->viewport.paths[pick_];
+    ASSERT_GE(path.vertices.size(), 2u);
+    EXPECT_LT(glm::length(path.vertices[1] - ref[1]), 0.05 * tx);
+}
+
+} // namespace
+} // namespace fird::test
