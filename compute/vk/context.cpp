@@ -1,6 +1,9 @@
 #include "context.hpp"
 
 #include <algorithm>
+#include <map>
+#include <mutex>
+#include <thread>
 #include <cctype>
 #include <cstdio>
 #include <cstring>
@@ -240,11 +243,17 @@ struct Context::State {
     bool debug_utils = false;
     std::atomic<std::uint64_t> validation_errors{0};
     VkPhysicalDeviceMemoryProperties memory{};
-    Owned<VkCommandPool> command_pool;
+    // A command pool per thread that submits (pools are not thread-safe), and one lock
+    // for the queue: the compute worker and the window's frames submit side by side.
+    std::mutex pools_mutex;
+    std::map<std::thread::id, Owned<VkCommandPool>> command_pools;
+    std::mutex queue_mutex;
     PFN_vkSetDebugUtilsObjectNameEXT set_object_name = nullptr;
 
+    VkCommandPool pool_for_this_thread(const Context& ctx);
+
     ~State() {
-        command_pool.reset();
+        command_pools.clear();
         if (device) vkDestroyDevice(device, nullptr);
         if (messenger) {
             auto destroy_messenger = reinterpret_cast<PFN_vkDestroyDebugUtilsMessengerEXT>(
@@ -361,16 +370,7 @@ Context Context::create(const ContextOptions& options) {
     FIRD_VK_CHECK(vkCreateDevice(s->physical, &device_info, nullptr, &s->device));
     vkGetDeviceQueue(s->device, s->queue_family, 0, &s->queue);
 
-    const VkCommandPoolCreateInfo pool_info{.sType = VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO,
-                                            .flags =
-                                                VK_COMMAND_POOL_CREATE_TRANSIENT_BIT |
-                                                VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT,
-                                            .queueFamilyIndex = s->queue_family};
-    VkCommandPool pool = VK_NULL_HANDLE;
-    FIRD_VK_CHECK(vkCreateCommandPool(s->device, &pool_info, nullptr, &pool));
-    s->command_pool = Owned<VkCommandPool>(s->device, pool);
     Context ctx(std::move(s));
-    ctx.name(ctx.state_->command_pool.get(), VK_OBJECT_TYPE_COMMAND_POOL, "fird.command_pool");
     ctx.name(ctx.state_->queue, VK_OBJECT_TYPE_QUEUE, "fird.queue");
     return ctx;
 }
@@ -417,9 +417,31 @@ void Context::set_name(VkObjectType type, std::uint64_t handle, std::string_view
     FIRD_VK_CHECK(state_->set_object_name(state_->device, &info));
 }
 
+VkCommandPool Context::State::pool_for_this_thread(const Context& ctx) {
+    const std::lock_guard lock(pools_mutex);
+    auto& pool = command_pools[std::this_thread::get_id()];
+    if (!pool) {
+        const VkCommandPoolCreateInfo info{.sType = VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO,
+                                           .flags = VK_COMMAND_POOL_CREATE_TRANSIENT_BIT |
+                                                    VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT,
+                                           .queueFamilyIndex = queue_family};
+        VkCommandPool p = VK_NULL_HANDLE;
+        FIRD_VK_CHECK(vkCreateCommandPool(device, &info, nullptr, &p));
+        pool = Owned<VkCommandPool>(device, p);
+        ctx.name(p, VK_OBJECT_TYPE_COMMAND_POOL,
+                 fmt::format("fird.command_pool.{}", command_pools.size()));
+    }
+    return pool.get();
+}
+
+std::unique_lock<std::mutex> Context::lock_queue() const {
+    return std::unique_lock(state_->queue_mutex);
+}
+
 void Context::submit_and_wait(const std::function<void(VkCommandBuffer)>& record) const {
+    const VkCommandPool command_pool = state_->pool_for_this_thread(*this);
     const VkCommandBufferAllocateInfo alloc{.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO,
-                                            .commandPool = state_->command_pool.get(),
+                                            .commandPool = command_pool,
                                             .level = VK_COMMAND_BUFFER_LEVEL_PRIMARY,
                                             .commandBufferCount = 1};
     VkCommandBuffer cb = VK_NULL_HANDLE;
@@ -429,7 +451,7 @@ void Context::submit_and_wait(const std::function<void(VkCommandBuffer)>& record
         VkCommandPool p;
         VkCommandBuffer c;
         ~Free() { vkFreeCommandBuffers(d, p, 1, &c); }
-    } free_cb{state_->device, state_->command_pool.get(), cb};
+    } free_cb{state_->device, command_pool, cb};
 
     const VkCommandBufferBeginInfo begin{.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO,
                                          .flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT};
@@ -446,7 +468,10 @@ void Context::submit_and_wait(const std::function<void(VkCommandBuffer)>& record
     const VkSubmitInfo2 submit{.sType = VK_STRUCTURE_TYPE_SUBMIT_INFO_2,
                                .commandBufferInfoCount = 1,
                                .pCommandBufferInfos = &cb_info};
-    FIRD_VK_CHECK(vkQueueSubmit2(state_->queue, 1, &submit, fence.get()));
+    {
+        const auto queue = lock_queue();
+        FIRD_VK_CHECK(vkQueueSubmit2(state_->queue, 1, &submit, fence.get()));
+    }
     // Bounded wait: a submission that runs this long has hung the device.
     constexpr std::uint64_t kSubmitTimeoutNs = 600ull * 1000 * 1000 * 1000;
     const VkResult waited =

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <mutex>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -82,9 +83,14 @@ class Context {
         set_name(type, reinterpret_cast<std::uint64_t>(handle), text);
     }
 
-    // Records commands into a one-time command buffer, submits it on the shared queue
-    // and waits on a fence. Throws VulkanError on device loss.
+    // Records commands into a one-time command buffer (from this thread's own pool),
+    // submits it on the shared queue and waits on a fence. Safe from several threads.
+    // Throws VulkanError on device loss.
     void submit_and_wait(const std::function<void(VkCommandBuffer)>& record) const;
+
+    // Held around every submission and present on the shared queue (Vulkan requires
+    // external synchronization of a queue): take it for your own vkQueueSubmit.
+    std::unique_lock<std::mutex> lock_queue() const;
 
     std::uint32_t find_memory_type(std::uint32_t type_bits, VkMemoryPropertyFlags required,
                                    VkMemoryPropertyFlags preferred) const;
