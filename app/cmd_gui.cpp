@@ -1,4 +1,5 @@
-// fird gui: the interactive workbench (built with FIRD_BUILD_UI).
+// fird gui [SCENE] [--script FILE] [--stats] [--frames N]: the interactive workbench
+// (built with FIRD_BUILD_UI).
 #include "commands.hpp"
 
 #ifdef FIRD_HAVE_UI
@@ -9,18 +10,29 @@ namespace fird::app {
 
 void register_gui(CLI::App& app, const GlobalOptions& global, std::function<int()>& run) {
     auto* cmd = app.add_subcommand("gui", "Open the interactive workbench window");
-    auto frames = std::make_shared<std::uint32_t>(0);
-    cmd->add_option("--frames", *frames, "Close after this many frames (0: run until closed)")
+    struct Args {
+        std::string scene, script;
+        std::uint32_t frames = 0;
+        bool stats = false;
+    };
+    auto a = std::make_shared<Args>();
+    cmd->add_option("SCENE", a->scene, "Scene file to open");
+    cmd->add_option("--script", a->script, "Run a scripted session (one action a line)");
+    cmd->add_flag("--stats", a->stats, "Print frame-time statistics as JSON at exit");
+    cmd->add_option("--frames", a->frames, "Close after this many frames (0: run until closed)")
         ->check(CLI::NonNegativeNumber);
-    cmd->callback([&global, &run, frames] {
-        run = [&global, frames]() -> int {
+    cmd->callback([&global, &run, a] {
+        run = [&global, a]() -> int {
 #ifdef FIRD_HAVE_UI
             return ui::run_workbench({.device_name = global.device_name,
                                       .validation = global.validation,
-                                      .max_frames = *frames});
+                                      .scene = a->scene,
+                                      .script = a->script,
+                                      .max_frames = a->frames,
+                                      .stats = a->stats});
 #else
             (void)global;
-            (void)frames;
+            (void)a;
             throw std::runtime_error(
                 "this fird was built without the ui floor (FIRD_BUILD_UI=OFF)");
 #endif

@@ -11,6 +11,10 @@
 #include "traced_scene.hpp"
 #include "vk/context.hpp"
 
+#ifdef FIRD_HAVE_UI
+#include "workbench.hpp"
+#endif
+
 namespace fird::app {
 
 namespace {
@@ -54,9 +58,27 @@ render::OrbitCamera parse_camera(const std::string& text, render::OrbitCamera c)
 
 int run_screenshot(const GlobalOptions& global, const Args& a) {
     const auto [w, h] = parse_size(a.size);
-    static const std::vector<std::string> views{"viewport", "farfield", "plots", "all"};
+    static const std::vector<std::string> views{"viewport", "farfield", "plots", "all",
+                                                "workbench"};
     if (std::find(views.begin(), views.end(), a.view) == views.end())
-        throw UsageError(fmt::format("--view {}: one of viewport, farfield, plots, all", a.view));
+        throw UsageError(
+            fmt::format("--view {}: one of viewport, farfield, plots, all, workbench", a.view));
+    if (a.view == "workbench") {
+#ifdef FIRD_HAVE_UI
+        std::uint64_t errors = 0;
+        const auto rgba = ui::render_workbench_offscreen(global.device_name, global.validation,
+                                                         a.scene, w, h, &errors);
+        create_output_directory(a.out);
+        const std::string path = (std::filesystem::path(a.out) / "workbench.png").string();
+        render::write_rgba_png(path, rgba, w, h);
+        if (errors > 0)
+            throw std::runtime_error("Vulkan validation errors were reported (see above)");
+        std::printf("wrote %s\n", path.c_str());
+        return 0;
+#else
+        throw std::runtime_error("this fird was built without the ui floor (FIRD_BUILD_UI=OFF)");
+#endif
+    }
     render::TraceForViews t{.paths = a.paths};
     if (!a.parameters.empty()) t.parameters = parse_assignments("--parameters", a.parameters);
     if (!a.rays.empty()) t.rays = parse_count("--rays", a.rays, 4e9);
@@ -108,7 +130,7 @@ void register_screenshot(CLI::App& app, const GlobalOptions& global, std::functi
     cmd->add_option("SCENE", a->scene, "Scene file (TOML)")->required();
     cmd->add_option("--out", a->out, "Output directory")->required();
     cmd->add_option("--size", a->size, "Image size WxH (default 1280x800)");
-    cmd->add_option("--view", a->view, "viewport, farfield, plots or all (default)");
+    cmd->add_option("--view", a->view, "viewport, farfield, plots, all (default) or workbench");
     cmd->add_option("--camera", a->camera, "Orbit camera AZ,EL,DIST (deg, deg, mm)");
     cmd->add_option("--parameters", a->parameters, "Reflector values, e.g. fx=15,fy=10");
     cmd->add_option("--rays", a->rays, "Rays to trace (default: the scene's)");

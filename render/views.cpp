@@ -14,7 +14,9 @@ namespace fird::render {
 void draw_farfield_view(plot::Canvas& cv, const plot::Rect& a, const FarFieldContent& c,
                         const FarFieldViewOptions& o) {
     const auto band = o.altitude_deg ? *o.altitude_deg : plot::lit_altitude_band(c.obtained);
-    const double maps_w = a.w * 0.62;
+    // Side by side when there is room; a narrow area shows the maps alone.
+    const bool polar = a.w >= 900.0;
+    const double maps_w = polar ? a.w * 0.62 : a.w;
     std::vector<std::pair<std::string, FarField>> maps;
     if (c.desired) maps.emplace_back("desired", *c.desired);
     maps.emplace_back("obtained", c.obtained);
@@ -36,7 +38,7 @@ void draw_farfield_view(plot::Canvas& cv, const plot::Rect& a, const FarFieldCon
              .altitude_deg = band});
     // Candela curves of the obtained light (and the desired, when there is one), as a
     // photometric viewer draws them.
-    if (c.obtained.total_lm() > 0.0 && c.obtained.width >= 72 && c.obtained.height >= 36) {
+    if (polar && c.obtained.total_lm() > 0.0 && c.obtained.width >= 72 && c.obtained.height >= 36) {
         const double cstep = std::max(5.0, 360.0 / c.obtained.width);
         const double gstep = std::max(1.0, 180.0 / c.obtained.height);
         draw_polar_plot(cv, {a.x + maps_w, a.y, a.w - maps_w, std::min(a.h, (a.w - maps_w) * 1.06)},

@@ -1,8 +1,13 @@
+// The frame loop, in a window or offscreen. Layout: panels (panel_*.cpp) on plain state
+// (workbench_state), compute in the Worker, drawing by FIRD's ImGui renderer.
 #include "workbench.hpp"
 
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
 #include <stdexcept>
-#include <string>
-#include <vector>
+#include <thread>
 
 #define GLFW_INCLUDE_NONE
 #define GLFW_INCLUDE_VULKAN
@@ -10,8 +15,14 @@
 #include <imgui.h>
 #include <imgui_impl_glfw.h>
 #include <imgui_impl_vulkan.h>
+#include <nlohmann/json.hpp>
 
-#include "report/device_report.hpp"
+#include "imgui_renderer.hpp"
+#include "offscreen_target.hpp"
+#include "panels.hpp"
+#include "script.hpp"
+#include "settings.hpp"
+#include "views.hpp"
 #include "vk/check.hpp"
 #include "vk/context.hpp"
 
@@ -19,9 +30,7 @@ namespace fird::ui {
 
 namespace {
 
-void check_imgui_vk(VkResult r) {
-    if (r < 0) vk::throw_vk_error("ImGui_ImplVulkan", r);
-}
+const ImVec4 kClear{0.12f, 0.12f, 0.14f, 1.0f};
 
 struct Glfw {
     Glfw() {
@@ -33,8 +42,48 @@ struct Glfw {
     Glfw& operator=(const Glfw&) = delete;
 };
 
-void render_frame(const vk::Context& ctx, ImGui_ImplVulkanH_Window& wd, ImDrawData* draw_data,
-                  bool& rebuild) {
+struct ImGuiScope {
+    ImGuiScope() {
+        IMGUI_CHECKVERSION();
+        ImGui::CreateContext();
+        ImGui::StyleColorsDark();
+    }
+    ~ImGuiScope() { ImGui::DestroyContext(); }
+    ImGuiScope(const ImGuiScope&) = delete;
+    ImGuiScope& operator=(const ImGuiScope&) = delete;
+};
+
+// What one frame works with, beside the window.
+struct Session {
+    Session(const vk::Context& c) : ctx(c), worker(c), renderer(c) {}
+    const vk::Context& ctx;
+    Worker worker;
+    WorkbenchState state;
+    render::ViewportRenderer renderer;
+
+    Frame frame() {
+        for (std::string& line : worker.take_log())
+            add_log(state, std::move(line));
+        return Frame{ctx, worker, state, renderer, worker.snapshot()};
+    }
+};
+
+// The frame's draw data into an offscreen RGBA8 image, read back.
+std::vector<std::uint8_t> draw_offscreen(const vk::Context& ctx, ImGuiRenderer& renderer,
+                                         const ImDrawData* data, std::uint32_t w, std::uint32_t h) {
+    const render::OffscreenTarget target(ctx, w, h, "fird.workbench.offscreen");
+    ctx.submit_and_wait([&](VkCommandBuffer cb) {
+        vk::transition(cb, target.colour(), VK_IMAGE_LAYOUT_UNDEFINED,
+                       VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL);
+        renderer.record(cb, data, target.colour().view(), render::kColourFormat, {w, h}, 0, kClear);
+        vk::transition(cb, target.colour(), VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
+                       VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
+    });
+    return target.read_rgba(ctx);
+}
+
+void present(const vk::Context& ctx, ImGui_ImplVulkanH_Window& wd, ImGuiRenderer& renderer,
+             const ImDrawData* data, bool& rebuild) {
     const VkDevice dev = ctx.device();
     VkSemaphore acquired = wd.FrameSemaphores[wd.SemaphoreIndex].ImageAcquiredSemaphore;
     VkSemaphore done = wd.FrameSemaphores[wd.SemaphoreIndex].RenderCompleteSemaphore;
@@ -52,16 +101,12 @@ void render_frame(const vk::Context& ctx, ImGui_ImplVulkanH_Window& wd, ImDrawDa
     const VkCommandBufferBeginInfo begin{.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO,
                                          .flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT};
     FIRD_VK_CHECK(vkBeginCommandBuffer(fd.CommandBuffer, &begin));
-    const VkRenderPassBeginInfo rp{
-        .sType = VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO,
-        .renderPass = wd.RenderPass,
-        .framebuffer = fd.Framebuffer,
-        .renderArea = {{0, 0}, {std::uint32_t(wd.Width), std::uint32_t(wd.Height)}},
-        .clearValueCount = 1,
-        .pClearValues = &wd.ClearValue};
-    vkCmdBeginRenderPass(fd.CommandBuffer, &rp, VK_SUBPASS_CONTENTS_INLINE);
-    ImGui_ImplVulkan_RenderDrawData(draw_data, fd.CommandBuffer);
-    vkCmdEndRenderPass(fd.CommandBuffer);
+    vk::transition(fd.CommandBuffer, fd.Backbuffer, VK_IMAGE_ASPECT_COLOR_BIT,
+                   VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL);
+    renderer.record(fd.CommandBuffer, data, fd.BackbufferView, wd.SurfaceFormat.format,
+                    {std::uint32_t(wd.Width), std::uint32_t(wd.Height)}, wd.FrameIndex, kClear);
+    vk::transition(fd.CommandBuffer, fd.Backbuffer, VK_IMAGE_ASPECT_COLOR_BIT,
+                   VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_IMAGE_LAYOUT_PRESENT_SRC_KHR);
     FIRD_VK_CHECK(vkEndCommandBuffer(fd.CommandBuffer));
     const VkPipelineStageFlags wait_stage = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT;
     const VkSubmitInfo submit{.sType = VK_STRUCTURE_TYPE_SUBMIT_INFO,
@@ -72,14 +117,17 @@ void render_frame(const vk::Context& ctx, ImGui_ImplVulkanH_Window& wd, ImDrawDa
                               .pCommandBuffers = &fd.CommandBuffer,
                               .signalSemaphoreCount = 1,
                               .pSignalSemaphores = &done};
-    FIRD_VK_CHECK(vkQueueSubmit(ctx.queue(), 1, &submit, fd.Fence));
-    const VkPresentInfoKHR present{.sType = VK_STRUCTURE_TYPE_PRESENT_INFO_KHR,
-                                   .waitSemaphoreCount = 1,
-                                   .pWaitSemaphores = &done,
-                                   .swapchainCount = 1,
-                                   .pSwapchains = &wd.Swapchain,
-                                   .pImageIndices = &wd.FrameIndex};
-    r = vkQueuePresentKHR(ctx.queue(), &present);
+    const VkPresentInfoKHR info{.sType = VK_STRUCTURE_TYPE_PRESENT_INFO_KHR,
+                                .waitSemaphoreCount = 1,
+                                .pWaitSemaphores = &done,
+                                .swapchainCount = 1,
+                                .pSwapchains = &wd.Swapchain,
+                                .pImageIndices = &wd.FrameIndex};
+    {
+        const auto queue = ctx.lock_queue(); // the worker submits on this queue too
+        FIRD_VK_CHECK(vkQueueSubmit(ctx.queue(), 1, &submit, fd.Fence));
+        r = vkQueuePresentKHR(ctx.queue(), &info);
+    }
     if (r == VK_ERROR_OUT_OF_DATE_KHR || r == VK_SUBOPTIMAL_KHR) {
         rebuild = true;
         return;
@@ -88,20 +136,37 @@ void render_frame(const vk::Context& ctx, ImGui_ImplVulkanH_Window& wd, ImDrawDa
     wd.SemaphoreIndex = (wd.SemaphoreIndex + 1) % wd.ImageCount;
 }
 
-void device_panel(const nlohmann::json& report) {
-    ImGui::Begin("Device");
-    ImGui::TextUnformatted(device_report_text(report).c_str());
-    ImGui::End();
+double percentile(std::vector<double> v, double q) {
+    if (v.empty()) return 0.0;
+    std::sort(v.begin(), v.end());
+    return v[std::min(v.size() - 1, std::size_t(q * double(v.size() - 1) + 0.5))];
+}
+
+void write_png(const std::string& path, const std::vector<std::uint8_t>& rgba, std::uint32_t w,
+               std::uint32_t h) {
+    render::write_rgba_png(path, rgba, w, h);
 }
 
 } // namespace
 
 int run_workbench(const WorkbenchOptions& options) {
+    // A script is read (and refused) before anything opens.
+    std::optional<ScriptRunner> script;
+    if (!options.script.empty()) script.emplace(parse_script(options.script));
     const Glfw glfw;
     if (!glfwVulkanSupported()) throw std::runtime_error("GLFW finds no Vulkan loader");
+    Settings settings = load_settings();
     glfwWindowHint(GLFW_CLIENT_API, GLFW_NO_API);
-    GLFWwindow* window = glfwCreateWindow(1280, 800, "FIRD workbench", nullptr, nullptr);
+    GLFWwindow* window =
+        glfwCreateWindow(settings.window_w, settings.window_h, "FIRD workbench", nullptr, nullptr);
     if (!window) throw std::runtime_error("cannot create the workbench window");
+    std::vector<std::string> dropped;
+    glfwSetWindowUserPointer(window, &dropped);
+    glfwSetDropCallback(window, [](GLFWwindow* w, int count, const char** paths) {
+        auto* d = static_cast<std::vector<std::string>*>(glfwGetWindowUserPointer(w));
+        for (int i = 0; i < count; ++i)
+            d->emplace_back(paths[i]);
+    });
 
     std::uint32_t ext_count = 0;
     const char** exts = glfwGetRequiredInstanceExtensions(&ext_count);
@@ -111,7 +176,6 @@ int run_workbench(const WorkbenchOptions& options) {
     for (std::uint32_t i = 0; i < ext_count; ++i)
         ctx_options.instance_extensions.emplace_back(exts[i]);
     const auto ctx = vk::Context::create(ctx_options);
-    const auto report = device_report(ctx);
 
     VkSurfaceKHR surface = VK_NULL_HANDLE;
     FIRD_VK_CHECK(glfwCreateWindowSurface(ctx.instance(), window, nullptr, &surface));
@@ -119,7 +183,6 @@ int run_workbench(const WorkbenchOptions& options) {
     FIRD_VK_CHECK(vkGetPhysicalDeviceSurfaceSupportKHR(ctx.physical_device(), ctx.queue_family(),
                                                        surface, &can_present));
     if (!can_present) throw std::runtime_error("the chosen device cannot present to this window");
-
     ImGui_ImplVulkanH_Window wd;
     wd.Surface = surface;
     const VkFormat formats[] = {VK_FORMAT_B8G8R8A8_UNORM, VK_FORMAT_R8G8B8A8_UNORM};
@@ -127,74 +190,149 @@ int run_workbench(const WorkbenchOptions& options) {
         ctx.physical_device(), surface, formats, 2, VK_COLORSPACE_SRGB_NONLINEAR_KHR);
     const VkPresentModeKHR modes[] = {VK_PRESENT_MODE_FIFO_KHR};
     wd.PresentMode = ImGui_ImplVulkanH_SelectPresentMode(ctx.physical_device(), surface, modes, 1);
-    int width = 0;
-    int height = 0;
+    int width = 0, height = 0;
     glfwGetFramebufferSize(window, &width, &height);
     constexpr std::uint32_t kMinImages = 2;
     ImGui_ImplVulkanH_CreateOrResizeWindow(ctx.instance(), ctx.physical_device(), ctx.device(), &wd,
                                            ctx.queue_family(), nullptr, width, height, kMinImages);
 
-    const VkDescriptorPoolSize pool_size{VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 64};
-    const VkDescriptorPoolCreateInfo pool_info{
-        .sType = VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO,
-        .flags = VK_DESCRIPTOR_POOL_CREATE_FREE_DESCRIPTOR_SET_BIT,
-        .maxSets = 64,
-        .poolSizeCount = 1,
-        .pPoolSizes = &pool_size};
-    VkDescriptorPool pool = VK_NULL_HANDLE;
-    FIRD_VK_CHECK(vkCreateDescriptorPool(ctx.device(), &pool_info, nullptr, &pool));
-
-    IMGUI_CHECKVERSION();
-    ImGui::CreateContext();
-    ImGui::GetIO().IniFilename = nullptr;
-    ImGui_ImplGlfw_InitForVulkan(window, true);
-    ImGui_ImplVulkan_InitInfo init{};
-    init.Instance = ctx.instance();
-    init.PhysicalDevice = ctx.physical_device();
-    init.Device = ctx.device();
-    init.QueueFamily = ctx.queue_family();
-    init.Queue = ctx.queue();
-    init.DescriptorPool = pool;
-    init.MinImageCount = kMinImages;
-    init.ImageCount = wd.ImageCount;
-    init.CheckVkResultFn = check_imgui_vk;
-    ImGui_ImplVulkan_Init(&init, wd.RenderPass);
-    ctx.submit_and_wait([](VkCommandBuffer cb) { ImGui_ImplVulkan_CreateFontsTexture(cb); });
-    ImGui_ImplVulkan_DestroyFontUploadObjects();
-
-    bool rebuild = false;
-    for (std::uint32_t frame = 0; !glfwWindowShouldClose(window); ++frame) {
-        if (options.max_frames && frame >= options.max_frames) break;
-        glfwPollEvents();
-        if (rebuild) {
-            glfwGetFramebufferSize(window, &width, &height);
-            if (width > 0 && height > 0) {
-                ImGui_ImplVulkan_SetMinImageCount(kMinImages);
-                ImGui_ImplVulkanH_CreateOrResizeWindow(ctx.instance(), ctx.physical_device(),
-                                                       ctx.device(), &wd, ctx.queue_family(),
-                                                       nullptr, width, height, kMinImages);
-                wd.FrameIndex = 0;
-                rebuild = false;
-            }
-        }
-        ImGui_ImplVulkan_NewFrame();
-        ImGui_ImplGlfw_NewFrame();
-        ImGui::NewFrame();
-        device_panel(report);
-        ImGui::Render();
-        ImDrawData* draw_data = ImGui::GetDrawData();
-        if (draw_data->DisplaySize.x > 0 && draw_data->DisplaySize.y > 0)
-            render_frame(ctx, wd, draw_data, rebuild);
+    const ImGuiScope imgui;
+    const std::string dir = config_directory();
+    const std::string ini =
+        dir.empty() ? "" : (std::filesystem::path(dir) / "workbench.ini").string();
+    if (!dir.empty()) std::filesystem::create_directories(dir);
+    ImGui::GetIO().IniFilename = ini.empty() ? nullptr : ini.c_str();
+    float xscale = 1.0f, yscale = 1.0f;
+    glfwGetWindowContentScale(window, &xscale, &yscale);
+    if (xscale > 1.0f) {
+        ImGui::GetStyle().ScaleAllSizes(xscale); // HiDPI
+        ImGui::GetIO().FontGlobalScale = xscale;
     }
-
-    FIRD_VK_CHECK(vkDeviceWaitIdle(ctx.device()));
-    ImGui_ImplVulkan_Shutdown();
+    ImGui_ImplGlfw_InitForVulkan(window, true);
+    int exit_code = 0;
+    std::vector<double> frame_ms;
+    std::uint64_t rays = 0, evaluations = 0;
+    {
+        ImGuiRenderer renderer(ctx, wd.ImageCount);
+        Session session(ctx);
+        session.state.recent = settings.recent;
+        if (!options.scene.empty()) open_scene(session.state, options.scene);
+        bool rebuild = false;
+        for (std::uint32_t n = 0; !glfwWindowShouldClose(window) && !session.state.quit; ++n) {
+            if (options.max_frames && n >= options.max_frames) break;
+            const auto t0 = std::chrono::steady_clock::now();
+            glfwPollEvents();
+            for (const std::string& path : std::exchange(dropped, {})) {
+                const std::string ext = std::filesystem::path(path).extension().string();
+                if (ext == ".ies" || ext == ".IES" || ext == ".ldt" || ext == ".LDT")
+                    set_photometric_target(session.state, path);
+                else
+                    open_scene(session.state, path);
+            }
+            if (rebuild) {
+                glfwGetFramebufferSize(window, &width, &height);
+                if (width > 0 && height > 0) {
+                    ImGui_ImplVulkanH_CreateOrResizeWindow(ctx.instance(), ctx.physical_device(),
+                                                           ctx.device(), &wd, ctx.queue_family(),
+                                                           nullptr, width, height, kMinImages);
+                    wd.FrameIndex = 0;
+                    rebuild = false;
+                }
+            }
+            ImGui_ImplGlfw_NewFrame();
+            ImGui::NewFrame();
+            Frame f = session.frame();
+            build_frame(f);
+            bool more = true;
+            if (script) {
+                try {
+                    more = script->step(f, [&](const std::string& path) {
+                        ImGui::Render();
+                        const ImDrawData* d = ImGui::GetDrawData();
+                        const auto w = std::uint32_t(d->DisplaySize.x),
+                                   h = std::uint32_t(d->DisplaySize.y);
+                        write_png(path, draw_offscreen(ctx, renderer, d, w, h), w, h);
+                        ImGui::NewFrame(); // the frame goes on to the window below
+                        Frame again = session.frame();
+                        build_frame(again);
+                    });
+                } catch (const std::exception& e) {
+                    std::fprintf(stderr, "fird: error: %s\n", e.what());
+                    exit_code = 1;
+                    more = false;
+                }
+            }
+            ImGui::Render();
+            const ImDrawData* data = ImGui::GetDrawData();
+            if (data->DisplaySize.x > 0 && data->DisplaySize.y > 0)
+                present(ctx, wd, renderer, data, rebuild);
+            frame_ms.push_back(
+                std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
+                    .count());
+            if (script && !more) break;
+        }
+        session.worker.stop();
+        rays = session.worker.rays_traced();
+        evaluations = session.worker.evaluations();
+        settings.recent = session.state.recent;
+        FIRD_VK_CHECK(vkDeviceWaitIdle(ctx.device()));
+    }
+    glfwGetWindowSize(window, &settings.window_w, &settings.window_h);
+    save_settings(settings);
     ImGui_ImplGlfw_Shutdown();
-    ImGui::DestroyContext();
     ImGui_ImplVulkanH_DestroyWindow(ctx.instance(), ctx.device(), &wd, nullptr);
-    vkDestroyDescriptorPool(ctx.device(), pool, nullptr);
     glfwDestroyWindow(window);
-    return ctx.validation_errors() == 0 ? 0 : 1;
+    if (options.stats)
+        std::printf("%s\n", nlohmann::json{{"frame_ms_p50", percentile(frame_ms, 0.5)},
+                                           {"frame_ms_p99", percentile(frame_ms, 0.99)},
+                                           {"frames", frame_ms.size()},
+                                           {"rays_traced", rays},
+                                           {"evaluations", evaluations}}
+                                .dump(2)
+                                .c_str());
+    if (ctx.validation_errors() > 0) {
+        std::fprintf(stderr, "fird: error: Vulkan validation errors were reported (see above)\n");
+        return 1;
+    }
+    return exit_code;
+}
+
+std::vector<std::uint8_t> render_workbench_offscreen(const std::string& device_name,
+                                                     bool validation, const std::string& scene,
+                                                     std::uint32_t w, std::uint32_t h,
+                                                     std::uint64_t* validation_errors) {
+    const auto ctx = vk::Context::create({.validation = validation, .device_name = device_name});
+    const ImGuiScope imgui;
+    ImGuiIO& io = ImGui::GetIO();
+    io.IniFilename = nullptr;
+    io.DisplaySize = ImVec2(float(w), float(h));
+    io.DeltaTime = 1.0f / 60.0f;
+    std::vector<std::uint8_t> rgba;
+    {
+        ImGuiRenderer renderer(ctx, 1);
+        Session session(ctx);
+        if (!open_scene(session.state, scene)) throw std::runtime_error(session.state.editor.error);
+        // One full trace, no preview.
+        session.state.editor.preview_rays = session.state.editor.scene->trace.rays;
+        // Frames until the trace is shown (bounded: a trace that never ends is an error).
+        const auto deadline = std::chrono::steady_clock::now() + std::chrono::minutes(10);
+        for (int settled = 0; settled < 3;) {
+            ImGui::NewFrame();
+            Frame f = session.frame();
+            build_frame(f);
+            ImGui::Render();
+            const bool shown = f.snapshot && !f.worker.busy() && !session.state.editor.dirty;
+            settled = shown ? settled + 1 : 0;
+            if (!shown) std::this_thread::sleep_for(std::chrono::milliseconds(20));
+            if (std::chrono::steady_clock::now() > deadline)
+                throw std::runtime_error(scene + ": the trace did not finish within 10 minutes");
+            for (const std::string& line : session.state.log)
+                if (line.rfind("error:", 0) == 0) throw std::runtime_error(line.substr(7));
+        }
+        rgba = draw_offscreen(ctx, renderer, ImGui::GetDrawData(), w, h);
+    }
+    if (validation_errors) *validation_errors = ctx.validation_errors();
+    return rgba;
 }
 
 } // namespace fird::ui

@@ -1,20 +1,32 @@
-// The interactive workbench: a GLFW window whose Dear ImGui panels show what the
-// compute floor produces, drawn on the same Vulkan device.
+// The interactive workbench: a GLFW window whose Dear ImGui panels show what the compute
+// floor produces, drawn on the same Vulkan device, compute running beside the frames.
+// The same frame also renders with no window (fird screenshot --view workbench).
 #pragma once
 
 #include <cstdint>
 #include <string>
+#include <vector>
 
 namespace fird::ui {
 
 struct WorkbenchOptions {
     std::string device_name;
     bool validation = false;
+    std::string scene;  // opened at start (empty: none)
+    std::string script; // a scripted session (empty: none)
     // Stop after this many frames (0: run until the window closes); for smoke tests.
     std::uint32_t max_frames = 0;
+    bool stats = false; // print frame-time statistics as JSON at exit
 };
 
 // Runs the frame loop; returns the process exit code. Throws on a missing display.
 int run_workbench(const WorkbenchOptions& options);
+
+// The whole workbench frame for a scene, traced (full rays) and drawn offscreen:
+// RGBA rows, top first. No window, no display.
+std::vector<std::uint8_t> render_workbench_offscreen(const std::string& device_name,
+                                                     bool validation, const std::string& scene,
+                                                     std::uint32_t width, std::uint32_t height,
+                                                     std::uint64_t* validation_errors);
 
 } // namespace fird::ui

@@ -27,6 +27,34 @@ nlohmann::json fit_json(const VariogramFit& f) {
 
 } // namespace
 
+plot::Chart rays_table_chart(const RaysTable& t, const std::string& scene) {
+    plot::Chart c{.title = scene + ": l2 error against rays (Table 1)",
+                  .x = {"rays", plot::Scale::Log},
+                  .y = {"l2 to the desired far field (lm)", plot::Scale::Log}};
+    plot::Series band{.kind = plot::Series::Kind::Band,
+                      .label = "mean ± one standard deviation",
+                      .colour = plot::palette(0)};
+    plot::Series mean{
+        .kind = plot::Series::Kind::Line, .label = "mean", .colour = plot::palette(0)};
+    plot::Series points{.kind = plot::Series::Kind::Points, .colour = plot::palette(0)};
+    plot::Series predicted{.label = "Monte Carlo prediction (noise alone)",
+                           .colour = plot::palette(1),
+                           .dashed = true};
+    for (const RaysRow& r : t.rows) {
+        const double sd = std::sqrt(r.var_l2);
+        band.x.push_back(double(r.rays));
+        band.y.push_back(std::max(r.mean_l2 - sd, 1e-3 * r.mean_l2));
+        band.y_upper.push_back(r.mean_l2 + sd);
+        for (plot::Series* s : {&mean, &points, &predicted})
+            s->x.push_back(double(r.rays));
+        mean.y.push_back(r.mean_l2);
+        points.y.push_back(r.mean_l2);
+        predicted.y.push_back(r.predicted_l2);
+    }
+    c.series = {band, mean, points, predicted};
+    return c;
+}
+
 nlohmann::json rays_table_json(const RaysTable& t) {
     nlohmann::json rows = nlohmann::json::array();
     for (const RaysRow& r : t.rows)
@@ -67,31 +95,54 @@ void write_rays_table(const std::string& dir, const RaysTable& t, const std::str
     write_text_file(in_dir(dir, "table1.csv"), csv);
     write_text_file(in_dir(dir, "table1.md"), rays_table_markdown(t, scene));
     write_text_file(in_dir(dir, "calibration.json"), rays_table_json(t).dump(2) + "\n");
-    plot::Chart c{.title = scene + ": l2 error against rays (Table 1)",
-                  .x = {"rays", plot::Scale::Log},
-                  .y = {"l2 to the desired far field (lm)", plot::Scale::Log}};
-    plot::Series band{.kind = plot::Series::Kind::Band,
-                      .label = "mean ± one standard deviation",
-                      .colour = plot::palette(0)};
-    plot::Series mean{
-        .kind = plot::Series::Kind::Line, .label = "mean", .colour = plot::palette(0)};
-    plot::Series points{.kind = plot::Series::Kind::Points, .colour = plot::palette(0)};
-    plot::Series predicted{.label = "Monte Carlo prediction (noise alone)",
-                           .colour = plot::palette(1),
-                           .dashed = true};
-    for (const RaysRow& r : t.rows) {
-        const double sd = std::sqrt(r.var_l2);
-        band.x.push_back(double(r.rays));
-        band.y.push_back(std::max(r.mean_l2 - sd, 1e-3 * r.mean_l2));
-        band.y_upper.push_back(r.mean_l2 + sd);
-        for (plot::Series* s : {&mean, &points, &predicted})
-            s->x.push_back(double(r.rays));
-        mean.y.push_back(r.mean_l2);
-        points.y.push_back(r.mean_l2);
-        predicted.y.push_back(r.predicted_l2);
+    plot::write_chart_png(in_dir(dir, "table1.png"), rays_table_chart(t, scene));
+}
+
+plot::Chart semivariogram_chart(const ParameterSemivariogram& p, std::uint64_t rays,
+                                const std::string& scene) {
+    // Figure 8: points sized by their pair count, the fitted curve, range and nugget.
+    plot::Chart c{.title = fmt::format("{}: semivariogram of l2 along {} ({:.0e} rays)", scene,
+                                       p.parameter, double(rays)),
+                  .x = {"lag h (" + p.parameter + ")", plot::Scale::Linear},
+                  .y = {"γ(h) (lm²)", plot::Scale::Linear}};
+    plot::Series pts{.kind = plot::Series::Kind::Points,
+                     .label = "empirical (size: pairs)",
+                     .colour = plot::palette(0)};
+    const double most =
+        double(*std::max_element(p.empirical.pairs.begin(), p.empirical.pairs.end()));
+    for (std::size_t k = 0; k < p.empirical.lags.size(); ++k) {
+        pts.x.push_back(p.empirical.lags[k]);
+        pts.y.push_back(p.empirical.gamma[k]);
+        pts.radius_px.push_back(2.0 + 4.0 * std::sqrt(double(p.empirical.pairs[k]) / most));
     }
-    c.series = {band, mean, points, predicted};
-    plot::write_chart_png(in_dir(dir, "table1.png"), c);
+    plot::Series curve{.label = fmt::format("{} model", variogram_model_name(p.model.model)),
+                       .colour = plot::palette(1),
+                       .width = 2.2};
+    const double top = p.empirical.lags.back();
+    for (int i = 0; i <= 200; ++i) {
+        const double h = top * i / 200.0;
+        curve.x.push_back(h);
+        curve.y.push_back(i == 0 ? p.model.nugget : variogram(p.model, h));
+    }
+    c.series = {pts, curve};
+    c.marks = {{.vertical = true,
+                .value = p.model.range,
+                .label = fmt::format("range {:.3g}", p.model.range),
+                .colour = plot::palette(2)},
+               {.vertical = false,
+                .value = p.model.nugget,
+                .label = fmt::format("nugget {:.3g}", p.model.nugget),
+                .colour = {0.45, 0.45, 0.45}},
+               {.vertical = false,
+                .value = p.model.sill,
+                .label = fmt::format("sill {:.3g}", p.model.sill),
+                .colour = {0.45, 0.45, 0.45}}};
+    if (p.resolvable_step)
+        c.marks.push_back({.vertical = true,
+                           .value = *p.resolvable_step,
+                           .label = fmt::format("resolvable {:.3g}", *p.resolvable_step),
+                           .colour = plot::palette(3)});
+    return c;
 }
 
 nlohmann::json semivariogram_json(const SemivariogramResult& r) {
@@ -135,49 +186,8 @@ void write_semivariograms(const std::string& dir, const SemivariogramResult& r,
             sv += fmt::format("{},{:.9g},{:.9g},{},{:.9g}\n", p.parameter, p.empirical.lags[k],
                               p.empirical.gamma[k], p.empirical.pairs[k],
                               variogram(p.model, p.empirical.lags[k]));
-        // Figure 8: points sized by their pair count, the fitted curve, range and nugget.
-        plot::Chart c{.title = fmt::format("{}: semivariogram of l2 along {} ({:.0e} rays)", scene,
-                                           p.parameter, double(r.rays)),
-                      .x = {"lag h (" + p.parameter + ")", plot::Scale::Linear},
-                      .y = {"γ(h) (lm²)", plot::Scale::Linear}};
-        plot::Series pts{.kind = plot::Series::Kind::Points,
-                         .label = "empirical (size: pairs)",
-                         .colour = plot::palette(0)};
-        const double most =
-            double(*std::max_element(p.empirical.pairs.begin(), p.empirical.pairs.end()));
-        for (std::size_t k = 0; k < p.empirical.lags.size(); ++k) {
-            pts.x.push_back(p.empirical.lags[k]);
-            pts.y.push_back(p.empirical.gamma[k]);
-            pts.radius_px.push_back(2.0 + 4.0 * std::sqrt(double(p.empirical.pairs[k]) / most));
-        }
-        plot::Series curve{.label = fmt::format("{} model", variogram_model_name(p.model.model)),
-                           .colour = plot::palette(1),
-                           .width = 2.2};
-        const double top = p.empirical.lags.back();
-        for (int i = 0; i <= 200; ++i) {
-            const double h = top * i / 200.0;
-            curve.x.push_back(h);
-            curve.y.push_back(i == 0 ? p.model.nugget : variogram(p.model, h));
-        }
-        c.series = {pts, curve};
-        c.marks = {{.vertical = true,
-                    .value = p.model.range,
-                    .label = fmt::format("range {:.3g}", p.model.range),
-                    .colour = plot::palette(2)},
-                   {.vertical = false,
-                    .value = p.model.nugget,
-                    .label = fmt::format("nugget {:.3g}", p.model.nugget),
-                    .colour = {0.45, 0.45, 0.45}},
-                   {.vertical = false,
-                    .value = p.model.sill,
-                    .label = fmt::format("sill {:.3g}", p.model.sill),
-                    .colour = {0.45, 0.45, 0.45}}};
-        if (p.resolvable_step)
-            c.marks.push_back({.vertical = true,
-                               .value = *p.resolvable_step,
-                               .label = fmt::format("resolvable {:.3g}", *p.resolvable_step),
-                               .colour = plot::palette(3)});
-        plot::write_chart_png(in_dir(dir, "semivariogram_" + p.parameter + ".png"), c);
+        plot::write_chart_png(in_dir(dir, "semivariogram_" + p.parameter + ".png"),
+                              semivariogram_chart(p, r.rays, scene));
     }
     write_text_file(in_dir(dir, "series.csv"), series);
     write_text_file(in_dir(dir, "semivariogram.csv"), sv);

@@ -47,7 +47,7 @@ void add_farfield_arrays(vtkCellData* cd, const FarField& f, const FarField* tar
             const vtkIdType id = vtkIdType(std::size_t(r) * f.width + c);
             const double v = f.lm[std::size_t(row) * f.width + c];
             lumens->SetValue(id, float(v));
-            candela->SetValue(id, float(v / cell_solid_angle_sr(row, f.width, f.height)));
+            candela->SetValue(id, float(v / farfield_cell_solid_angle_sr(row, f.width, f.height)));
             if (target) {
                 const double t = target->lm[std::size_t(row) * f.width + c];
                 target_lm->SetValue(id, float(t));
@@ -73,10 +73,6 @@ vtkSmartPointer<vtkStructuredGrid> grid(std::uint32_t w, std::uint32_t h,
 
 } // namespace
 
-double cell_solid_angle_sr(std::uint32_t row, std::uint32_t width, std::uint32_t height) {
-    const double top = kPi / 2 - kPi * row / height, bottom = kPi / 2 - kPi * (row + 1) / height;
-    return 2.0 * kPi / width * (std::sin(top) - std::sin(bottom));
-}
 
 vtkSmartPointer<vtkStructuredGrid> reflector_grid(const Holder& hd, std::uint32_t w,
                                                   std::uint32_t h,
@@ -238,7 +234,7 @@ vtkSmartPointer<vtkPolyData> farfield_sphere(const FarField& f, const FarField* 
         for (std::uint32_t c = 0; c < f.width; ++c) {
             const vtkIdType q[4] = {id(r, c), id(r + 1, c), id(r + 1, c + 1), id(r, c + 1)};
             quads->InsertNextCell(4, q);
-            solid->InsertNextValue(float(cell_solid_angle_sr(r, f.width, f.height)));
+            solid->InsertNextValue(float(farfield_cell_solid_angle_sr(r, f.width, f.height)));
         }
     auto d = vtkSmartPointer<vtkPolyData>::New();
     d->SetPoints(points);

@@ -57,7 +57,4 @@ vtkSmartPointer<vtkPolyData> farfield_sphere(const FarField& farfield, const Far
 vtkSmartPointer<vtkPolyData> source_surface(const SourceDesc& source);
 vtkSmartPointer<vtkPolyData> holder_box(const Holder& holder);
 
-// The solid angle of far-field row `row` of a grid `height` rows tall, per cell of `width`.
-double cell_solid_angle_sr(std::uint32_t row, std::uint32_t width, std::uint32_t height);
-
 } // namespace fird::vtkio

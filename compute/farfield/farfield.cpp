@@ -56,6 +56,12 @@ FarField coarsen_farfield(const FarField& f, std::uint32_t width, std::uint32_t 
     return c;
 }
 
+double farfield_cell_solid_angle_sr(std::uint32_t row, std::uint32_t width, std::uint32_t height) {
+    constexpr double pi = std::numbers::pi;
+    const double top = pi / 2 - pi * row / height, bottom = pi / 2 - pi * (row + 1) / height;
+    return 2.0 * pi / width * (std::sin(top) - std::sin(bottom));
+}
+
 glm::dvec3 farfield_cell_direction(std::uint32_t column, std::uint32_t row, std::uint32_t width,
                                    std::uint32_t height) {
     constexpr double pi = std::numbers::pi;

@@ -31,6 +31,9 @@ double l2_distance(const FarField& a, const FarField& b);
 // rays on the coarse grid). Throws std::invalid_argument otherwise.
 FarField coarsen_farfield(const FarField& farfield, std::uint32_t width, std::uint32_t height);
 
+// The solid angle of one cell of row `row` of a width x height grid, in steradians.
+double farfield_cell_solid_angle_sr(std::uint32_t row, std::uint32_t width, std::uint32_t height);
+
 // The direction at the centre of a cell (for tests and conversions).
 glm::dvec3 farfield_cell_direction(std::uint32_t column, std::uint32_t row, std::uint32_t width,
                                    std::uint32_t height);

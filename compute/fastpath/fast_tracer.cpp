@@ -74,9 +74,19 @@ FastTracer::FastTracer(const vk::Context& ctx, const Scene& scene, std::uint64_t
     // Constant memory whatever the ray count: batches no larger than one storage
     // buffer binding allows (lavapipe: 128 MiB = 4M rays), and at most 8M rays.
     const auto& limits = ctx.limits();
-    batch_capacity_ =
-        std::min<std::uint64_t>({scene.trace.rays, limits.max_storage_buffer_range / kRayBytes,
-                                 1ull << 23, max_batch_rays ? max_batch_rays : ~0ull});
+    // A batch is also no larger than one dispatch covers (maxComputeWorkGroupCount[0]
+    // workgroups of the smallest size that walks it: lavapipe's 65535 x 64 < 4M rays).
+    const std::uint64_t dispatch_rays = std::uint64_t(limits.max_workgroup_count[0]) *
+                                        std::min(FIRD_TRACE_WORKGROUP_SIZE, FIRD_RAYSET_WORKGROUP_SIZE);
+    batch_capacity_ = std::min<std::uint64_t>(
+        {scene.trace.rays, limits.max_storage_buffer_range / kRayBytes, 1ull << 23, dispatch_rays,
+         max_batch_rays ? max_batch_rays : ~0ull});
+    const std::uint64_t cells_max =
+        std::uint64_t(limits.max_workgroup_count[0]) * FIRD_REDUCE_WORKGROUP_SIZE;
+    if (std::uint64_t(params_.ff_w) * params_.ff_h > cells_max)
+        throw std::invalid_argument(fmt::format(
+            "farfield {} x {}: more cells than this device's dispatches cover ({})", params_.ff_w,
+            params_.ff_h, cells_max));
     const std::uint64_t ray_bytes = batch_capacity_ * kRayBytes;
     const auto storage = vk::kStorageUsage;
     params_buffer_ =

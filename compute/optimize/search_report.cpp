@@ -66,10 +66,18 @@ nlohmann::json search_json(const SearchResult& r) {
 }
 
 void write_progress_png(const std::string& out, const SearchResult& r) {
+    const int rows = int((r.names.size() + 1) / 2);
+    plot::Canvas cv(1100, 440 + rows * 250);
+    draw_progress(cv, {0, 0, 1100, 440.0 + rows * 250.0}, r);
+    cv.write_png(out);
+}
+
+void draw_progress(plot::Canvas& cv, const plot::Rect& area, const SearchResult& r) {
     const std::size_t n = r.names.size();
     const int cols = 2, rows = int((n + 1) / 2);
-    const int w = 1100, top_h = 440, panel_h = 250;
-    plot::Canvas cv(w, top_h + rows * panel_h);
+    const double w = area.w;
+    const double top_h = area.h * 440.0 / (440.0 + rows * 250.0);
+    const double panel_h = rows ? (area.h - top_h) / rows : 0.0;
 
     // Every candidate's l2, coloured by stage, and each stage's best so far.
     plot::Chart l2{.title =
@@ -104,7 +112,7 @@ void write_progress_png(const std::string& out, const SearchResult& r) {
                             .value = *r.noise_floor_l2_lm,
                             .label = fmt::format("noise floor {:.4g} lm", *r.noise_floor_l2_lm),
                             .colour = {0.5, 0.5, 0.5}});
-    plot::draw_chart(cv, {0, 0, double(w), double(top_h)}, l2);
+    plot::draw_chart(cv, {area.x, area.y, w, top_h}, l2);
 
     // Each parameter: every candidate's value (grey) and the best so far (the path).
     for (std::size_t k = 0; k < n; ++k) {
@@ -142,11 +150,10 @@ void write_progress_png(const std::string& out, const SearchResult& r) {
                                .value = it->second,
                                .label = fmt::format("best {:.4g}", it->second),
                                .colour = plot::palette(1)});
-        const double x = double(k % cols) * w / cols;
-        const double y = top_h + double(k / cols) * panel_h;
-        plot::draw_chart(cv, {x, y, double(w) / cols, double(panel_h)}, p);
+        const double x = area.x + double(k % cols) * w / cols;
+        const double y = area.y + top_h + double(k / cols) * panel_h;
+        plot::draw_chart(cv, {x, y, w / cols, panel_h}, p);
     }
-    cv.write_png(out);
 }
 
 std::string best_scene_toml(const Scene& scene, const SearchResult& r) {

@@ -8,12 +8,15 @@
 #include <nlohmann/json.hpp>
 
 #include "optimize/search.hpp"
+#include "plot/chart.hpp"
 
 namespace fird {
 
 nlohmann::json search_json(const SearchResult& result);
 
 void write_progress_png(const std::string& path, const SearchResult& result);
+// The same picture into a region of a canvas (the workbench's live plot).
+void draw_progress(plot::Canvas& canvas, const plot::Rect& area, const SearchResult& result);
 
 // The scene with the best parameters, traceable as it is from any directory (file paths
 // made absolute).

@@ -108,10 +108,12 @@ void draw_farfield(Canvas& cv, const Rect& a, const FarField& f, const FarFieldP
     }
     cv.text(map_x + map_w / 2, a.y + a.h - 12, "azimuth φ", 13.0, Align::Centre);
     cv.text(a.x + 16, map_y + map_h / 2, "altitude θ", 13.0, Align::Centre, kInk, 90.0);
-    cv.text(a.x + a.w / 2, a.y + 24,
-            fmt::format("{}   ({} × {} cells, total {:.4g} lm)", o.title, f.width, f.height,
-                        f.total_lm()),
-            15.0, Align::Centre, kInk, 0.0, true);
+    // The title, with the grid and total where the width allows.
+    const std::string full = fmt::format("{}   ({} × {} cells, total {:.4g} lm)", o.title, f.width,
+                                         f.height, f.total_lm());
+    const double size = std::clamp(a.w / 60.0, 11.0, 15.0);
+    cv.text(a.x + a.w / 2, a.y + 24, cv.text_width(full, size, true) < a.w - 20 ? full : o.title,
+            size, Align::Centre, kInk, 0.0, true);
 
     // Colour bar with its scale.
     const double bx = map_x + map_w + kBarGap;

@@ -12,8 +12,32 @@ GraphicsPipeline make_graphics_pipeline(const Context& ctx, const GraphicsPipeli
     GraphicsPipeline out;
     const VkPushConstantRange range{
         .stageFlags = desc.push_stages, .offset = 0, .size = desc.push_bytes};
+    VkDescriptorSetLayout set_layout = VK_NULL_HANDLE;
+    if (!desc.fragment_descriptors.empty()) {
+        std::vector<VkDescriptorSetLayoutBinding> bindings;
+        for (std::uint32_t i = 0; i < desc.fragment_descriptors.size(); ++i)
+            bindings.push_back({.binding = i,
+                                .descriptorType = desc.fragment_descriptors[i],
+                                .descriptorCount = 1,
+                                .stageFlags = VK_SHADER_STAGE_FRAGMENT_BIT});
+        const VkDescriptorSetLayoutCreateInfo set_info{
+            .sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO,
+            .flags = VK_DESCRIPTOR_SET_LAYOUT_CREATE_PUSH_DESCRIPTOR_BIT_KHR,
+            .bindingCount = std::uint32_t(bindings.size()),
+            .pBindings = bindings.data()};
+        FIRD_VK_CHECK(vkCreateDescriptorSetLayout(dev, &set_info, nullptr, &set_layout));
+        out.set_layout = Owned<VkDescriptorSetLayout>(dev, set_layout);
+        ctx.name(set_layout, VK_OBJECT_TYPE_DESCRIPTOR_SET_LAYOUT, desc.name);
+        out.push_descriptor_set = reinterpret_cast<PFN_vkCmdPushDescriptorSetKHR>(
+            vkGetDeviceProcAddr(dev, "vkCmdPushDescriptorSetKHR"));
+        if (!out.push_descriptor_set)
+            throw VulkanError("vkGetDeviceProcAddr(vkCmdPushDescriptorSetKHR): not available",
+                              VK_ERROR_EXTENSION_NOT_PRESENT);
+    }
     const VkPipelineLayoutCreateInfo layout_info{
         .sType = VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO,
+        .setLayoutCount = set_layout ? 1u : 0u,
+        .pSetLayouts = &set_layout,
         .pushConstantRangeCount = desc.push_bytes > 0 ? 1u : 0u,
         .pPushConstantRanges = &range};
     VkPipelineLayout layout = VK_NULL_HANDLE;

@@ -28,11 +28,16 @@ struct GraphicsPipelineDesc {
     VkFormat depth_format = VK_FORMAT_UNDEFINED;
     VkPipelineColorBlendAttachmentState blend{};
     std::string_view name; // debug name of the layout and the pipeline
+    // Bindings of a push-descriptor set 0 for the fragment stage (e.g. one combined image
+    // sampler), pushed per draw with push_descriptors().
+    std::span<const VkDescriptorType> fragment_descriptors;
 };
 
 struct GraphicsPipeline {
+    Owned<VkDescriptorSetLayout> set_layout; // when the desc has fragment_descriptors
     Owned<VkPipelineLayout> layout;
     Owned<VkPipeline> pipeline;
+    PFN_vkCmdPushDescriptorSetKHR push_descriptor_set = nullptr;
 };
 
 GraphicsPipeline make_graphics_pipeline(const Context& ctx, const GraphicsPipelineDesc& desc);

@@ -32,5 +32,27 @@ class Image {
 
 // Moves the whole colour image from one layout to another, waiting on all prior work.
 void transition(VkCommandBuffer cb, const Image& image, VkImageLayout from, VkImageLayout to);
+// The same for an image FIRD does not own (a swapchain's), by aspect.
+void transition(VkCommandBuffer cb, VkImage image, VkImageAspectFlags aspect, VkImageLayout from,
+                VkImageLayout to);
+
+// An RGBA8 image to sample (the workbench's textures), filled from pixels, with its
+// sampler (linear filtering, clamped edges).
+class Texture {
+  public:
+    Texture() = default;
+    Texture(const Context& ctx, std::uint32_t width, std::uint32_t height, std::string_view name);
+    // Replaces the whole image with RGBA rows (top first); waits for the copy.
+    void upload(const Context& ctx, const std::uint8_t* rgba);
+    const Image& image() const { return image_; }
+    VkSampler sampler() const { return sampler_.get(); }
+    std::uint32_t width() const { return image_.width(); }
+    std::uint32_t height() const { return image_.height(); }
+
+  private:
+    Image image_;
+    Owned<VkSampler> sampler_;
+    bool initialized_ = false;
+};
 
 } // namespace fird::vk

@@ -450,3 +450,23 @@ TEST(CliScreenshot, WritesTheViewsAndRefusesBadValues) {
     EXPECT_EQ(pick.code, 1) << pick.out;
     EXPECT_NE(pick.out.find("--pick-ray"), std::string::npos) << pick.out;
 }
+
+// A bad script line is refused naming the file and line, before any window opens.
+TEST(CliGui, ABadScriptLineIsAnErrorNamingFileAndLine) {
+    const std::string path = ::testing::TempDir() + "/bad_session.fird";
+    for (const auto& [text, where] :
+         std::vector<std::pair<std::string, std::string>>{{"# ok\nfrobnicate\n", ":2:"},
+                                                          {"open\n", ":1:"},
+                                                          {"trace\nset sx fast\n", ":2:"},
+                                                          {"wait -3\n", ":1:"},
+                                                          {"optimize newton\n", ":1:"},
+                                                          {"calibrate everything\n", ":1:"}}) {
+        std::ofstream(path) << text;
+        const auto r = run("gui --script " + path);
+        EXPECT_NE(r.code, 0) << text;
+        EXPECT_NE(r.out.find(path + where), std::string::npos) << text << r.out;
+    }
+    const auto missing = run("gui --script /nonexistent/session.fird");
+    EXPECT_NE(missing.code, 0);
+    EXPECT_NE(missing.out.find("/nonexistent/session.fird"), std::string::npos) << missing.out;
+}

@@ -376,3 +376,24 @@ heightfield = [40, 40]
 
 } // namespace
 } // namespace fird::test
+
+namespace fird::test {
+namespace {
+
+// A batch never needs more workgroups than one dispatch may have (lavapipe: 65535 of 64
+// lanes, fewer than the 4M rays its storage-buffer range holds): with 4.5M rays and
+// validation on, no dispatch overruns the limit and every ray is accounted for.
+TEST_F(VulkanTest, BatchesStayWithinTheDispatchLimit) {
+    Scene s = load_scene(std::string(FIRD_SOURCE_DIR) + "/scenes/test/mirror_search.toml");
+    s.trace.rays = 4500000;
+    s.trace.heightfield_w = s.trace.heightfield_h = 16;
+    FastTracer t(ctx(), s, 5);
+    t.set_reflector(s.reflector);
+    const FastRun r = t.run();
+    const RayTally& c = r.tally;
+    EXPECT_EQ(c.emitted, c.discarded + c.direct + c.farfield + c.lost);
+    EXPECT_GT(c.farfield, 3500000u);
+}
+
+} // namespace
+} // namespace fird::test

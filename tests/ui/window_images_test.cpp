@@ -1,0 +1,39 @@
+// After the scripted windowed session (tests/ui/change_parameter.fird, run under Xvfb by
+// the fixture test before this one): the far field the window shows changed with the
+// parameter, and the scene panel did not move.
+#include <cstdlib>
+
+#include <gtest/gtest.h>
+
+#include "plot/canvas.hpp"
+
+namespace fird::test {
+namespace {
+
+// Mean absolute channel difference over a region given as fractions of the window.
+double region_difference(const std::vector<std::uint8_t>& a, const std::vector<std::uint8_t>& b,
+                         int w, int h, double x0, double y0, double x1, double y1) {
+    double sum = 0.0;
+    std::size_t n = 0;
+    for (int y = int(y0 * h); y < int(y1 * h); ++y)
+        for (int x = int(x0 * w); x < int(x1 * w); ++x)
+            for (int k = 0; k < 3; ++k, ++n) {
+                const std::size_t i = (std::size_t(y) * w + x) * 4 + k;
+                sum += std::abs(int(a[i]) - int(b[i]));
+            }
+    return n ? sum / double(n) : 0.0;
+}
+
+TEST(WindowedSession, AParameterChangeChangesTheFarFieldShown) {
+    int wa = 0, ha = 0, wb = 0, hb = 0;
+    const auto before = plot::read_png_rgba("ui_before.png", wa, ha);
+    const auto after = plot::read_png_rgba("ui_after.png", wb, hb);
+    ASSERT_EQ(wa, wb);
+    ASSERT_EQ(ha, hb);
+    // The far-field panel (right, top) changed; the log panel (left, bottom) did not.
+    EXPECT_GT(region_difference(before, after, wa, ha, 0.66, 0.08, 0.99, 0.58), 2.0);
+    EXPECT_LT(region_difference(before, after, wa, ha, 0.01, 0.70, 0.22, 0.99), 0.5);
+}
+
+} // namespace
+} // namespace fird::test

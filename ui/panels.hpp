@@ -1,0 +1,43 @@
+// The workbench's panels, one file each (panel_*.cpp). Each reads and edits the plain
+// state, asks the worker for work, and shows the textures of its views.
+#pragma once
+
+#include <memory>
+
+#include "viewport.hpp"
+#include "workbench_state.hpp"
+#include "worker.hpp"
+
+namespace fird::ui {
+
+struct Frame {
+    const vk::Context& ctx;
+    Worker& worker;
+    WorkbenchState& state;
+    render::ViewportRenderer& renderer;
+    std::shared_ptr<const SceneSnapshot> snapshot; // the latest traced state, if any
+};
+
+// Asks the worker for a progressive trace of the edited scene (preview, then full).
+void request_trace(Frame& f);
+
+// Starts the Optimization panel's method on the edited scene (files in workbench_out/).
+void start_search(Frame& f, SearchMethod method);
+// Starts a calibration: Table 1, or the semivariogram of a parameter (empty: all).
+void start_calibration(Frame& f, bool rays_table, const std::string& parameter);
+
+// Picks the sample path under viewport pixel (px, py); false when none is near.
+bool pick_at(Frame& f, float px, float py);
+
+void scene_panel(Frame& f);
+void viewport_panel(Frame& f);
+void farfield_panel(Frame& f);
+void optimize_panel(Frame& f);
+void calibrate_panel(Frame& f);
+void log_panel(Frame& f);
+void help_panel(Frame& f);
+
+// Every panel, laid out on the display, plus the keyboard shortcuts.
+void build_frame(Frame& f);
+
+} // namespace fird::ui

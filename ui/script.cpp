@@ -1,0 +1,163 @@
+#include "script.hpp"
+
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+namespace fird::ui {
+
+namespace {
+
+// Each action's name and its argument counts (min, max).
+const std::map<std::string, std::tuple<ScriptAction::Kind, int, int>>& actions() {
+    using K = ScriptAction::Kind;
+    static const std::map<std::string, std::tuple<K, int, int>> table = {
+        {"open", {K::Open, 1, 1}},
+        {"set", {K::Set, 2, 2}},
+        {"trace", {K::Trace, 0, 0}},
+        {"optimize", {K::Optimize, 0, 1}},
+        {"calibrate", {K::Calibrate, 1, 2}},
+        {"stop", {K::Stop, 0, 0}},
+        {"wait", {K::Wait, 1, 1}},
+        {"wait-idle", {K::WaitIdle, 0, 0}},
+        {"pick-ray", {K::PickRay, 2, 2}},
+        {"screenshot", {K::Screenshot, 1, 1}},
+        {"quit", {K::Quit, 0, 0}}};
+    return table;
+}
+
+double number(const std::string& path, int line, const std::string& s) {
+    std::size_t used = 0;
+    double v = 0.0;
+    try {
+        v = std::stod(s, &used);
+    } catch (const std::exception&) {
+        used = 0;
+    }
+    if (used == 0 || used != s.size() || !std::isfinite(v))
+        throw std::invalid_argument(fmt::format("{}:{}: '{}' is not a number", path, line, s));
+    return v;
+}
+
+// The longest a wait-idle waits (frames at the frame loop's pace): a hung job fails the
+// script instead of hanging it.
+constexpr std::uint64_t kIdleFrameLimit = 200000;
+
+} // namespace
+
+Script parse_script_text(const std::string& text, const std::string& path) {
+    Script s{.path = path};
+    std::istringstream in(text);
+    std::string line;
+    for (int n = 1; std::getline(in, line); ++n) {
+        if (const auto hash = line.find('#'); hash != std::string::npos) line.resize(hash);
+        std::istringstream words(line);
+        std::vector<std::string> w;
+        for (std::string word; words >> word;)
+            w.push_back(word);
+        if (w.empty()) continue;
+        const auto it = actions().find(w[0]);
+        if (it == actions().end())
+            throw std::invalid_argument(fmt::format("{}:{}: unknown action '{}'", path, n, w[0]));
+        const auto [kind, lo, hi] = it->second;
+        const int args = int(w.size()) - 1;
+        if (args < lo || args > hi)
+            throw std::invalid_argument(
+                fmt::format("{}:{}: {} takes {} argument{}", path, n, w[0],
+                            lo == hi ? std::to_string(lo) : fmt::format("{} to {}", lo, hi),
+                            hi == 1 ? "" : "s"));
+        ScriptAction a{kind, {w.begin() + 1, w.end()}, n};
+        using K = ScriptAction::Kind;
+        if (kind == K::Set) (void)number(path, n, a.args[1]);
+        if (kind == K::Wait && !(number(path, n, a.args[0]) >= 0))
+            throw std::invalid_argument(
+                fmt::format("{}:{}: wait needs a frame count >= 0", path, n));
+        if (kind == K::PickRay) (void)number(path, n, a.args[0]), (void)number(path, n, a.args[1]);
+        if (kind == K::Optimize && !a.args.empty() && !method_from_name(a.args[0]))
+            throw std::invalid_argument(fmt::format("{}:{}: unknown method '{}' (one of {})", path,
+                                                    n, a.args[0], fmt::join(method_names(), ", ")));
+        if (kind == K::Calibrate && a.args[0] != "rays" && a.args[0] != "semivariogram")
+            throw std::invalid_argument(
+                fmt::format("{}:{}: calibrate rays or calibrate semivariogram [NAME]", path, n));
+        s.actions.push_back(std::move(a));
+    }
+    return s;
+}
+
+Script parse_script(const std::string& path) {
+    std::ifstream in(path);
+    if (!in) throw std::invalid_argument(fmt::format("{}: cannot open the script", path));
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return parse_script_text(ss.str(), path);
+}
+
+void ScriptRunner::fail(const ScriptAction& a, const std::string& why) const {
+    throw std::runtime_error(fmt::format("{}:{}: {}", script_.path, a.line, why));
+}
+
+bool ScriptRunner::step(Frame& f, const std::function<void(const std::string&)>& screenshot) {
+    using K = ScriptAction::Kind;
+    WorkbenchState& s = f.state;
+    while (!quit_ && next_ < script_.actions.size()) {
+        const ScriptAction& a = script_.actions[next_];
+        switch (a.kind) {
+        case K::Wait:
+            if (waited_++ < std::uint64_t(std::stod(a.args[0]))) return true;
+            break;
+        case K::WaitIdle:
+            // Idle for two frames running: the snapshot it left is shown.
+            if (f.worker.busy() || s.editor.dirty) {
+                idle_frames_ = 0;
+                if (++waited_ > kIdleFrameLimit) fail(a, "wait-idle: the work did not end");
+                return true;
+            }
+            if (++idle_frames_ < 2) return true;
+            break;
+        case K::Open:
+            if (!open_scene(s, a.args[0])) fail(a, "open: " + s.editor.error);
+            break;
+        case K::Set: {
+            if (!s.editor.scene) fail(a, "set: no scene is open");
+            const auto it = s.editor.parameters.find(a.args[0]);
+            if (it == s.editor.parameters.end())
+                fail(a, "set: the reflector has no parameter " + a.args[0]);
+            it->second = std::stod(a.args[1]);
+            s.editor.dirty = true;
+            break;
+        }
+        case K::Trace:
+            if (!s.editor.scene) fail(a, "trace: no scene is open");
+            request_trace(f);
+            break;
+        case K::Optimize:
+            start_search(f, a.args.empty() ? SearchMethod::Auto : *method_from_name(a.args[0]));
+            break;
+        case K::Calibrate:
+            start_calibration(f, a.args[0] == "rays", a.args.size() > 1 ? a.args[1] : "");
+            break;
+        case K::Stop:
+            f.worker.stop();
+            break;
+        case K::PickRay:
+            if (!pick_at(f, float(std::stod(a.args[0])), float(std::stod(a.args[1]))))
+                fail(a, "pick-ray: no ray path near that viewport pixel");
+            break;
+        case K::Screenshot:
+            screenshot(a.args[0]);
+            break;
+        case K::Quit:
+            quit_ = true;
+            break;
+        }
+        waited_ = idle_frames_ = 0;
+        ++next_;
+    }
+    return false;
+}
+
+} // namespace fird::ui

@@ -1,0 +1,59 @@
+// Scripted sessions (fird gui --script FILE): one action a line, '#' for comments. How
+// the windowed tests drive the workbench, and how users record a reproducible session.
+//   open PATH | set NAME VALUE | trace | optimize [METHOD] | calibrate rays|semivariogram
+//   [NAME] | stop | wait FRAMES | wait-idle | pick-ray X Y | screenshot PATH | quit
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "panels.hpp"
+
+namespace fird::ui {
+
+struct ScriptAction {
+    enum class Kind {
+        Open,
+        Set,
+        Trace,
+        Optimize,
+        Calibrate,
+        Stop,
+        Wait,
+        WaitIdle,
+        PickRay,
+        Screenshot,
+        Quit
+    } kind;
+    std::vector<std::string> args;
+    int line = 0;
+};
+
+struct Script {
+    std::string path;
+    std::vector<ScriptAction> actions;
+};
+
+// Throws std::invalid_argument "FILE:LINE: ..." for an unknown action or bad arguments.
+Script parse_script(const std::string& path);
+Script parse_script_text(const std::string& text, const std::string& path);
+
+class ScriptRunner {
+  public:
+    explicit ScriptRunner(Script script) : script_(std::move(script)) {}
+    // Runs what is due this frame. `screenshot(path)` captures the frame. Returns false
+    // when the script is done (after quit, or its last action). Throws
+    // std::runtime_error "FILE:LINE: ..." when an action fails.
+    bool step(Frame& f, const std::function<void(const std::string&)>& screenshot);
+
+  private:
+    [[noreturn]] void fail(const ScriptAction& a, const std::string& why) const;
+    Script script_;
+    std::size_t next_ = 0;
+    std::uint64_t idle_frames_ = 0, waited_ = 0;
+    bool quit_ = false;
+};
+
+} // namespace fird::ui

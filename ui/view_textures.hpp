@@ -1,0 +1,34 @@
+// The views drawn into textures the panels show: the viewport rendered on the device and
+// read back, the far fields and plots drawn by cairo. Redrawn only when what they show,
+// or their size, changed.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "viewport.hpp"
+#include "workbench_state.hpp"
+#include "worker.hpp"
+
+namespace fird::ui {
+
+// Replaces the texture's pixels (a new texture when the size changed).
+void upload(const vk::Context& ctx, ViewTexture& t, const std::vector<std::uint8_t>& rgba,
+            std::uint32_t width, std::uint32_t height, std::uint64_t generation);
+
+void update_viewport_image(const vk::Context& ctx, render::ViewportRenderer& renderer,
+                           WorkbenchState& state, const SceneSnapshot& snapshot,
+                           std::uint32_t width, std::uint32_t height);
+void update_farfield_image(const vk::Context& ctx, WorkbenchState& state,
+                           const SceneSnapshot& snapshot, std::uint32_t width,
+                           std::uint32_t height);
+void update_search_plot(const vk::Context& ctx, WorkbenchState& state, const SearchProgress& search,
+                        std::uint32_t width, std::uint32_t height);
+void update_calibration_plot(const vk::Context& ctx, WorkbenchState& state,
+                             const CalibrationProgress& c, const std::string& scene_name,
+                             std::uint32_t width, std::uint32_t height);
+
+// The altitude band the far-field view shows at the state's zoom.
+std::pair<double, double> farfield_band(const WorkbenchState& state, const FarField& farfield);
+
+} // namespace fird::ui

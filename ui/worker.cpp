@@ -1,0 +1,234 @@
+#include "worker.hpp"
+
+#include <chrono>
+
+#include <fmt/format.h>
+
+#include "calibrate/calibration_report.hpp"
+#include "export/scene_export.hpp"
+#include "optimize/parameter_space.hpp"
+#include "optimize/search_report.hpp"
+
+namespace fird::ui {
+
+namespace {
+// Rays of a view traced while a search runs (the current best, shown in the viewport).
+constexpr std::uint64_t kBestViewRays = 100000;
+constexpr double kBestViewEvery_s = 2.0;
+} // namespace
+
+Worker::Worker(const vk::Context& ctx) : ctx_(&ctx), thread_([this] { loop(); }) {}
+
+Worker::~Worker() {
+    {
+        const std::lock_guard lock(mutex_);
+        quit_ = true;
+        jobs_.clear();
+    }
+    control_.stop = true;
+    wake_.notify_all();
+    thread_.join();
+}
+
+void Worker::submit(Job job) {
+    {
+        const std::lock_guard lock(mutex_);
+        if (std::holds_alternative<TraceJob>(job))
+            std::erase_if(jobs_, [](const Job& j) { return std::holds_alternative<TraceJob>(j); });
+        jobs_.push_back(std::move(job));
+    }
+    wake_.notify_all();
+}
+
+void Worker::stop() {
+    control_.stop = true;
+    control_.pause = false;
+}
+
+void Worker::set_paused(bool paused) {
+    control_.pause = paused;
+    const std::lock_guard lock(mutex_);
+    search_.paused = paused;
+}
+
+bool Worker::busy() const {
+    const std::lock_guard lock(mutex_);
+    return running_ || !jobs_.empty();
+}
+
+std::shared_ptr<const SceneSnapshot> Worker::snapshot() const {
+    const std::lock_guard lock(mutex_);
+    return snapshot_;
+}
+
+SearchProgress Worker::search() const {
+    const std::lock_guard lock(mutex_);
+    return search_;
+}
+
+CalibrationProgress Worker::calibration() const {
+    const std::lock_guard lock(mutex_);
+    return calibration_;
+}
+
+std::vector<std::string> Worker::take_log() {
+    const std::lock_guard lock(mutex_);
+    return std::exchange(log_, {});
+}
+
+void Worker::log(std::string message) {
+    const std::lock_guard lock(mutex_);
+    log_.push_back(std::move(message));
+}
+
+void Worker::loop() {
+    for (;;) {
+        Job job;
+        {
+            std::unique_lock lock(mutex_);
+            wake_.wait(lock, [&] { return quit_ || !jobs_.empty(); });
+            if (quit_) return;
+            job = std::move(jobs_.front());
+            jobs_.pop_front();
+            running_ = true;
+        }
+        control_.stop = false;
+        try {
+            std::visit([&](const auto& j) { run(j); }, job);
+        } catch (const std::exception& e) {
+            log(std::string("error: ") + e.what());
+        }
+        const std::lock_guard lock(mutex_);
+        running_ = false;
+        search_.running = calibration_.running = false;
+    }
+}
+
+void Worker::publish(render::TracedScene traced, const std::map<std::string, double>& parameters,
+                     std::uint64_t rays, bool preview) {
+    auto s = std::make_shared<SceneSnapshot>();
+    s->traced = std::move(traced);
+    s->parameters = parameters;
+    s->rays = rays;
+    s->preview = preview;
+    const std::lock_guard lock(mutex_);
+    s->generation = ++generation_;
+    snapshot_ = std::move(s);
+}
+
+void Worker::run(const TraceJob& job) {
+    for (std::size_t k = 0; k < job.rays.size(); ++k) {
+        {
+            // A newer trace waiting makes this one moot.
+            const std::lock_guard lock(mutex_);
+            if (quit_ || std::any_of(jobs_.begin(), jobs_.end(), [](const Job& j) {
+                    return std::holds_alternative<TraceJob>(j);
+                }))
+                return;
+        }
+        render::TracedScene t = render::trace_for_views(
+            *ctx_, job.scene,
+            {.parameters = job.parameters, .rays = job.rays[k], .pick = job.pick});
+        rays_traced_ += job.rays[k];
+        ++evaluations_;
+        publish(std::move(t), job.parameters, job.rays[k], k + 1 < job.rays.size());
+    }
+}
+
+void Worker::run(const SearchJob& job) {
+    const ParameterSpace space = parameter_space(job.scene);
+    {
+        const std::lock_guard lock(mutex_);
+        search_ = {.running = true,
+                   .method = method_name(job.method),
+                   .names = space.names,
+                   .out_dir = job.out_dir,
+                   .generation = search_.generation + 1};
+    }
+    SearchRequest request{.settings = search_settings(job.scene), .control = &control_};
+    request.settings.method = job.method;
+    if (job.method != SearchMethod::Auto) request.settings.rays = {request.settings.rays.back()};
+    auto last_view = std::chrono::steady_clock::now() - std::chrono::hours(1);
+    double best = HUGE_VAL;
+    std::uint32_t best_stage = ~0u;
+    request.on_candidate = [&](const Candidate& c, const StageSummary& s) {
+        ++evaluations_;
+        if (c.feasible && !c.replayed) rays_traced_ += s.fidelity.rays;
+        {
+            const std::lock_guard lock(mutex_);
+            search_.history.push_back(c);
+            if (search_.stages.size() <= c.stage) search_.stages.resize(c.stage + 1);
+            search_.stages[c.stage] = s;
+            ++search_.generation;
+        }
+        if (c.stage != best_stage) best_stage = c.stage, best = HUGE_VAL;
+        if (!c.feasible || !(c.l2_lm < best)) return;
+        best = c.l2_lm;
+        // The current best in the viewport, now and then (a low-ray view).
+        const auto now = std::chrono::steady_clock::now();
+        if (std::chrono::duration<double>(now - last_view).count() < kBestViewEvery_s) return;
+        last_view = now;
+        const auto params = space.named(c.x);
+        publish(render::trace_for_views(*ctx_, job.scene,
+                                        {.parameters = params, .rays = kBestViewRays}),
+                params, kBestViewRays, true);
+    };
+    SearchOutcome outcome = run_search(*ctx_, job.scene, request);
+    if (!job.out_dir.empty()) {
+        write_search_outputs(job.out_dir, job.scene, outcome);
+        (void)export_search_reflectors(job.scene, outcome.result, job.out_dir);
+    }
+    const SearchResult& r = outcome.result;
+    log(fmt::format("{} search: {} evaluations, stopped: {}, best l2 {:.5g} lm{}", r.method,
+                    r.history.size(), stop_reason_name(r.stopped), r.best_l2_lm,
+                    job.out_dir.empty() ? "" : ", files in " + job.out_dir));
+    if (r.best)
+        publish(render::trace_for_views(*ctx_, job.scene, {.parameters = r.best_parameters}),
+                r.best_parameters, job.scene.trace.rays, false);
+    const std::lock_guard lock(mutex_);
+    search_.result = r;
+    search_.running = false;
+    ++search_.generation;
+}
+
+void Worker::run(const CalibrateJob& job) {
+    {
+        const std::lock_guard lock(mutex_);
+        calibration_ = {.running = true,
+                        .kind = job.rays_table ? "rays" : "semivariogram",
+                        .out_dir = job.out_dir,
+                        .generation = calibration_.generation + 1};
+    }
+    const auto progress = [&](std::size_t, std::uint32_t, double l2) {
+        ++evaluations_;
+        const std::lock_guard lock(mutex_);
+        calibration_.partial.push_back(l2);
+        ++calibration_.generation;
+    };
+    if (job.rays_table) {
+        RaysTable t =
+            calibrate_rays(*ctx_, job.scene, {.counts = {1000, 10000, 100000, 1000000}, .runs = 20},
+                           &control_, progress);
+        if (!job.out_dir.empty()) write_rays_table(job.out_dir, t, job.scene.name);
+        log(fmt::format("calibrate rays: {} counts, slope {:.3f} ({:.1f} s)", t.rows.size(),
+                        t.slope, t.time_s));
+        const std::lock_guard lock(mutex_);
+        calibration_.rays = std::move(t);
+    } else {
+        SemivariogramOptions o{.points = 41, .rays = 1000000};
+        if (!job.parameter.empty()) o.parameters = {job.parameter};
+        SemivariogramResult r = calibrate_semivariogram(*ctx_, job.scene, o, &control_, progress);
+        if (!job.out_dir.empty()) write_semivariograms(job.out_dir, r, job.scene.name);
+        for (const auto& p : r.parameters)
+            log(fmt::format("semivariogram of {}: {} model, range {:.4g}, nugget {:.4g}",
+                            p.parameter, variogram_model_name(p.model.model), p.model.range,
+                            p.model.nugget));
+        const std::lock_guard lock(mutex_);
+        calibration_.semivariogram = std::move(r);
+    }
+    const std::lock_guard lock(mutex_);
+    calibration_.running = false;
+    ++calibration_.generation;
+}
+
+} // namespace fird::ui

@@ -1,0 +1,122 @@
+// The compute worker beside the frame loop: one thread that traces, searches and
+// calibrates through the evaluation seam, on the shared device (its own command pool,
+// the queue lock), publishing immutable snapshots the frames show. No frame waits on it.
+#pragma once
+
+#include <atomic>
+#include <condition_variable>
+#include <cstdint>
+#include <deque>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <thread>
+#include <variant>
+#include <vector>
+
+#include "calibrate/calibration.hpp"
+#include "optimize/search.hpp"
+#include "traced_scene.hpp"
+
+namespace fird::ui {
+
+// One traced state of the scene as the views show it; never changed once published.
+struct SceneSnapshot {
+    render::TracedScene traced;
+    std::map<std::string, double> parameters;
+    std::uint64_t rays = 0;
+    bool preview = false; // a quick low-ray trace; the full one follows
+    std::uint64_t generation = 0;
+};
+
+struct SearchProgress {
+    bool running = false, paused = false;
+    std::string method;
+    std::vector<std::string> names;
+    std::vector<Candidate> history;
+    std::vector<StageSummary> stages;
+    std::optional<SearchResult> result; // when finished
+    std::string out_dir;                // where its files went
+    std::uint64_t generation = 0;
+};
+
+struct CalibrationProgress {
+    bool running = false;
+    std::string kind; // "rays" or "semivariogram"
+    std::optional<RaysTable> rays;
+    std::optional<SemivariogramResult> semivariogram;
+    std::vector<double> partial; // l2 of the runs or points so far
+    std::string out_dir;
+    std::uint64_t generation = 0;
+};
+
+struct TraceJob {
+    Scene scene;
+    std::map<std::string, double> parameters;
+    std::vector<std::uint64_t> rays; // progressive: a preview, then the full count
+    std::optional<std::size_t> pick;
+};
+struct SearchJob {
+    Scene scene;
+    SearchMethod method = SearchMethod::Auto;
+    std::string out_dir;
+};
+struct CalibrateJob {
+    Scene scene;
+    bool rays_table = true;
+    std::string parameter; // semivariogram: one parameter, or empty for all
+    std::string out_dir;
+};
+using Job = std::variant<TraceJob, SearchJob, CalibrateJob>;
+
+class Worker {
+  public:
+    explicit Worker(const vk::Context& ctx);
+    ~Worker(); // stops the running job and joins
+    Worker(const Worker&) = delete;
+    Worker& operator=(const Worker&) = delete;
+
+    // Queues a job; a trace replaces a trace still waiting (only the latest matters).
+    void submit(Job job);
+    // Stops the running search or calibration (cleanly: what was done is kept).
+    void stop();
+    void set_paused(bool paused);
+    // Whether a job runs or waits.
+    bool busy() const;
+
+    std::shared_ptr<const SceneSnapshot> snapshot() const;
+    SearchProgress search() const;
+    CalibrationProgress calibration() const;
+    // Messages since the last call (errors start with "error: ").
+    std::vector<std::string> take_log();
+
+    std::uint64_t rays_traced() const { return rays_traced_.load(); }
+    std::uint64_t evaluations() const { return evaluations_.load(); }
+
+  private:
+    void loop();
+    void run(const TraceJob& job);
+    void run(const SearchJob& job);
+    void run(const CalibrateJob& job);
+    void publish(render::TracedScene traced, const std::map<std::string, double>& parameters,
+                 std::uint64_t rays, bool preview);
+    void log(std::string message);
+
+    const vk::Context* ctx_;
+    mutable std::mutex mutex_;
+    std::condition_variable wake_;
+    std::deque<Job> jobs_;
+    bool quit_ = false, running_ = false;
+    SearchControl control_;
+    std::shared_ptr<const SceneSnapshot> snapshot_;
+    SearchProgress search_;
+    CalibrationProgress calibration_;
+    std::vector<std::string> log_;
+    std::uint64_t generation_ = 0;
+    std::atomic<std::uint64_t> rays_traced_{0}, evaluations_{0};
+    std::thread thread_; // last: starts once everything above exists
+};
+
+} // namespace fird::ui
