@@ -1,5 +1,7 @@
 #include "mesh.hpp"
 
+#include <filesystem>
+
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -121,9 +123,15 @@ double cross2(glm::dvec2 a, glm::dvec2 b) {
 } // namespace
 
 TriangleMesh load_mesh(const std::string& path, double unit_mm) {
+    if (std::filesystem::is_directory(path))
+        throw std::runtime_error(path + ": is a directory, not a mesh file");
     std::ifstream in(path, std::ios::binary);
     if (!in) throw std::runtime_error(path + ": cannot open the mesh file");
-    std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    return parse_mesh(path, bytes, unit_mm);
+}
+
+TriangleMesh parse_mesh(const std::string& path, const std::string& bytes, double unit_mm) {
     std::string lower = path;
     std::transform(lower.begin(), lower.end(), lower.begin(),
                    [](unsigned char c) { return char(std::tolower(c)); });
@@ -219,8 +227,12 @@ MeshHeightField::MeshHeightField(TriangleMesh mesh, const Holder& holder, const 
 std::pair<int, int> MeshHeightField::cell_of(double x, double y) const {
     const double fx = (x - holder_.min_mm.x) / (holder_.max_mm.x - holder_.min_mm.x);
     const double fy = (y - holder_.min_mm.y) / (holder_.max_mm.y - holder_.min_mm.y);
-    return {std::clamp(int(std::floor(fx * nx_)), 0, nx_ - 1),
-            std::clamp(int(std::floor(fy * ny_)), 0, ny_ - 1)};
+    // Clamped as doubles: a far vertex (1e110 mm) must not overflow the int.
+    const auto index = [](double f, int n) {
+        const double i = std::floor(f * n);
+        return i >= 0.0 ? int(std::min(i, double(n - 1))) : 0;
+    };
+    return {index(fx, nx_), index(fy, ny_)};
 }
 
 std::optional<double> MeshHeightField::height(double x, double y, glm::dvec2* gradient) const {

@@ -25,6 +25,8 @@ struct TriangleMesh {
 // or ASCII), scaling coordinates by unit_mm. Throws std::runtime_error "file:line: ..."
 // (or "file: triangle N: ...") on malformed input.
 TriangleMesh load_mesh(const std::string& path, double unit_mm);
+// The same from the file's bytes (`path` names it in messages and picks the format).
+TriangleMesh parse_mesh(const std::string& path, const std::string& bytes, double unit_mm);
 
 // The mesh as a height function: point location by a uniform xy grid of triangles.
 class MeshHeightField {
