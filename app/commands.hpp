@@ -24,6 +24,7 @@ void register_optimize(CLI::App& app, const GlobalOptions& global, std::function
 void register_calibrate(CLI::App& app, const GlobalOptions& global, std::function<int()>& run);
 void register_export(CLI::App& app, const GlobalOptions& global, std::function<int()>& run);
 void register_screenshot(CLI::App& app, const GlobalOptions& global, std::function<int()>& run);
+void register_stress(CLI::App& app, const GlobalOptions& global, std::function<int()>& run);
 void register_bench(CLI::App& app, const GlobalOptions& global, std::function<int()>& run);
 
 } // namespace fird::app

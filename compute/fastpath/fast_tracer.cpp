@@ -76,17 +76,18 @@ FastTracer::FastTracer(const vk::Context& ctx, const Scene& scene, std::uint64_t
     const auto& limits = ctx.limits();
     // A batch is also no larger than one dispatch covers (maxComputeWorkGroupCount[0]
     // workgroups of the smallest size that walks it: lavapipe's 65535 x 64 < 4M rays).
-    const std::uint64_t dispatch_rays = std::uint64_t(limits.max_workgroup_count[0]) *
-                                        std::min(FIRD_TRACE_WORKGROUP_SIZE, FIRD_RAYSET_WORKGROUP_SIZE);
+    const std::uint64_t dispatch_rays =
+        std::uint64_t(limits.max_workgroup_count[0]) *
+        std::min(FIRD_TRACE_WORKGROUP_SIZE, FIRD_RAYSET_WORKGROUP_SIZE);
     batch_capacity_ = std::min<std::uint64_t>(
         {scene.trace.rays, limits.max_storage_buffer_range / kRayBytes, 1ull << 23, dispatch_rays,
          max_batch_rays ? max_batch_rays : ~0ull});
     const std::uint64_t cells_max =
         std::uint64_t(limits.max_workgroup_count[0]) * FIRD_REDUCE_WORKGROUP_SIZE;
     if (std::uint64_t(params_.ff_w) * params_.ff_h > cells_max)
-        throw std::invalid_argument(fmt::format(
-            "farfield {} x {}: more cells than this device's dispatches cover ({})", params_.ff_w,
-            params_.ff_h, cells_max));
+        throw std::invalid_argument(
+            fmt::format("farfield {} x {}: more cells than this device's dispatches cover ({})",
+                        params_.ff_w, params_.ff_h, cells_max));
     const std::uint64_t ray_bytes = batch_capacity_ * kRayBytes;
     const auto storage = vk::kStorageUsage;
     params_buffer_ =
@@ -112,6 +113,16 @@ FastTracer::FastTracer(const vk::Context& ctx, const Scene& scene, std::uint64_t
             "limit ({})",
             params_.hf_w, params_.hf_h, q.total_floats, limits.max_texel_buffer_elements));
     // Also vertex buffers: the viewport draws the height field straight from them.
+    // The height-field passes write the quadtree and the gradients as storage buffers:
+    // each must fit one binding (lavapipe: 128 MiB, i.e. 4096 x 4096 texels of gradients).
+    const std::uint64_t binding_bytes =
+        std::max<std::uint64_t>(q.total_floats * 4, std::uint64_t(params_.hf_w) * params_.hf_h * 8);
+    if (binding_bytes > limits.max_storage_buffer_range)
+        throw std::invalid_argument(fmt::format(
+            "heightfield {} x {}: its buffers ({} MB) exceed this device's storage-buffer range "
+            "({} MB); use a smaller height field",
+            params_.hf_w, params_.hf_h, binding_bytes >> 20,
+            limits.max_storage_buffer_range >> 20));
     const auto tree_usage =
         storage | VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT | VK_BUFFER_USAGE_VERTEX_BUFFER_BIT;
     paper_tree_ = vk::Buffer(ctx, q.total_floats * 4, tree_usage, vk::MemoryUse::Device,

@@ -52,6 +52,15 @@ vec2 gradient_at(ivec2 t) {
     return texelFetch(gradients, int(uint(t.y) * P.hf_w + uint(t.x))).rg;
 }
 
+// The refined mode's surface height at texel-space q: the bilinear interpolation of the
+// four texel-centre samples around it (clamped to the texture at its edges).
+float surface_height(vec2 q) {
+    const ivec2 base = ivec2(floor(q - 0.5));
+    const vec2 f = q - 0.5 - vec2(base);
+    return mix(mix(height_at(base), height_at(base + ivec2(1, 0)), f.x),
+               mix(height_at(base + ivec2(0, 1)), height_at(base + ivec2(1, 1)), f.x), f.y);
+}
+
 // The bilinear surface through the texel-centre samples around one texel: its 3 x 3
 // neighbourhood, loaded once per candidate (CPU drivers turn every storage-buffer load
 // into a per-lane loop, so the leaf test's many interpolations read registers instead).
@@ -330,8 +339,11 @@ void main() {
         skip = ivec2(floatBitsToInt(ray.origin.w), floatBitsToInt(ray.direction.w));
         t_start = 1e-5; // Algorithm 2 line 7: a small initial offset after a reflection
     } else if (all(greaterThanEqual(w.O, vec2(0.0))) && all(lessThan(w.O, vec2(P.hf_w, P.hf_h))) &&
-               w.o.z < height_at(ivec2(floor(w.O)))) {
-        below = true; // the source is inside the reflector
+               w.o.z < (kHitMode == kHitModePaper ? height_at(ivec2(floor(w.O))) : surface_height(w.O))) {
+        // The source is inside the reflector (against the surface the hit mode traces:
+        // a texel's column, or the bilinear surface, which a steep wall's texel-centre
+        // sample overshoots by up to half a texel's rise).
+        below = true;
     }
     if (!below) {
         float t_hit;
