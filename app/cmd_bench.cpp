@@ -7,6 +7,7 @@
 
 #include "bench/bench.hpp"
 #include "commands.hpp"
+#include "io/atomic_file.hpp"
 #include "parse.hpp"
 
 namespace fird::app {
@@ -63,15 +64,12 @@ void register_bench(CLI::App& app, const GlobalOptions& global, std::function<in
                              r.scene.c_str(), r.hf_w, r.hf_h, double(r.rays), r.mode.c_str(),
                              r.trace_ms, r.l2_lm);
             });
-            std::filesystem::create_directories(a->out);
+            create_output_directory(a->out);
             const std::string md =
                 bench_markdown(rows, ctx.summary().name + " (" + ctx.summary().driver_info + ")");
             std::printf("%s", md.c_str());
             write_bench_csv(a->out + "/bench.csv", rows);
-            FILE* f = std::fopen((a->out + "/bench.md").c_str(), "w");
-            if (!f) throw std::runtime_error(a->out + "/bench.md: cannot open for writing");
-            std::fputs(md.c_str(), f);
-            std::fclose(f);
+            write_text_file(a->out + "/bench.md", md);
             write_bench_plot(a->out + "/bench.png", rows);
             std::fprintf(stderr, "bench: wrote %s/bench.csv, bench.md, bench.png\n",
                          a->out.c_str());

@@ -1,6 +1,7 @@
 #include "script.hpp"
 
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <map>
 #include <sstream>
@@ -89,6 +90,8 @@ Script parse_script_text(const std::string& text, const std::string& path) {
 }
 
 Script parse_script(const std::string& path) {
+    if (std::filesystem::is_directory(path))
+        throw std::invalid_argument(fmt::format("{}: is a directory, not a script", path));
     std::ifstream in(path);
     if (!in) throw std::invalid_argument(fmt::format("{}: cannot open the script", path));
     std::stringstream ss;

@@ -10,6 +10,7 @@
 #include <fmt/format.h>
 
 #include "evaluation/evaluator.hpp"
+#include "io/atomic_file.hpp"
 #include "io/scene_file.hpp"
 #include "plot/chart.hpp"
 #include "reference/reference_tracer.hpp"
@@ -112,17 +113,16 @@ std::string bench_markdown(const std::vector<BenchRow>& rows, const std::string&
 }
 
 void write_bench_csv(const std::string& path, const std::vector<BenchRow>& rows) {
-    std::ofstream out(path);
-    if (!out) throw std::runtime_error(path + ": cannot open for writing");
-    out << "scene,heightfield_w,heightfield_h,rays,effective,mode,rayset_ms,heightfield_ms,"
-           "trace_ms,histogram_ms,compare_ms,rays_per_s,l2_lm,noise_lm,l2_same_rays_lm,aborted\n";
+    std::string text =
+        "scene,heightfield_w,heightfield_h,rays,effective,mode,rayset_ms,heightfield_ms,"
+        "trace_ms,histogram_ms,compare_ms,rays_per_s,l2_lm,noise_lm,l2_same_rays_lm,aborted\n";
     for (const BenchRow& r : rows)
-        out << fmt::format(
+        text += fmt::format(
             "{},{},{},{},{},{},{:.3f},{:.3f},{:.3f},{:.3f},{:.3f},{:.1f},{:.6g},{:.6g},{},{}\n",
             r.scene, r.hf_w, r.hf_h, r.rays, r.effective, r.mode, r.rayset_ms, r.heightfield_ms,
             r.trace_ms, r.histogram_ms, r.compare_ms, r.rays_per_s, r.l2_lm, r.noise_lm,
             r.l2_same_rays_lm >= 0 ? fmt::format("{:.6g}", r.l2_same_rays_lm) : "", r.aborted);
-    if (!out) throw std::runtime_error(path + ": write failed");
+    write_text_file(path, text);
 }
 
 void write_bench_plot(const std::string& path, const std::vector<BenchRow>& rows) {

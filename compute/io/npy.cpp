@@ -7,6 +7,8 @@
 
 #include <fmt/format.h>
 
+#include "io/atomic_file.hpp"
+
 namespace fird {
 
 void write_npy_f32(const std::string& path, const std::vector<double>& values, std::uint32_t rows,
@@ -19,16 +21,20 @@ void write_npy_f32(const std::string& path, const std::vector<double>& values, s
     const std::size_t unpadded = 10 + header.size() + 1;
     header.append((64 - unpadded % 64) % 64, ' ');
     header.push_back('\n');
-    std::ofstream out(path, std::ios::binary);
-    if (!out) throw std::runtime_error(fmt::format("{}: cannot open for writing", path));
-    const std::uint16_t length = std::uint16_t(header.size());
-    out.write("\x93NUMPY\x01\x00", 8);
-    out.put(char(length & 0xff));
-    out.put(char(length >> 8));
-    out.write(header.data(), std::streamsize(header.size()));
-    std::vector<float> f(values.begin(), values.end());
-    out.write(reinterpret_cast<const char*>(f.data()), std::streamsize(f.size() * sizeof(float)));
-    if (!out) throw std::runtime_error(fmt::format("{}: write failed", path));
+    write_atomically(path, [&](const std::string& temporary) {
+        std::ofstream out(temporary, std::ios::binary);
+        if (!out) throw std::runtime_error(fmt::format("{}: cannot open for writing", path));
+        const std::uint16_t length = std::uint16_t(header.size());
+        out.write("\x93NUMPY\x01\x00", 8);
+        out.put(char(length & 0xff));
+        out.put(char(length >> 8));
+        out.write(header.data(), std::streamsize(header.size()));
+        std::vector<float> f(values.begin(), values.end());
+        out.write(reinterpret_cast<const char*>(f.data()),
+                  std::streamsize(f.size() * sizeof(float)));
+        out.close();
+        if (!out) throw std::runtime_error(fmt::format("{}: write failed", path));
+    });
 }
 
 NpyArray read_npy_f32(const std::string& path) {

@@ -1,28 +1,28 @@
 #include "photometry_writer.hpp"
 
 #include <cmath>
-#include <fstream>
+#include <sstream>
 #include <stdexcept>
 
 #include <fmt/format.h>
+
+#include "io/atomic_file.hpp"
 
 namespace fird {
 
 namespace {
 
-std::ofstream open(const std::string& path) {
-    std::ofstream out(path, std::ios::binary);
-    if (!out) throw std::runtime_error(fmt::format("{}: cannot write the file", path));
-    return out;
+// The file is composed in memory and written whole (a temporary name, then a rename).
+std::ostringstream open(const std::string&) {
+    return std::ostringstream(std::ios::binary);
 }
 
-void finish(std::ofstream& out, const std::string& path) {
-    out.flush();
-    if (!out) throw std::runtime_error(fmt::format("{}: write failed", path));
+void finish(const std::ostringstream& out, const std::string& path) {
+    write_text_file(path, out.str());
 }
 
 // Writes values ten per line (LM-63 limits lines to 256 characters).
-void write_values(std::ofstream& out, const std::vector<double>& values, const char* eol) {
+void write_values(std::ostringstream& out, const std::vector<double>& values, const char* eol) {
     for (std::size_t i = 0; i < values.size(); ++i)
         out << fmt::format("{:.7g}", values[i])
             << ((i % 10 == 9 || i + 1 == values.size()) ? eol : " ");

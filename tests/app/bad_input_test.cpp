@@ -1,0 +1,170 @@
+// Bad input, everywhere: every command refuses malformed and out-of-range values,
+// unreadable and missing files, a directory where a file belongs and an output it cannot
+// write, with one line naming the file, key or option and the exit code the README gives
+// (2 usage, 1 runtime), in bounded time, never a crash.
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <sys/wait.h>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Result {
+    int code;
+    std::string out;
+};
+
+Result run(const std::string& args) {
+    // Bounded: a hang fails the row (timeout's code 124) instead of the suite.
+    const std::string cmd =
+        "timeout 120 " + std::string(FIRD_BINARY) + " --validation " + args + " 2>&1";
+    FILE* pipe = popen(cmd.c_str(), "r");
+    if (!pipe) return {-1, ""};
+    std::string out;
+    std::array<char, 4096> buf{};
+    while (std::fgets(buf.data(), int(buf.size()), pipe))
+        out += buf.data();
+    const int status = pclose(pipe);
+    return {WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status), out};
+}
+
+std::string dir() {
+    static const std::string d = [] {
+        const fs::path p = fs::path(::testing::TempDir()) / "fird_bad_input";
+        fs::create_directories(p);
+        return p.string();
+    }();
+    return d;
+}
+
+// A scene file from the flat mirror with one line replaced (or appended).
+std::string scene_with(const std::string& name, const std::string& from, const std::string& to) {
+    std::ifstream in(std::string(FIRD_SOURCE_DIR) + "/scenes/test/mirror_search.toml");
+    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    if (!from.empty()) {
+        const auto at = text.find(from);
+        if (at == std::string::npos)
+            ADD_FAILURE() << "no '" << from << "' in the scene";
+        else
+            text.replace(at, from.size(), to);
+    } else {
+        text += to;
+    }
+    const std::string path = dir() + "/" + name + ".toml";
+    std::ofstream(path) << text;
+    return path;
+}
+
+struct Row {
+    std::string args;
+    int code;
+    std::string says; // a text the one line must contain
+};
+
+void check(const std::vector<Row>& rows) {
+    for (const Row& r : rows) {
+        const Result res = run(r.args);
+        EXPECT_EQ(res.code, r.code) << r.args << "\n" << res.out;
+        EXPECT_NE(res.out.find(r.says), std::string::npos) << r.args << "\n" << res.out;
+        // One line (a usage error adds the usage line); no Vulkan validation noise.
+        EXPECT_LE(std::count(res.out.begin(), res.out.end(), '\n'), r.code == 2 ? 2 : 1)
+            << r.args << "\n"
+            << res.out;
+    }
+}
+
+const std::string good = std::string(FIRD_SOURCE_DIR) + "/scenes/test/mirror_search.toml";
+
+TEST(BadInput, SceneFilesNamingFileLineAndKey) {
+    check({
+        {"trace " + scene_with("nan", "sx = -0.25", "sx = nan"), 1, "sx: must be finite"},
+        {"trace " + scene_with("inf", "z0 = -2.0", "z0 = inf"), 1, "z0: must be finite"},
+        {"trace " + scene_with("zero_rays", "rays = 40000", "rays = 0"), 1,
+         "rays: must be between"},
+        {"trace " + scene_with("neg_bounces", "max_bounces = 1", "max_bounces = -1"), 1,
+         "max_bounces"},
+        {"trace " + scene_with("zero_grid", "farfield = [180, 90]", "farfield = [0, 90]"), 1,
+         "farfield"},
+        {"trace " + scene_with("cuts", "z0 = -2.0", "z0 = 5.5"), 1, "cuts the light source"},
+        {"trace " +
+             scene_with("outside", "center_mm = [0.0, 0.0, 5.0]", "center_mm = [50.0, 0.0, 5.0]"),
+         1, "outside the holder"},
+        {"trace " + scene_with("unknown", "", "\n[trace2]\nx = 1\n"), 1, "trace2: unknown key"},
+        {"trace " +
+             scene_with("big_grid", "heightfield = [64, 64]", "heightfield = [16384, 16384]"),
+         1, "heightfield 16384 x 16384"},
+        {"trace /nonexistent/scene.toml", 1, "/nonexistent/scene.toml: cannot open"},
+        {"trace " + dir(), 1, dir()},
+    });
+}
+
+TEST(BadInput, OptionValuesOfEveryCommand) {
+    check({
+        {"trace " + good + " --rays 0", 2, "--rays"},
+        {"trace " + good + " --rays nan", 2, "--rays"},
+        {"trace " + good + " --backend quantum", 2, "--backend"},
+        {"optimize " + good + " --rays inf", 2, "--rays"},
+        {"optimize " + good + " --threshold nan", 2, "--threshold"},
+        {"optimize " + good + " --method newton", 2, "--method"},
+        {"calibrate rays " + good + " --runs 0", 2, "--runs"},
+        {"calibrate rays " + good + " --counts 1e3,-5", 2, "--counts"},
+        {"calibrate semivariogram " + good + " --points 1", 2, "--points"},
+        {"calibrate semivariogram " + good + " --parameter q", 2, "--parameter q"},
+        {"export " + good + " --paths 2000000", 2, "--paths"},
+        {"export " + good + " --parameters sx=nan", 2, "--parameters"},
+        {"export " + good + " --levels 99", 2, "--levels"},
+        {"screenshot " + good + " --out " + dir() + " --size 0x0", 2, "--size"},
+        {"screenshot " + good + " --out " + dir() + " --camera 1,nan,2", 2, "--camera"},
+        {"bench --rays 0", 2, "--rays"},
+        {"bench --heightfields 0x5", 2, "--heightfields"},
+        {"photometry convert " + std::string(FIRD_SOURCE_DIR) +
+             "/tests/photometry/data/corpus/luxpy_pair_quadrant.ies " + dir() + "/b.xyz",
+         1, "b.xyz"},
+        {"stress --case no-such-case", 1, "no such case"},
+    });
+}
+
+TEST(BadInput, FilesThatAreMissingUnreadableOrDirectories) {
+    const std::string ies = dir() + "/broken.ies";
+    std::ofstream(ies) << "IESNA:LM-63-2002\nTILT=NONE\n1 1000 1 x\n";
+    check({
+        {"photometry info /nonexistent/x.ies", 1, "/nonexistent/x.ies"},
+        {"photometry info " + ies, 1, "broken.ies"},
+        {"photometry info " + dir(), 1, dir()},
+        {"optimize " + good + " --resume " + dir(), 1, "options.json"},
+        {"gui --script " + dir(), 1, dir()},
+    });
+    // A photometric target that is broken, and a mesh that is missing.
+    const std::string target = dir() + "/ies_target.toml";
+    {
+        std::ifstream in(good);
+        std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+        text = text.substr(0, text.find("[target]")) + "[target]\nfile = \"broken.ies\"\n";
+        std::ofstream(target) << text;
+    }
+    check({{"trace " + target + " --rays 1000", 1, "broken.ies"}});
+}
+
+TEST(BadInput, OutputsThatCannotBeWritten) {
+    // A regular file stands where the output directory should be.
+    const std::string blocker = dir() + "/a_file";
+    std::ofstream(blocker) << "x";
+    const std::string out = blocker + "/out";
+    check({
+        {"trace " + good + " --rays 1000 --out " + out, 1, out},
+        {"optimize " + good + " --max-evals 2 --out " + out, 1, out},
+        {"export " + good + " --rays 1000 --out " + out, 1, out},
+        {"screenshot " + good + " --rays 1000 --view plots --out " + out, 1, out},
+        {"calibrate rays " + good + " --counts 1e3 --runs 2 --out " + out, 1, out},
+        {"stress --case grazing --out " + out, 1, out},
+    });
+}
+
+} // namespace
