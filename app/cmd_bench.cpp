@@ -22,6 +22,8 @@ void register_bench(CLI::App& app, const GlobalOptions& global, std::function<in
         std::string modes = "paper,refined";
         double reference_rays = 2e6;
         bool same_rays = false;
+        bool skips = false;
+        int reps = 5;
         std::string out = "bench_out";
     };
     auto a = std::make_shared<Args>();
@@ -33,9 +35,27 @@ void register_bench(CLI::App& app, const GlobalOptions& global, std::function<in
     cmd->add_flag("--same-rays", a->same_rays,
                   "Also compare each row with the CPU reference of its own rays (no Monte Carlo "
                   "noise: the discretization error alone)");
+    cmd->add_flag("--skips", a->skips,
+                  "Instead: the time each skip of the fast path saves (each switched off for the "
+                  "measurement)");
+    cmd->add_option("--reps", a->reps, "Runs per measurement of --skips")
+        ->check(CLI::Range(1, 100));
     cmd->add_option("--out", a->out, "Directory for bench.csv, bench.md and bench.png");
     cmd->callback([&global, &run, a] {
         run = [&global, a] {
+            if (a->skips) {
+                const auto ctx = vk::Context::create(context_options(global));
+                const auto rows = run_skips_bench(ctx, a->scenes, a->reps, [](const SkipRow& r) {
+                    std::fprintf(stderr, "bench --skips: %s: %s: %.1f ms with, %.1f ms without\n",
+                                 r.scene.c_str(), r.skip.c_str(), r.with_ms, r.without_ms);
+                });
+                const std::string md = skips_markdown(rows, ctx.summary().name + " (" +
+                                                                ctx.summary().driver_info + ")");
+                std::printf("%s", md.c_str());
+                create_output_directory(a->out);
+                write_text_file(a->out + "/skips.md", md);
+                return 0;
+            }
             BenchOptions o;
             o.scenes = a->scenes;
             o.heightfields.clear();
@@ -57,8 +77,7 @@ void register_bench(CLI::App& app, const GlobalOptions& global, std::function<in
             if (!(a->reference_rays >= 1)) throw UsageError("--reference-rays must be >= 1");
             o.reference_rays = std::uint64_t(a->reference_rays);
             o.same_rays = a->same_rays;
-            const auto ctx = vk::Context::create(
-                {.validation = global.validation, .device_name = global.device_name});
+            const auto ctx = vk::Context::create(context_options(global));
             const auto rows = run_bench(ctx, o, [](const BenchRow& r) {
                 std::fprintf(stderr, "bench: %s %ux%u %.0e %s: trace %.1f ms, l2 %.4f lm\n",
                              r.scene.c_str(), r.hf_w, r.hf_h, double(r.rays), r.mode.c_str(),

@@ -32,7 +32,7 @@ struct SemivariogramArgs {
 };
 
 vk::Context make_context(const GlobalOptions& g) {
-    return vk::Context::create({.validation = g.validation, .device_name = g.device_name});
+    return vk::Context::create(context_options(g));
 }
 
 void check_validation(const vk::Context& ctx) {

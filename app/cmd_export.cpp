@@ -36,8 +36,7 @@ void register_export(CLI::App& app, const GlobalOptions& global, std::function<i
                 o.parameters = parse_assignments("--parameters", a->parameters);
             if (!a->rays.empty()) o.rays = parse_count("--rays", a->rays, 4e9);
             const Scene scene = load_scene(a->scene);
-            const auto ctx = vk::Context::create(
-                {.validation = global.validation, .device_name = global.device_name});
+            const auto ctx = vk::Context::create(context_options(global));
             const ExportReport report = export_scene(ctx, scene, o, a->out);
             if (ctx.validation_errors() > 0)
                 throw std::runtime_error("Vulkan validation errors were reported (see above)");

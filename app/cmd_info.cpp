@@ -13,8 +13,7 @@ void register_info(CLI::App& app, const GlobalOptions& global, std::function<int
     cmd->add_flag("--json", *json, "Print one JSON object");
     cmd->callback([&global, &run, json] {
         run = [&global, json] {
-            const auto ctx = vk::Context::create(
-                {.validation = global.validation, .device_name = global.device_name});
+            const auto ctx = vk::Context::create(context_options(global));
             const auto report = device_report(ctx);
             if (*json)
                 std::printf("%s\n", report.dump(2).c_str());

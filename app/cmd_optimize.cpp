@@ -130,7 +130,7 @@ int run_optimize(const GlobalOptions& global, const Args& a, const CLI::App& cmd
     SearchControl control;
     request.control = &control;
     const auto ctx =
-        vk::Context::create({.validation = global.validation, .device_name = global.device_name});
+        vk::Context::create(context_options(global));
     SearchOutcome outcome;
     {
         const InterruptScope interrupts(control);

@@ -91,7 +91,7 @@ int run_screenshot(const GlobalOptions& global, const Args& a) {
                                .height_colours = a.height_colours};
     if (!a.camera.empty()) vo.camera = parse_camera(a.camera, vo.camera);
     const auto ctx =
-        vk::Context::create({.validation = global.validation, .device_name = global.device_name});
+        vk::Context::create(context_options(global));
     const render::TracedScene traced = render::trace_for_views(ctx, scene, t);
     create_output_directory(a.out);
     const auto path = [&](const char* n) { return (std::filesystem::path(a.out) / n).string(); };

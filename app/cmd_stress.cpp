@@ -27,8 +27,7 @@ void register_stress(CLI::App& app, const GlobalOptions& global, std::function<i
     cmd->add_option("--case", a->only, "Only the cases whose name contains this text");
     cmd->callback([&global, &run, a] {
         run = [&global, a] {
-            const auto ctx = vk::Context::create(
-                {.validation = global.validation, .device_name = global.device_name});
+            const auto ctx = vk::Context::create(context_options(global));
             const std::string scratch =
                 (std::filesystem::temp_directory_path() / fmt::format("fird_stress_{}", ::getpid()))
                     .string();

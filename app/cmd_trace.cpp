@@ -47,8 +47,7 @@ void register_trace(CLI::App& app, const GlobalOptions& global, std::function<in
             const Scene scene = apply_overrides(load_scene(a->scene), o);
             Evaluation e;
             if (a->backend == "gpu") {
-                const auto ctx = vk::Context::create(
-                    {.validation = global.validation, .device_name = global.device_name});
+                const auto ctx = vk::Context::create(context_options(global));
                 e = evaluate_fast(ctx, scene);
                 if (ctx.validation_errors() > 0)
                     throw std::runtime_error("Vulkan validation errors were reported (see above)");

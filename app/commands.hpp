@@ -6,12 +6,18 @@
 
 #include <CLI/CLI.hpp>
 
+#include "vk/context.hpp"
+
 namespace fird::app {
 
 struct GlobalOptions {
     std::string device_name;
     bool validation = false;
+    double max_device_memory_mb = 0; // 0: as the device allows
 };
+
+// The Vulkan context options the global options ask for.
+vk::ContextOptions context_options(const GlobalOptions& global);
 
 // Adds every subcommand to `app`; the parsed one sets `run`.
 void register_commands(CLI::App& app, const GlobalOptions& global, std::function<int()>& run);

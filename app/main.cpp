@@ -16,6 +16,9 @@ int main(int argc, char** argv) {
     fird::app::GlobalOptions global;
     app.add_option("--device", global.device_name,
                    "Vulkan device to use (case-insensitive substring of its name)");
+    app.add_option("--max-device-memory", global.max_device_memory_mb,
+                   "Refuse device allocations past this many MB in all")
+        ->check(CLI::PositiveNumber);
     app.add_flag("--validation", global.validation,
                  "Enable the Vulkan validation layers (also FIRD_VALIDATION=1)");
     std::function<int()> run;
@@ -29,7 +32,7 @@ int main(int argc, char** argv) {
         // CLI11 reports an unknown first word as a missing subcommand; name the word.
         for (int i = 1; i < argc; ++i) {
             const std::string word = argv[i];
-            if (word == "--device") {
+            if (word == "--device" || word == "--max-device-memory") {
                 ++i;
                 continue;
             }

@@ -46,3 +46,20 @@ void write_bench_csv(const std::string& path, const std::vector<BenchRow>& rows)
 void write_bench_plot(const std::string& path, const std::vector<BenchRow>& rows);
 
 } // namespace fird
+
+namespace fird {
+
+// fird bench --skips: for each scene and each piece of work the fast path skips when the
+// scene does not need it, the time of an evaluation with the skip and without it (the
+// switch turned off for the measurement only), median of `reps` alternating runs.
+struct SkipRow {
+    std::string scene;
+    std::string skip;
+    double with_ms = 0.0, without_ms = 0.0;
+    std::string note;
+};
+std::vector<SkipRow> run_skips_bench(const vk::Context& ctx, const std::vector<std::string>& scenes,
+                                     int reps, const std::function<void(const SkipRow&)>& progress);
+std::string skips_markdown(const std::vector<SkipRow>& rows, const std::string& device);
+
+} // namespace fird

@@ -260,7 +260,8 @@ void FastTracer::trace_batch(const vk::Buffer& rays, std::uint64_t effective, Fa
     const vk::Buffer* out = &rays_ping_;
     std::uint64_t active = effective;
     const std::uint32_t passes = params_.max_bounces + (params_.strict_policy ? 1u : 0u);
-    for (std::uint32_t bounce = 0; bounce < passes && active > 0; ++bounce) {
+    for (std::uint32_t bounce = 0; bounce < passes && (active > 0 || !skips_.skip_empty_bounces);
+         ++bounce) {
         // No dispatch for a bounce with no active rays (the loop condition).
         // The rays reflected here are ordered by direction for the next bounce, as the
         // rayset is, unless there are too few for the ordering to pay.
@@ -328,6 +329,8 @@ FastRun FastTracer::run() {
     run.tally.emitted = scene_.trace.rays;
     run.tally.by_reflections.assign(params_.max_bounces + 1, 0);
     run.energy_per_ray_lm = scene_.source.flux_lm / double(scene_.trace.rays);
+    if (!skips_.keep_rayset) rayset_chunks_.clear();
+    if (!skips_.keep_heightfield) heightfield_dirty_ = true;
     build_heightfield(run);
     ctx_->submit_and_wait([&](VkCommandBuffer cb) {
         vkCmdFillBuffer(cb, farfield_counts_.get(), 0, VK_WHOLE_SIZE, 0);
@@ -357,7 +360,8 @@ FastRun FastTracer::run() {
                                      vk::storage(counters_), vk::storage(order_buckets_)};
             const gpu::RaysetPush push{.first_lo = std::uint32_t(first),
                                        .first_hi = std::uint32_t(first >> 32),
-                                       .count = std::uint32_t(n)};
+                                       .count = std::uint32_t(n),
+                                       .keep_all = skips_.discard_before_trace ? 0u : 1u};
             rayset_pipeline_.dispatch(cb, b, &push, groups(n, FIRD_RAYSET_WORKGROUP_SIZE));
             timer_.end(cb);
         });
@@ -417,6 +421,11 @@ FastRun FastTracer::run_rays(const std::vector<Ray>& rays, std::vector<glm::vec4
         hits_ = vk::Buffer(*ctx_, 32, vk::kStorageUsage, vk::MemoryUse::Device, "fird.hits.unused");
     }
     return run;
+}
+
+void FastTracer::set_skips(const FastPathSkips& skips) {
+    if (skips.discard_before_trace != skips_.discard_before_trace) rayset_chunks_.clear();
+    skips_ = skips;
 }
 
 void FastTracer::set_count_texel_hits(bool on) {

@@ -55,6 +55,15 @@ struct WalkStep {
     float t = 0.0f, t_exit = 0.0f; // along the ray: where it is, where it leaves the node
 };
 
+// The work the fast path skips when a scene does not need it. Every switch is on in use;
+// turning one off is for measuring what it saves (fird bench --skips), never for results.
+struct FastPathSkips {
+    bool discard_before_trace = true; // rays that cannot meet the holder are not traced
+    bool keep_rayset = true;          // the rayset is kept while only the reflector changes
+    bool keep_heightfield = true;     // the height field is kept while the reflector is
+    bool skip_empty_bounces = true;   // no dispatch for a bounce without active rays
+};
+
 class FastTracer {
   public:
     // `seed` drives the rayset; scene.trace gives rays, grids, bounces and hit mode.
@@ -76,6 +85,9 @@ class FastTracer {
     // Traces given rays (one batch) instead of the source's; hits receives, per input
     // ray, its first hit point and t (t < 0: no hit). For comparisons with the reference.
     FastRun run_rays(const std::vector<Ray>& rays, std::vector<glm::vec4>* hits);
+
+    // For measurement only (see FastPathSkips).
+    void set_skips(const FastPathSkips& skips);
 
     // Count reflections per texel in the next runs (off by default: one atomic per hit).
     void set_count_texel_hits(bool on);
@@ -134,6 +146,7 @@ class FastTracer {
     std::vector<RaysetChunk> rayset_chunks_; // batch i's kept rays at [i]
     bool heightfield_dirty_ = true;
     bool count_texel_hits_ = false;
+    FastPathSkips skips_;
 
     std::array<std::uint32_t, FIRD_SPEC_COUNT> spec_; // the scene's fixed shader choices
     vk::ComputePipeline rayset_pipeline_, heightfield_pipeline_, maxmip_pipeline_, trace_pipeline_,

@@ -148,7 +148,7 @@ struct RaysetPush {
     uint first_lo; // index of the first ray of this batch
     uint first_hi;
     uint count;
-    uint pad;
+    uint keep_all; // measurement only (fird bench --skips): discard no ray before tracing
 };
 
 // rayset_order.comp and bucket_scan.comp: the rayset sorted by direction.

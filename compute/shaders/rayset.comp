@@ -18,7 +18,8 @@ void main() {
     const uint hi = pc.first_hi + (lo < pc.first_lo ? 1u : 0u);
     const Ray r = sample_source(ray_uniforms(lo, hi));
     vec2 t01;
-    const bool effective = clip_to_box(r.origin.xyz, r.direction.xyz, holder_min(), holder_max(), t01);
+    const bool effective =
+        clip_to_box(r.origin.xyz, r.direction.xyz, holder_min(), holder_max(), t01) || pc.keep_all != 0u;
     FIRD_COUNT(counters, kCounterDiscarded, !effective);
     uint slot;
     FIRD_APPEND_INDEX(counters, kCounterEffective, effective, slot);

@@ -43,7 +43,7 @@ Buffer::Buffer(const Context& ctx, VkDeviceSize size_bytes, VkBufferUsageFlags u
                                      .allocationSize = req.size,
                                      .memoryTypeIndex = type};
     VkDeviceMemory memory = VK_NULL_HANDLE;
-    FIRD_VK_CHECK(vkAllocateMemory(dev, &alloc, nullptr, &memory));
+    charge_ = ctx.allocate_memory(alloc, name, &memory);
     memory_ = Owned<VkDeviceMemory>(dev, memory);
     ctx.name(memory, VK_OBJECT_TYPE_DEVICE_MEMORY, name);
     FIRD_VK_CHECK(vkBindBufferMemory(dev, buffer, memory, 0));
@@ -58,12 +58,14 @@ Buffer::Buffer(const Context& ctx, VkDeviceSize size_bytes, VkBufferUsageFlags u
 
 Buffer::~Buffer() = default; // memory is unmapped implicitly by vkFreeMemory
 Buffer::Buffer(Buffer&& o) noexcept
-    : buffer_(std::move(o.buffer_)), memory_(std::move(o.memory_)), size_(o.size_),
+    : buffer_(std::move(o.buffer_)), memory_(std::move(o.memory_)),
+      charge_(std::move(o.charge_)), size_(o.size_),
       mapped_(std::exchange(o.mapped_, nullptr)) {}
 Buffer& Buffer::operator=(Buffer&& o) noexcept {
     if (this != &o) {
         buffer_ = std::move(o.buffer_);
         memory_ = std::move(o.memory_);
+        charge_ = std::move(o.charge_);
         size_ = o.size_;
         mapped_ = std::exchange(o.mapped_, nullptr);
     }

@@ -49,6 +49,7 @@ class Buffer {
   private:
     Owned<VkBuffer> buffer_;
     Owned<VkDeviceMemory> memory_;
+    MemoryCharge charge_;
     VkDeviceSize size_ = 0;
     void* mapped_ = nullptr;
 };

@@ -248,6 +248,8 @@ struct Context::State {
     std::mutex pools_mutex;
     std::map<std::thread::id, Owned<VkCommandPool>> command_pools;
     std::mutex queue_mutex;
+    std::uint64_t max_device_memory = 0;
+    std::atomic<std::uint64_t> device_memory{0};
     PFN_vkSetDebugUtilsObjectNameEXT set_object_name = nullptr;
 
     VkCommandPool pool_for_this_thread(const Context& ctx);
@@ -370,6 +372,7 @@ Context Context::create(const ContextOptions& options) {
     FIRD_VK_CHECK(vkCreateDevice(s->physical, &device_info, nullptr, &s->device));
     vkGetDeviceQueue(s->device, s->queue_family, 0, &s->queue);
 
+    s->max_device_memory = options.max_device_memory_bytes;
     Context ctx(std::move(s));
     ctx.name(ctx.state_->queue, VK_OBJECT_TYPE_QUEUE, "fird.queue");
     return ctx;
@@ -432,6 +435,51 @@ VkCommandPool Context::State::pool_for_this_thread(const Context& ctx) {
                  fmt::format("fird.command_pool.{}", command_pools.size()));
     }
     return pool.get();
+}
+
+MemoryCharge::~MemoryCharge() {
+    if (ctx_) ctx_->release_memory(bytes_);
+}
+
+MemoryCharge& MemoryCharge::operator=(MemoryCharge&& o) noexcept {
+    if (this != &o) {
+        if (ctx_) ctx_->release_memory(bytes_);
+        ctx_ = std::exchange(o.ctx_, nullptr);
+        bytes_ = std::exchange(o.bytes_, 0);
+    }
+    return *this;
+}
+
+void Context::release_memory(std::uint64_t bytes) const {
+    state_->device_memory -= bytes;
+}
+
+std::uint64_t Context::device_memory_in_use() const {
+    return state_->device_memory.load();
+}
+
+MemoryCharge Context::allocate_memory(const VkMemoryAllocateInfo& info, std::string_view name,
+                                      VkDeviceMemory* memory) const {
+    const std::uint64_t bytes = info.allocationSize;
+    const std::uint64_t before = state_->device_memory.fetch_add(bytes);
+    MemoryCharge charge(this, bytes);
+    const auto out_of_memory = [&](const char* whose, VkResult r) {
+        return VulkanError(
+            fmt::format("out of device memory ({}): {} needs {} MB with {} MB in use; lower the "
+                        "rays (--rays), the height field or the far field, or raise "
+                        "--max-device-memory",
+                        whose, name, (bytes + (1 << 20) - 1) >> 20, before >> 20),
+            r);
+    };
+    if (state_->max_device_memory && before + bytes > state_->max_device_memory)
+        throw out_of_memory(
+            fmt::format("the limit of {} MB", state_->max_device_memory >> 20).c_str(),
+            VK_ERROR_OUT_OF_DEVICE_MEMORY);
+    const VkResult r = vkAllocateMemory(state_->device, &info, nullptr, memory);
+    if (r == VK_ERROR_OUT_OF_DEVICE_MEMORY || r == VK_ERROR_OUT_OF_HOST_MEMORY)
+        throw out_of_memory("the device's", r);
+    FIRD_VK_CHECK(r);
+    return charge;
 }
 
 std::unique_lock<std::mutex> Context::lock_queue() const {

@@ -8,6 +8,7 @@
 #include <mutex>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include <vulkan/vulkan.h>
@@ -26,6 +27,28 @@ struct ContextOptions {
     std::vector<std::string> instance_extensions;
     // Extra device extensions (VK_KHR_swapchain, from ui).
     std::vector<std::string> device_extensions;
+    // Refuse device allocations past this many bytes in all (0: as the device allows): the
+    // --max-device-memory option, which also lets tests provoke out-of-memory on lavapipe.
+    std::uint64_t max_device_memory_bytes = 0;
+};
+
+class Context;
+
+// The bytes one allocation holds against the context's budget, given back when it dies.
+class MemoryCharge {
+  public:
+    MemoryCharge() = default;
+    MemoryCharge(const Context* ctx, std::uint64_t bytes) : ctx_(ctx), bytes_(bytes) {}
+    ~MemoryCharge();
+    MemoryCharge(MemoryCharge&& o) noexcept
+        : ctx_(std::exchange(o.ctx_, nullptr)), bytes_(std::exchange(o.bytes_, 0)) {}
+    MemoryCharge& operator=(MemoryCharge&& o) noexcept;
+    MemoryCharge(const MemoryCharge&) = delete;
+    MemoryCharge& operator=(const MemoryCharge&) = delete;
+
+  private:
+    const Context* ctx_ = nullptr;
+    std::uint64_t bytes_ = 0;
 };
 
 // What `fird info` reports, and what passes consult to size their work.
@@ -92,10 +115,18 @@ class Context {
     // external synchronization of a queue): take it for your own vkQueueSubmit.
     std::unique_lock<std::mutex> lock_queue() const;
 
+    // vkAllocateMemory within the budget. Out of memory (the budget's or the device's) is
+    // a VulkanError that names the allocation and says what to lower.
+    MemoryCharge allocate_memory(const VkMemoryAllocateInfo& info, std::string_view name,
+                                 VkDeviceMemory* memory) const;
+    std::uint64_t device_memory_in_use() const;
+
     std::uint32_t find_memory_type(std::uint32_t type_bits, VkMemoryPropertyFlags required,
                                    VkMemoryPropertyFlags preferred) const;
 
   private:
+    friend class MemoryCharge;
+    void release_memory(std::uint64_t bytes) const;
     struct State;
     explicit Context(std::unique_ptr<State> state);
     std::unique_ptr<State> state_;

@@ -36,7 +36,7 @@ Image::Image(const Context& ctx, std::uint32_t width, std::uint32_t height, VkFo
         .memoryTypeIndex =
             ctx.find_memory_type(req.memoryTypeBits, 0, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT)};
     VkDeviceMemory memory = VK_NULL_HANDLE;
-    FIRD_VK_CHECK(vkAllocateMemory(dev, &alloc, nullptr, &memory));
+    charge_ = ctx.allocate_memory(alloc, name, &memory);
     memory_ = Owned<VkDeviceMemory>(dev, memory);
     FIRD_VK_CHECK(vkBindImageMemory(dev, image, memory, 0));
 

@@ -24,6 +24,7 @@ class Image {
   private:
     Owned<VkImage> image_;
     Owned<VkDeviceMemory> memory_;
+    MemoryCharge charge_;
     Owned<VkImageView> view_;
     VkFormat format_ = VK_FORMAT_UNDEFINED;
     std::uint32_t width_ = 0;

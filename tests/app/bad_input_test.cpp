@@ -128,6 +128,10 @@ TEST(BadInput, OptionValuesOfEveryCommand) {
              "/tests/photometry/data/corpus/luxpy_pair_quadrant.ies " + dir() + "/b.xyz",
          1, "b.xyz"},
         {"stress --case no-such-case", 1, "no such case"},
+        {"--max-device-memory 0 info", 2, "--max-device-memory"},
+        // Device out of memory (provoked with the budget) says what to lower.
+        {"--max-device-memory 50 trace " + std::string(FIRD_SOURCE_DIR) + "/scenes/model_a.toml", 1,
+         "out of device memory"},
     });
 }
 
