@@ -31,6 +31,14 @@ struct SemivariogramArgs {
     bool json = false;
 };
 
+Scene load_scene_with_target(const std::string& path) {
+    Scene scene = load_scene(path);
+    if (scene.target.kind == TargetDesc::Kind::None)
+        throw std::invalid_argument(fmt::format(
+            "{}: [target] is missing: calibration compares with the desired far field", path));
+    return scene;
+}
+
 vk::Context make_context(const GlobalOptions& g) {
     return vk::Context::create(context_options(g));
 }
@@ -45,11 +53,7 @@ int run_rays(const GlobalOptions& global, const RaysArgs& a) {
         .counts = parse_counts("--counts", a.counts, 4e9), .runs = a.runs, .seed = a.seed};
     if (!a.desired_rays.empty())
         o.desired_rays = parse_count("--desired-rays", a.desired_rays, 4e9);
-    const Scene scene = load_scene(a.scene);
-    if (scene.target.kind == TargetDesc::Kind::None)
-        throw std::invalid_argument(fmt::format("{}: [target] is missing: calibration compares "
-                                                "with the desired far field",
-                                                scene.path));
+    const Scene scene = load_scene_with_target(a.scene);
     const auto ctx = make_context(global);
     ProgressLine progress;
     SearchControl control;
@@ -79,11 +83,7 @@ int run_semivariogram(const GlobalOptions& global, const SemivariogramArgs& a) {
     if (a.points < 3)
         throw UsageError(fmt::format("--points {}: a semivariogram needs at least 3", a.points));
     if (a.parameter != "all") o.parameters = split_list(a.parameter);
-    const Scene scene = load_scene(a.scene);
-    if (scene.target.kind == TargetDesc::Kind::None)
-        throw std::invalid_argument(fmt::format("{}: [target] is missing: calibration compares "
-                                                "with the desired far field",
-                                                scene.path));
+    const Scene scene = load_scene_with_target(a.scene);
     for (const std::string& name : o.parameters)
         if (!scene.reflector.optimize.count(name))
             throw UsageError(

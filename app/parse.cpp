@@ -5,20 +5,15 @@
 
 #include <fmt/format.h>
 
+#include "io/parse_number.hpp"
+
 namespace fird::app {
 
 namespace {
 double number(const std::string& option, const std::string& text) {
-    std::size_t used = 0;
-    double v = 0.0;
-    try {
-        v = std::stod(text, &used);
-    } catch (const std::exception&) {
-        used = 0;
-    }
-    if (used == 0 || used != text.size() || !std::isfinite(v))
-        throw UsageError(fmt::format("{}: '{}' is not a number", option, text));
-    return v;
+    const auto v = parse_finite_number(text);
+    if (!v) throw UsageError(fmt::format("{}: '{}' is not a number", option, text));
+    return *v;
 }
 } // namespace
 

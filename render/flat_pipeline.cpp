@@ -19,27 +19,18 @@ FlatPipeline::FlatPipeline(const vk::Context& ctx, VkPrimitiveTopology topology,
          .format = VK_FORMAT_R32G32B32A32_SFLOAT,
          .offset = offsetof(FlatVertex, colour)}};
     const VkFormat colour_format = kColourFormat;
-    pipeline_ = vk::make_graphics_pipeline(
-        ctx, {.vertex_spirv = fird_spv_flat_vert,
-              .fragment_spirv = fird_spv_flat_frag,
-              .push_stages = VK_SHADER_STAGE_VERTEX_BIT,
-              .push_bytes = sizeof(float) * 16,
-              .vertex_stride = sizeof(FlatVertex),
-              .attributes = attributes,
-              .topology = topology,
-              .depth_compare = VK_COMPARE_OP_LESS_OR_EQUAL,
-              .colour_formats = std::span(&colour_format, 1),
-              .depth_format = kDepthFormat,
-              .blend = {.blendEnable = VK_TRUE,
-                        .srcColorBlendFactor = VK_BLEND_FACTOR_SRC_ALPHA,
-                        .dstColorBlendFactor = VK_BLEND_FACTOR_ONE_MINUS_SRC_ALPHA,
-                        .colorBlendOp = VK_BLEND_OP_ADD,
-                        .srcAlphaBlendFactor = VK_BLEND_FACTOR_ONE,
-                        .dstAlphaBlendFactor = VK_BLEND_FACTOR_ONE_MINUS_SRC_ALPHA,
-                        .alphaBlendOp = VK_BLEND_OP_ADD,
-                        .colorWriteMask = VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT |
-                                          VK_COLOR_COMPONENT_B_BIT | VK_COLOR_COMPONENT_A_BIT},
-              .name = name});
+    pipeline_ = vk::make_graphics_pipeline(ctx, {.vertex_spirv = fird_spv_flat_vert,
+                                                 .fragment_spirv = fird_spv_flat_frag,
+                                                 .push_stages = VK_SHADER_STAGE_VERTEX_BIT,
+                                                 .push_bytes = sizeof(float) * 16,
+                                                 .vertex_stride = sizeof(FlatVertex),
+                                                 .attributes = attributes,
+                                                 .topology = topology,
+                                                 .depth_compare = VK_COMPARE_OP_LESS_OR_EQUAL,
+                                                 .colour_formats = std::span(&colour_format, 1),
+                                                 .depth_format = kDepthFormat,
+                                                 .blend = vk::kAlphaBlend,
+                                                 .name = name});
 }
 
 void FlatPipeline::draw(VkCommandBuffer cb, const vk::Buffer& vertices, std::uint32_t vertex_count,

@@ -36,28 +36,18 @@ const vk::GraphicsPipeline& ImGuiRenderer::pipeline_for(VkFormat format) {
                                                              .offset = offsetof(ImDrawVert, col)}};
     const VkDescriptorType sampler = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
     return pipelines_
-        .emplace(format,
-                 vk::make_graphics_pipeline(
-                     *ctx_, {.vertex_spirv = fird_spv_imgui_vert,
-                             .fragment_spirv = fird_spv_imgui_frag,
-                             .push_stages = VK_SHADER_STAGE_VERTEX_BIT,
-                             .push_bytes = sizeof(float) * 4,
-                             .vertex_stride = sizeof(ImDrawVert),
-                             .attributes = attributes,
-                             .depth_compare = VK_COMPARE_OP_ALWAYS,
-                             .colour_formats = std::span(&format, 1),
-                             .blend = {.blendEnable = VK_TRUE,
-                                       .srcColorBlendFactor = VK_BLEND_FACTOR_SRC_ALPHA,
-                                       .dstColorBlendFactor = VK_BLEND_FACTOR_ONE_MINUS_SRC_ALPHA,
-                                       .colorBlendOp = VK_BLEND_OP_ADD,
-                                       .srcAlphaBlendFactor = VK_BLEND_FACTOR_ONE,
-                                       .dstAlphaBlendFactor = VK_BLEND_FACTOR_ONE_MINUS_SRC_ALPHA,
-                                       .alphaBlendOp = VK_BLEND_OP_ADD,
-                                       .colorWriteMask =
-                                           VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT |
-                                           VK_COLOR_COMPONENT_B_BIT | VK_COLOR_COMPONENT_A_BIT},
-                             .name = "fird.imgui",
-                             .fragment_descriptors = std::span(&sampler, 1)}))
+        .emplace(format, vk::make_graphics_pipeline(
+                             *ctx_, {.vertex_spirv = fird_spv_imgui_vert,
+                                     .fragment_spirv = fird_spv_imgui_frag,
+                                     .push_stages = VK_SHADER_STAGE_VERTEX_BIT,
+                                     .push_bytes = sizeof(float) * 4,
+                                     .vertex_stride = sizeof(ImDrawVert),
+                                     .attributes = attributes,
+                                     .depth_compare = VK_COMPARE_OP_ALWAYS,
+                                     .colour_formats = std::span(&format, 1),
+                                     .blend = vk::kAlphaBlend,
+                                     .name = "fird.imgui",
+                                     .fragment_descriptors = std::span(&sampler, 1)}))
         .first->second;
 }
 

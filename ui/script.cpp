@@ -9,6 +9,8 @@
 
 #include <fmt/format.h>
 
+#include "io/parse_number.hpp"
+
 namespace fird::ui {
 
 namespace {
@@ -32,16 +34,9 @@ const std::map<std::string, std::tuple<ScriptAction::Kind, int, int>>& actions()
 }
 
 double number(const std::string& path, int line, const std::string& s) {
-    std::size_t used = 0;
-    double v = 0.0;
-    try {
-        v = std::stod(s, &used);
-    } catch (const std::exception&) {
-        used = 0;
-    }
-    if (used == 0 || used != s.size() || !std::isfinite(v))
-        throw std::invalid_argument(fmt::format("{}:{}: '{}' is not a number", path, line, s));
-    return v;
+    const auto v = parse_finite_number(s);
+    if (!v) throw std::invalid_argument(fmt::format("{}:{}: '{}' is not a number", path, line, s));
+    return *v;
 }
 
 // The longest a wait-idle waits (frames at the frame loop's pace): a hung job fails the

@@ -9,6 +9,8 @@
 
 #include <fmt/format.h>
 
+#include "io/parse_number.hpp"
+
 namespace fird {
 
 namespace {
@@ -23,16 +25,9 @@ std::vector<std::string> split(const std::string& line) {
 }
 
 double number(const std::string& path, std::size_t line, const std::string& cell) {
-    std::size_t used = 0;
-    double v = 0.0;
-    try {
-        v = std::stod(cell, &used);
-    } catch (const std::exception&) {
-        used = 0;
-    }
-    if (used != cell.size() || cell.empty())
-        throw std::runtime_error(fmt::format("{}:{}: '{}' is not a number", path, line, cell));
-    return v;
+    const auto v = parse_finite_number(cell);
+    if (!v) throw std::runtime_error(fmt::format("{}:{}: '{}' is not a number", path, line, cell));
+    return *v;
 }
 
 } // namespace

@@ -40,6 +40,18 @@ struct GraphicsPipeline {
     PFN_vkCmdPushDescriptorSetKHR push_descriptor_set = nullptr;
 };
 
+// "Over" blending of straight alpha, writing all four channels (the overlays, ImGui).
+inline constexpr VkPipelineColorBlendAttachmentState kAlphaBlend{
+    .blendEnable = VK_TRUE,
+    .srcColorBlendFactor = VK_BLEND_FACTOR_SRC_ALPHA,
+    .dstColorBlendFactor = VK_BLEND_FACTOR_ONE_MINUS_SRC_ALPHA,
+    .colorBlendOp = VK_BLEND_OP_ADD,
+    .srcAlphaBlendFactor = VK_BLEND_FACTOR_ONE,
+    .dstAlphaBlendFactor = VK_BLEND_FACTOR_ONE_MINUS_SRC_ALPHA,
+    .alphaBlendOp = VK_BLEND_OP_ADD,
+    .colorWriteMask = VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT |
+                      VK_COLOR_COMPONENT_B_BIT | VK_COLOR_COMPONENT_A_BIT};
+
 GraphicsPipeline make_graphics_pipeline(const Context& ctx, const GraphicsPipelineDesc& desc);
 
 } // namespace fird::vk

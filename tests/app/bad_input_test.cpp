@@ -12,27 +12,17 @@
 
 #include <gtest/gtest.h>
 
+#include "run_fird.hpp"
+
 namespace {
 
 namespace fs = std::filesystem;
 
-struct Result {
-    int code;
-    std::string out;
-};
+using fird::test::Result;
 
+// Bounded: a hang fails the row (timeout's code 124) instead of the suite.
 Result run(const std::string& args) {
-    // Bounded: a hang fails the row (timeout's code 124) instead of the suite.
-    const std::string cmd =
-        "timeout 120 " + std::string(FIRD_BINARY) + " --validation " + args + " 2>&1";
-    FILE* pipe = popen(cmd.c_str(), "r");
-    if (!pipe) return {-1, ""};
-    std::string out;
-    std::array<char, 4096> buf{};
-    while (std::fgets(buf.data(), int(buf.size()), pipe))
-        out += buf.data();
-    const int status = pclose(pipe);
-    return {WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status), out};
+    return fird::test::run_fird("timeout 120", args);
 }
 
 std::string dir() {

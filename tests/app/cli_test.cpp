@@ -14,25 +14,14 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "run_fird.hpp"
+
 namespace {
 
-struct Result {
-    int code;
-    std::string out;
-};
+using fird::test::Result;
 
 Result run_env(const std::string& env, const std::string& args) {
-    // Every run has the validation layers on: a validation error fails the command.
-    const std::string cmd =
-        env + " " + std::string(FIRD_BINARY) + " --validation " + args + " 2>&1";
-    FILE* pipe = popen(cmd.c_str(), "r");
-    if (!pipe) return {-1, ""};
-    std::string out;
-    std::array<char, 4096> buf{};
-    while (std::fgets(buf.data(), int(buf.size()), pipe))
-        out += buf.data();
-    const int status = pclose(pipe);
-    return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
+    return fird::test::run_fird(env, args);
 }
 
 Result run(const std::string& args) {
