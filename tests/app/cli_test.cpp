@@ -440,6 +440,7 @@ TEST(CliScreenshot, WritesTheViewsAndRefusesBadValues) {
     EXPECT_NE(pick.out.find("--pick-ray"), std::string::npos) << pick.out;
 }
 
+#if FIRD_HAS_UI
 // A bad script line is refused naming the file and line, before any window opens.
 TEST(CliGui, ABadScriptLineIsAnErrorNamingFileAndLine) {
     const std::string path = ::testing::TempDir() + "/bad_session.fird";
@@ -459,3 +460,4 @@ TEST(CliGui, ABadScriptLineIsAnErrorNamingFileAndLine) {
     EXPECT_NE(missing.code, 0);
     EXPECT_NE(missing.out.find("/nonexistent/session.fird"), std::string::npos) << missing.out;
 }
+#endif
