@@ -68,6 +68,9 @@ std::vector<SkipRow> run_skips_bench(const vk::Context& ctx, const std::vector<s
              "");
         pair("no dispatch for a bounce without active rays", {.skip_empty_bounces = false}, false,
              "");
+        pair("rising rays leave at the reflector's highest point",
+             {.end_walk_at_reflector_top = false}, false,
+             "the holder's open top above the reflector");
         // The compare pass a scene without a target skips: its cost alone.
         ev.set_desired(FarField{
             s.trace.farfield_w, s.trace.farfield_h,

@@ -277,7 +277,9 @@ void FastTracer::trace_batch(const vk::Buffer& rays, std::uint64_t effective, Fa
                                       .active_count = std::uint32_t(active),
                                       .record_hits = record_hits && bounce == 0 ? 1u : 0u,
                                       .order_output = order ? 1u : 0u,
-                                      .count_texel_hits = count_texel_hits_ ? 1u : 0u};
+                                      .count_texel_hits = count_texel_hits_ ? 1u : 0u,
+                                      .walk_to_box_top =
+                                          skips_.end_walk_at_reflector_top ? 0u : 1u};
             dispatch_trace(cb, *in, *out, counters_, farfield_counts_, push);
             timer_.end(cb);
         });

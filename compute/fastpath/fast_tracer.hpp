@@ -58,10 +58,11 @@ struct WalkStep {
 // The work the fast path skips when a scene does not need it. Every switch is on in use;
 // turning one off is for measuring what it saves (fird bench --skips), never for results.
 struct FastPathSkips {
-    bool discard_before_trace = true; // rays that cannot meet the holder are not traced
-    bool keep_rayset = true;          // the rayset is kept while only the reflector changes
-    bool keep_heightfield = true;     // the height field is kept while the reflector is
-    bool skip_empty_bounces = true;   // no dispatch for a bounce without active rays
+    bool discard_before_trace = true;      // rays that cannot meet the holder are not traced
+    bool keep_rayset = true;               // the rayset is kept while only the reflector changes
+    bool keep_heightfield = true;          // the height field is kept while the reflector is
+    bool skip_empty_bounces = true;        // no dispatch for a bounce without active rays
+    bool end_walk_at_reflector_top = true; // a rising ray's walk ends at the highest point
 };
 
 class FastTracer {

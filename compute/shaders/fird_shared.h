@@ -173,6 +173,8 @@ struct TracePush {
     uint order_output; // count the appended rays per direction bucket (rayset_order.comp)
     uint count_texel_hits; // texel_hits[t] += reflections at texel t; [W H + t] first ones
     uint walk_ray;         // the input ray whose walk is recorded (FIRD_SPEC_RECORD_WALK)
+    uint walk_to_box_top;  // measurement only (fird bench --skips): rising rays are walked
+                           // to the holder's top, not to the reflector's highest point
 };
 
 struct MeshRasterPush {

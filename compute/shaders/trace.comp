@@ -182,7 +182,13 @@ int rqrm(Walk w, float t_start, ivec2 skip_texel, bool picked, out float t_hit,
     vec2 t01;
     if (!clip_to_box(w.o, w.d, holder_min(), holder_max(), t01)) return kMiss;
     float t = max(t01.x, t_start);
-    const float t_end = t01.y;
+    const int top = int(P.levels) - 1;
+    // Nothing stands above the quadtree root's height (the reflector's highest point): a
+    // rising ray that passes it leaves through the holder's open top without a hit, so
+    // its walk ends there rather than climbing the quadtree to the holder's top face.
+    float t_end = t01.y;
+    if (w.d.z > 0.0 && pc.walk_to_box_top == 0u)
+        t_end = min(t_end, (texelFetch(pyramid, int(P.level_offset[top])).r - w.o.z) / w.d.z);
     if (t >= t_end) return kMiss;
     const ivec2 size = ivec2(P.hf_w, P.hf_h);
     const vec2 bias = sign(w.D) * 1e-4; // choose cells in the direction of travel
@@ -195,7 +201,6 @@ int rqrm(Walk w, float t_start, ivec2 skip_texel, bool picked, out float t_hit,
         if (!top_face && z < height_at(texel)) return kBlocked;
     }
 
-    const int top = int(P.levels) - 1;
     // A ray leaving the surface after a reflection lies under every node above its texel,
     // so a walk from the root would only descend to that texel: start there instead.
     const bool from_surface = skip_texel.x >= 0;
