@@ -1,6 +1,7 @@
 // fird calibrate rays|semivariogram SCENE: how many rays are enough (Table 1) and the
 // smallest useful step per parameter (the semivariogram, Figure 8).
 #include <cstdio>
+#include <map>
 
 #include <fmt/format.h>
 
@@ -26,6 +27,7 @@ struct RaysArgs {
 
 struct SemivariogramArgs {
     std::string scene, parameter = "all", rays = "1e6", out, write_steps;
+    StepRule step_rule = StepRule::Range;
     std::uint32_t points = 101;
     std::uint64_t seed = 1;
     bool json = false;
@@ -109,13 +111,16 @@ int run_semivariogram(const GlobalOptions& global, const SemivariogramArgs& a) {
                         fmt::format("# {} with the steps of fird calibrate semivariogram ({:.0e} "
                                     "rays, {} points)\n",
                                     scene.name, double(o.rays), o.points) +
-                            scene_to_toml(scene_with_steps(scene, result)));
+                            scene_to_toml(scene_with_steps(scene, result, a.step_rule)));
     if (a.json) {
         std::printf("%s\n", semivariogram_json(result).dump(2).c_str());
     } else {
         std::printf("%s",
-                    fmt::format("{}: semivariograms of l2 ({:.0e} rays, {} points, {:.1f} s)\n",
-                                scene.name, double(o.rays), o.points, result.time_s)
+                    fmt::format("{}: semivariograms of l2 ({:.0e} rays, {} points, {:.1f} s); "
+                                "noise: variance of l2 {:.3g} lm^2 over {} traces of the desired "
+                                "reflector\n",
+                                scene.name, double(o.rays), o.points, result.time_s,
+                                result.noise_variance_l2, o.noise_runs)
                         .c_str());
         for (const ParameterSemivariogram& p : result.parameters)
             std::printf("%s: %s model, nugget %.4g, sill %.4g, range %.4g; recommended step "
@@ -124,7 +129,7 @@ int run_semivariogram(const GlobalOptions& global, const SemivariogramArgs& a) {
                         p.model.sill, p.model.range, p.recommended_step,
                         p.resolvable_step ? fmt::format("{:.4g}", *p.resolvable_step).c_str()
                                           : "none",
-                        calibrated_step(p));
+                        calibrated_step(p, a.step_rule));
     }
     return 0;
 }
@@ -166,6 +171,11 @@ void register_calibrate(CLI::App& app, const GlobalOptions& global, std::functio
                    "Write series.csv, semivariogram.csv, semivariogram_NAME.png here");
     sv->add_option("--write-steps", s->write_steps,
                    "Write the scene with the calibrated [reflector.optimize] steps to this file");
+    sv->add_option("--step-rule", s->step_rule,
+                   "Steps --write-steps writes: range (the paper's lower bound, never below "
+                   "the resolvable step) or resolvable (the smallest above the noise)")
+        ->transform(CLI::CheckedTransformer(std::map<std::string, StepRule>{
+            {"range", StepRule::Range}, {"resolvable", StepRule::Resolvable}}));
     sv->callback(
         [&global, &run, s] { run = [&global, s] { return run_semivariogram(global, *s); }; });
 }

@@ -136,6 +136,15 @@ void present(const vk::Context& ctx, ImGui_ImplVulkanH_Window& wd, ImGuiRenderer
     wd.SemaphoreIndex = (wd.SemaphoreIndex + 1) % wd.ImageCount;
 }
 
+// (Re)creates the swapchain. Dear ImGui's helper waits for the device idle, which uses
+// every queue: it must not run while the worker submits, so it holds the queue lock.
+void resize_swapchain(const vk::Context& ctx, ImGui_ImplVulkanH_Window& wd, int width, int height,
+                      std::uint32_t min_images) {
+    const auto queue = ctx.lock_queue();
+    ImGui_ImplVulkanH_CreateOrResizeWindow(ctx.instance(), ctx.physical_device(), ctx.device(), &wd,
+                                           ctx.queue_family(), nullptr, width, height, min_images);
+}
+
 double percentile(std::vector<double> v, double q) {
     if (v.empty()) return 0.0;
     std::sort(v.begin(), v.end());
@@ -195,8 +204,7 @@ int run_workbench(const WorkbenchOptions& options) {
     int width = 0, height = 0;
     glfwGetFramebufferSize(window, &width, &height);
     constexpr std::uint32_t kMinImages = 2;
-    ImGui_ImplVulkanH_CreateOrResizeWindow(ctx.instance(), ctx.physical_device(), ctx.device(), &wd,
-                                           ctx.queue_family(), nullptr, width, height, kMinImages);
+    resize_swapchain(ctx, wd, width, height, kMinImages);
 
     const ImGuiScope imgui;
     const std::string dir = config_directory();
@@ -234,9 +242,7 @@ int run_workbench(const WorkbenchOptions& options) {
             if (rebuild) {
                 glfwGetFramebufferSize(window, &width, &height);
                 if (width > 0 && height > 0) {
-                    ImGui_ImplVulkanH_CreateOrResizeWindow(ctx.instance(), ctx.physical_device(),
-                                                           ctx.device(), &wd, ctx.queue_family(),
-                                                           nullptr, width, height, kMinImages);
+                    resize_swapchain(ctx, wd, width, height, kMinImages);
                     wd.FrameIndex = 0;
                     rebuild = false;
                 }
@@ -278,7 +284,12 @@ int run_workbench(const WorkbenchOptions& options) {
         rays = session.worker.rays_traced();
         evaluations = session.worker.evaluations();
         settings.recent = session.state.recent;
-        FIRD_VK_CHECK(vkDeviceWaitIdle(ctx.device()));
+        {
+            // The worker may still be finishing a submission: waiting for the device uses
+            // every queue, so it takes the queue lock like a submission does.
+            const auto queue = ctx.lock_queue();
+            FIRD_VK_CHECK(vkDeviceWaitIdle(ctx.device()));
+        }
     }
     glfwGetWindowSize(window, &settings.window_w, &settings.window_h);
     save_settings(settings);

@@ -117,6 +117,27 @@ RaysTable calibrate_rays(const vk::Context& ctx, const Scene& scene, const RaysT
     return table;
 }
 
+namespace {
+
+// The sample variance of l2 over independent traces of the centre reflector (fresh rays
+// each, the same stream numbering as the series so no seed is reused).
+double noise_variance(Evaluator& evaluator, const Scene& scene, const ReflectorDesc& centre,
+                      const SemivariogramOptions& o, std::uint64_t& stream,
+                      const SearchControl* control) {
+    if (o.noise_runs < 2 || !candidate_feasibility(scene, centre).feasible) return 0.0;
+    double sum = 0.0, sum2 = 0.0;
+    for (std::uint32_t r = 0; r < o.noise_runs; ++r) {
+        check_stop(control);
+        evaluator.set_seed(stream_seed(o.seed, ++stream, avoid_seed(scene)));
+        const double l2 = *evaluator.evaluate(centre).l2_lm;
+        sum += l2, sum2 += l2 * l2;
+    }
+    const double n = o.noise_runs;
+    return std::max(0.0, (sum2 - sum * sum / n) / (n - 1.0));
+}
+
+} // namespace
+
 SemivariogramResult calibrate_semivariogram(const vk::Context& ctx, const Scene& scene,
                                             const SemivariogramOptions& o,
                                             const SearchControl* control,
@@ -143,6 +164,7 @@ SemivariogramResult calibrate_semivariogram(const vk::Context& ctx, const Scene&
     evaluator.set_desired(desired.farfield); // the height field change between points
     const ReflectorDesc centre = desired_reflector(scene);
     std::uint64_t stream = kRunStreams * 64;
+    result.noise_variance_l2 = noise_variance(evaluator, scene, centre, o, stream, control);
     for (std::size_t p = 0; p < names.size(); ++p) {
         const auto tp = std::chrono::steady_clock::now();
         const auto k = std::size_t(std::find(space.names.begin(), space.names.end(), names[p]) -
@@ -169,7 +191,7 @@ SemivariogramResult calibrate_semivariogram(const vk::Context& ctx, const Scene&
         s.fits = fit_variograms(s.empirical);
         s.model = best_fit(s.fits);
         s.recommended_step = s.model.range;
-        s.resolvable_step = resolvable_step(s.model);
+        s.resolvable_step = resolvable_step(s.model, result.noise_variance_l2);
         s.time_s = seconds_since(tp);
         result.parameters.push_back(std::move(s));
     }
@@ -177,17 +199,19 @@ SemivariogramResult calibrate_semivariogram(const vk::Context& ctx, const Scene&
     return result;
 }
 
-double calibrated_step(const ParameterSemivariogram& p) {
-    const double step = std::max(p.recommended_step, p.resolvable_step.value_or(0.0));
+double calibrated_step(const ParameterSemivariogram& p, StepRule rule) {
+    const double step = rule == StepRule::Resolvable
+                            ? p.resolvable_step.value_or(0.0)
+                            : std::max(p.recommended_step, p.resolvable_step.value_or(0.0));
     if (!(step > 0.0)) return step;
     const double mag = std::pow(10.0, std::floor(std::log10(step)) - 1.0);
     return std::ceil(step / mag - 1e-9) * mag;
 }
 
-Scene scene_with_steps(const Scene& scene, const SemivariogramResult& result) {
+Scene scene_with_steps(const Scene& scene, const SemivariogramResult& result, StepRule rule) {
     Scene s = scene;
     for (const ParameterSemivariogram& p : result.parameters) {
-        const double step = calibrated_step(p);
+        const double step = calibrated_step(p, rule);
         if (step > 0.0) s.reflector.optimize.at(p.parameter).step = step;
     }
     return s;

@@ -53,6 +53,7 @@ struct SemivariogramOptions {
     std::uint32_t points = 101;          // K regularly spaced values across the bounds
     std::uint64_t rays = 1000000;
     std::uint64_t seed = 1;
+    std::uint32_t noise_runs = 8; // independent traces of the desired reflector: the noise
 };
 
 struct ParameterSemivariogram {
@@ -71,6 +72,9 @@ struct SemivariogramResult {
     std::uint64_t rays = 0;
     std::uint32_t points = 0;
     std::string desired;
+    // Variance of l2 over noise_runs independent traces of the desired reflector at `rays`:
+    // the noise a step's difference must stand above, measured rather than fitted.
+    double noise_variance_l2 = 0.0;
     double time_s = 0.0;
 };
 
@@ -86,11 +90,18 @@ SemivariogramResult calibrate_semivariogram(const vk::Context& ctx, const Scene&
 // target the scene's own.
 ReflectorDesc desired_reflector(const Scene& scene);
 
-// The step written back for a parameter: the range, never below the resolvable step,
-// rounded up to two significant digits.
-double calibrated_step(const ParameterSemivariogram& p);
+// Which step is written back: the paper's lower bound (the range), or the smallest step
+// that stands above the noise (where the range measures the width of the error's basin
+// rather than the reach of its noise, as in docs/calibration.md).
+enum class StepRule { Range, Resolvable };
 
-// The scene with [reflector.optimize] steps set to the calibrated ones (scene_to_toml).
-Scene scene_with_steps(const Scene& scene, const SemivariogramResult& result);
+// The step written back for a parameter: the range (never below the resolvable step), or
+// the resolvable step; rounded up to two significant digits; 0 where there is none.
+double calibrated_step(const ParameterSemivariogram& p, StepRule rule = StepRule::Range);
+
+// The scene with [reflector.optimize] steps set to the calibrated ones (scene_to_toml); a
+// parameter without one keeps its step.
+Scene scene_with_steps(const Scene& scene, const SemivariogramResult& result,
+                       StepRule rule = StepRule::Range);
 
 } // namespace fird

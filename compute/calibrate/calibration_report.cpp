@@ -171,6 +171,7 @@ nlohmann::json semivariogram_json(const SemivariogramResult& r) {
             {"rays", r.rays},
             {"points", r.points},
             {"desired", r.desired},
+            {"noise_variance_l2", r.noise_variance_l2},
             {"time_s", r.time_s}};
 }
 

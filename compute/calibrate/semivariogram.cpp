@@ -120,11 +120,15 @@ VariogramFit best_fit(const std::vector<VariogramFit>& fits) {
                              [](const auto& a, const auto& b) { return a.residual < b.residual; });
 }
 
-std::optional<double> resolvable_step(const VariogramFit& f) {
-    // gamma rises monotonically from the nugget to the sill: bisect gamma(h) = 2 nugget.
-    const double target = 2.0 * f.nugget;
+std::optional<double> resolvable_step(const VariogramFit& f, double noise_variance) {
+    // The noise a difference must stand above: the fitted nugget, or the measured variance
+    // of l2 where the fit put the nugget below it (a series whose first lag is far above the
+    // noise leaves the nugget unidentified: the fit then sets it to zero).
+    const double noise = std::max(f.nugget, noise_variance);
+    // gamma rises monotonically from the nugget to the sill: bisect gamma(h) - nugget = noise.
+    const double target = f.nugget + noise;
     if (f.sill <= target) return std::nullopt;
-    if (f.nugget <= 0.0) return 0.0;
+    if (noise <= 0.0) return 0.0;
     double lo = 0.0, hi = f.range;
     while (variogram(f, hi) <= target)
         hi *= 2.0;

@@ -42,7 +42,8 @@ std::vector<VariogramFit> fit_variograms(const EmpiricalSemivariogram& e);
 VariogramFit best_fit(const std::vector<VariogramFit>& fits);
 
 // The smallest lag whose expected difference stands above the noise: where
-// gamma(h) - nugget first exceeds the nugget (nullopt when it never does).
-std::optional<double> resolvable_step(const VariogramFit& fit);
+// gamma(h) - nugget first exceeds the noise, the larger of the nugget and the measured
+// variance of l2 at one reflector (nullopt when it never does).
+std::optional<double> resolvable_step(const VariogramFit& fit, double noise_variance = 0.0);
 
 } // namespace fird

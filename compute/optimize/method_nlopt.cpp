@@ -54,7 +54,9 @@ StopReason run_nlopt(Objective& objective, const NloptRun& run) {
         lo.push_back(space.lo[i]);
         hi.push_back(space.hi[i]);
         x.push_back(std::clamp(run.x0[i], space.lo[i], space.hi[i]));
-        step.push_back(run.initial_step[i]);
+        // BOBYQA's first trust region must fit the box twice over (NLopt refuses a larger
+        // one): a coarse calibrated step on narrow bounds starts at half the span instead.
+        step.push_back(std::min(run.initial_step[i], 0.49 * (space.hi[i] - space.lo[i])));
         xtol.push_back(run.xtol[i]);
     }
     opt.set_lower_bounds(lo);

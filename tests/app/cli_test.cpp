@@ -14,6 +14,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "io/scene_file.hpp"
 #include "run_fird.hpp"
 
 namespace {
@@ -380,6 +381,7 @@ TEST(CliCalibrate, SemivariogramWritesStepsThatTraceAndRefusesBadInput) {
     ASSERT_EQ(r.code, 0) << r.out;
     const auto j = nlohmann::json::parse(r.out);
     ASSERT_EQ(j["parameters"].size(), 2u);
+    EXPECT_GT(j["noise_variance_l2"].get<double>(), 0.0);
     for (const char* key :
          {"series", "lags", "gamma", "pairs", "model", "recommended_step", "resolvable_step"})
         EXPECT_TRUE(j["parameters"][0].contains(key)) << key;
@@ -389,7 +391,17 @@ TEST(CliCalibrate, SemivariogramWritesStepsThatTraceAndRefusesBadInput) {
          {"series.csv", "semivariogram.csv", "semivariogram_sx.png", "semivariogram_sy.png"})
         EXPECT_TRUE(std::filesystem::is_regular_file(dir + "/" + name)) << name;
     EXPECT_EQ(run("trace " + steps + " --rays 1000").code, 0);
-    for (const char* bad : {"--parameter z0", "--points 2", "--rays 0", "--points x"}) {
+    // The resolvable rule writes the smallest step above the noise: below the range's.
+    const std::string fine = ::testing::TempDir() + "/fird_calibrated_fine.toml";
+    ASSERT_EQ(run("calibrate semivariogram " + scene +
+                  " --parameter sx --points 9 --rays 1e4 --step-rule resolvable --write-steps " +
+                  fine)
+                  .code,
+              0);
+    EXPECT_LT(fird::load_scene(fine).reflector.optimize.at("sx").step,
+              fird::load_scene(steps).reflector.optimize.at("sx").step);
+    for (const char* bad :
+         {"--parameter z0", "--points 2", "--rays 0", "--points x", "--step-rule widest"}) {
         const auto b = run("calibrate semivariogram " + scene + " " + bad);
         EXPECT_EQ(b.code, 2) << bad << ": " << b.out;
     }

@@ -45,6 +45,15 @@ TEST_F(Calibration, SemivariogramSeriesStepsAndWriteStepsRoundTrip) {
     const auto best = std::min_element(p.l2.begin(), p.l2.end()) - p.l2.begin();
     EXPECT_NEAR(p.x[std::size_t(best)], 0.15, 0.051);
     EXPECT_GT(p.model.range, 0.0);
+    // The measured noise (8 traces of the target) is Table 1's variance at the same rays:
+    // two sample variances of 7 and 15 degrees of freedom agree within [0.1, 5] at 99.9 %.
+    const RaysTable t = calibrate_rays(ctx(), s, {.counts = {20000}, .runs = 16});
+    ASSERT_GT(t.rows[0].var_l2, 0.0);
+    const double ratio = r.noise_variance_l2 / t.rows[0].var_l2;
+    EXPECT_GT(ratio, 0.1);
+    EXPECT_LT(ratio, 5.0);
+    ASSERT_TRUE(p.resolvable_step);
+    EXPECT_GT(*p.resolvable_step, 0.0); // a difference must stand above measured noise
     const Scene stepped = scene_with_steps(s, r);
     EXPECT_DOUBLE_EQ(stepped.reflector.optimize.at("sx").step, calibrated_step(p));
     EXPECT_EQ(stepped.reflector.optimize.at("sy"), s.reflector.optimize.at("sy"));

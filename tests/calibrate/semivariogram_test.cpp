@@ -98,10 +98,22 @@ TEST(Semivariogram, ResolvableStepIsWhereTheSignalDoublesTheNugget) {
     ASSERT_TRUE(h);
     EXPECT_NEAR(*h, -3.0 / 3.0 * std::log(1.0 - 0.2 / 1.0), 1e-9);
     EXPECT_FALSE(resolvable_step({VariogramModel::Spherical, 0.5, 0.9, 1.0})); // never
+    // A fit with no nugget stands above the measured noise instead: Gaussian with nugget 0,
+    // c (1 - e^(-3 (h/a)^2)) = v at h = a sqrt(-ln(1 - v/c) / 3).
+    const VariogramFit g{VariogramModel::Gaussian, 0.0, 2.0, 4.0};
+    EXPECT_DOUBLE_EQ(*resolvable_step(g), 0.0);
+    const auto hg = resolvable_step(g, 0.01);
+    ASSERT_TRUE(hg);
+    EXPECT_NEAR(*hg, 4.0 * std::sqrt(-std::log(1.0 - 0.01 / 2.0) / 3.0), 1e-9);
+    EXPECT_NEAR(*resolvable_step(f, 0.01), *h, 1e-12); // a nugget above the noise rules
     ParameterSemivariogram p{.recommended_step = 0.1234, .resolvable_step = 0.05};
     EXPECT_DOUBLE_EQ(calibrated_step(p), 0.13); // up to two significant digits
     p.resolvable_step = 0.3;
     EXPECT_DOUBLE_EQ(calibrated_step(p), 0.3); // never below the resolvable step
+    p.resolvable_step = 0.01234;
+    EXPECT_DOUBLE_EQ(calibrated_step(p, StepRule::Resolvable), 0.013);
+    p.resolvable_step.reset(); // never above the noise: no step to write
+    EXPECT_DOUBLE_EQ(calibrated_step(p, StepRule::Resolvable), 0.0);
 }
 
 } // namespace

@@ -172,6 +172,19 @@ TEST_F(SearchRules, MaxEvaluationsAndThresholdStopTheSearch) {
     EXPECT_EQ(r.stopped, StopReason::Threshold);
 }
 
+// A step coarser than half the bounds (as a semivariogram's range can be) still searches:
+// the local methods' first trust region is cut to fit the box, not refused by NLopt.
+TEST_F(SearchRules, AStepWiderThanHalfTheBoundsStillSearches) {
+    Scene s = scene("mirror_search.toml");
+    for (auto& [name, range] : s.reflector.optimize)
+        range.step = 0.8 * (range.max - range.min);
+    for (SearchMethod m : {SearchMethod::Bobyqa, SearchMethod::Auto}) {
+        const SearchResult r = search(ctx(), s, m).result;
+        EXPECT_TRUE(r.best) << int(m);
+        EXPECT_GT(r.history.size(), 1u) << int(m);
+    }
+}
+
 // A relative photometric target scaled to each candidate's own flux would be matched by
 // a reflector that sends next to no light (l2 -> 0 as its flux -> 0). Scaled once per
 // search, it is not: the dark candidate scores about ||desired||.
