@@ -26,6 +26,7 @@ void register_gui(CLI::App& app, const GlobalOptions& global, std::function<int(
 #ifdef FIRD_HAVE_UI
             return ui::run_workbench({.device_name = global.device_name,
                                       .validation = global.validation,
+                                      .max_batch_rays = global.max_batch_rays,
                                       .scene = a->scene,
                                       .script = a->script,
                                       .max_frames = a->frames,

@@ -13,7 +13,8 @@ namespace fird::app {
 struct GlobalOptions {
     std::string device_name;
     bool validation = false;
-    double max_device_memory_mb = 0; // 0: as the device allows
+    double max_device_memory_mb = 0;  // 0: as the device allows
+    std::uint64_t max_batch_rays = 0; // 0: as the device allows (gui: its own bound)
 };
 
 // The Vulkan context options the global options ask for.

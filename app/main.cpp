@@ -19,6 +19,10 @@ int main(int argc, char** argv) {
     app.add_option("--max-device-memory", global.max_device_memory_mb,
                    "Refuse device allocations past this many MB in all")
         ->check(CLI::PositiveNumber);
+    app.add_option("--max-batch-rays", global.max_batch_rays,
+                   "Trace at most this many rays per submission (default: as the device "
+                   "allows; the workbench: 131072)")
+        ->check(CLI::PositiveNumber);
     app.add_flag("--validation", global.validation,
                  "Enable the Vulkan validation layers (also FIRD_VALIDATION=1)");
     std::function<int()> run;
@@ -32,7 +36,7 @@ int main(int argc, char** argv) {
         // CLI11 reports an unknown first word as a missing subcommand; name the word.
         for (int i = 1; i < argc; ++i) {
             const std::string word = argv[i];
-            if (word == "--device" || word == "--max-device-memory") {
+            if (word == "--device" || word == "--max-device-memory" || word == "--max-batch-rays") {
                 ++i;
                 continue;
             }

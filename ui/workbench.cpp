@@ -30,6 +30,11 @@ namespace fird::ui {
 
 namespace {
 
+// Rays per submission while the window shares the device with the worker: Model A traces
+// 2^17 rays in ~15 ms on 2 lavapipe cores, so a frame waits at most about that long for
+// the compute work queued before it (docs/workbench.md, Measured).
+constexpr std::uint64_t kWorkbenchBatchRays = 1ull << 17;
+
 const ImVec4 kClear{0.12f, 0.12f, 0.14f, 1.0f};
 
 struct Glfw {
@@ -183,7 +188,9 @@ int run_workbench(const WorkbenchOptions& options) {
     const char** exts = glfwGetRequiredInstanceExtensions(&ext_count);
     vk::ContextOptions ctx_options{.validation = options.validation,
                                    .device_name = options.device_name,
-                                   .device_extensions = {VK_KHR_SWAPCHAIN_EXTENSION_NAME}};
+                                   .device_extensions = {VK_KHR_SWAPCHAIN_EXTENSION_NAME},
+                                   .max_batch_rays = options.max_batch_rays ? options.max_batch_rays
+                                                                            : kWorkbenchBatchRays};
     for (std::uint32_t i = 0; i < ext_count; ++i)
         ctx_options.instance_extensions.emplace_back(exts[i]);
     const auto ctx = vk::Context::create(ctx_options);

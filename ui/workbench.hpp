@@ -12,8 +12,9 @@ namespace fird::ui {
 struct WorkbenchOptions {
     std::string device_name;
     bool validation = false;
-    std::string scene;  // opened at start (empty: none)
-    std::string script; // a scripted session (empty: none)
+    std::uint64_t max_batch_rays = 0; // rays per submission; 0: the workbench's bound
+    std::string scene;                // opened at start (empty: none)
+    std::string script;               // a scripted session (empty: none)
     // Stop after this many frames (0: run until the window closes); for smoke tests.
     std::uint32_t max_frames = 0;
     bool stats = false; // print frame-time statistics as JSON at exit

@@ -79,9 +79,10 @@ FastTracer::FastTracer(const vk::Context& ctx, const Scene& scene, std::uint64_t
     const std::uint64_t dispatch_rays =
         std::uint64_t(limits.max_workgroup_count[0]) *
         std::min(FIRD_TRACE_WORKGROUP_SIZE, FIRD_RAYSET_WORKGROUP_SIZE);
-    batch_capacity_ = std::min<std::uint64_t>(
-        {scene.trace.rays, limits.max_storage_buffer_range / kRayBytes, 1ull << 23, dispatch_rays,
-         max_batch_rays ? max_batch_rays : ~0ull});
+    batch_capacity_ =
+        std::min<std::uint64_t>({scene.trace.rays, limits.max_storage_buffer_range / kRayBytes,
+                                 1ull << 23, dispatch_rays, max_batch_rays ? max_batch_rays : ~0ull,
+                                 ctx.max_batch_rays() ? ctx.max_batch_rays() : ~0ull});
     const std::uint64_t cells_max =
         std::uint64_t(limits.max_workgroup_count[0]) * FIRD_REDUCE_WORKGROUP_SIZE;
     if (std::uint64_t(params_.ff_w) * params_.ff_h > cells_max)

@@ -1,12 +1,12 @@
 #include "context.hpp"
 
 #include <algorithm>
-#include <map>
-#include <mutex>
-#include <thread>
 #include <cctype>
 #include <cstdio>
 #include <cstring>
+#include <map>
+#include <mutex>
+#include <thread>
 
 #include <fmt/format.h>
 
@@ -249,6 +249,7 @@ struct Context::State {
     std::map<std::thread::id, Owned<VkCommandPool>> command_pools;
     std::mutex queue_mutex;
     std::uint64_t max_device_memory = 0;
+    std::uint64_t max_batch_rays = 0;
     std::atomic<std::uint64_t> device_memory{0};
     PFN_vkSetDebugUtilsObjectNameEXT set_object_name = nullptr;
 
@@ -373,6 +374,7 @@ Context Context::create(const ContextOptions& options) {
     vkGetDeviceQueue(s->device, s->queue_family, 0, &s->queue);
 
     s->max_device_memory = options.max_device_memory_bytes;
+    s->max_batch_rays = options.max_batch_rays;
     Context ctx(std::move(s));
     ctx.name(ctx.state_->queue, VK_OBJECT_TYPE_QUEUE, "fird.queue");
     return ctx;
@@ -480,6 +482,10 @@ MemoryCharge Context::allocate_memory(const VkMemoryAllocateInfo& info, std::str
         throw out_of_memory("the device's", r);
     FIRD_VK_CHECK(r);
     return charge;
+}
+
+std::uint64_t Context::max_batch_rays() const {
+    return state_->max_batch_rays;
 }
 
 std::unique_lock<std::mutex> Context::lock_queue() const {

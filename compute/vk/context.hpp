@@ -30,6 +30,11 @@ struct ContextOptions {
     // Refuse device allocations past this many bytes in all (0: as the device allows): the
     // --max-device-memory option, which also lets tests provoke out-of-memory on lavapipe.
     std::uint64_t max_device_memory_bytes = 0;
+    // Trace at most this many rays per submission (0: as the device allows). A device
+    // shared with a window keeps its submissions short, so a frame queued behind the
+    // compute work waits for one small batch, not a whole evaluation (lavapipe runs a
+    // queue's submissions one after another).
+    std::uint64_t max_batch_rays = 0;
 };
 
 class Context;
@@ -96,6 +101,7 @@ class Context {
     // Every device found, in enumeration order, and which one was chosen.
     const std::vector<DeviceSummary>& all_devices() const;
     bool validation_enabled() const;
+    std::uint64_t max_batch_rays() const; // ContextOptions::max_batch_rays
     // Validation-layer errors reported since creation.
     std::uint64_t validation_errors() const;
 

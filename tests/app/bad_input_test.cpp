@@ -119,6 +119,8 @@ TEST(BadInput, OptionValuesOfEveryCommand) {
          1, "b.xyz"},
         {"stress --case no-such-case", 1, "no such case"},
         {"--max-device-memory 0 info", 2, "--max-device-memory"},
+        {"--max-batch-rays 0 info", 2, "--max-batch-rays"},
+        {"--max-batch-rays -5 info", 2, "--max-batch-rays"},
         // Device out of memory (provoked with the budget) says what to lower.
         {"--max-device-memory 50 trace " + std::string(FIRD_SOURCE_DIR) + "/scenes/model_a.toml", 1,
          "out of device memory"},

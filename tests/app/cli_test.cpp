@@ -107,6 +107,20 @@ TEST(Cli, TraceJsonHasEveryContractField) {
     EXPECT_NEAR(sum, j["energy_emitted_lm"].get<double>(), 1e-9);
 }
 
+// Batches only cut the work into submissions: the rays are indexed, not drawn per batch,
+// so the tally and the l2 are the same with any --max-batch-rays.
+TEST(Cli, SmallerBatchesTraceTheSameRays) {
+    const std::string scene = std::string(FIRD_SOURCE_DIR) + "/scenes/model_b.toml";
+    const auto whole = run("trace " + scene + " --rays 100000 --json");
+    const auto cut = run("--max-batch-rays 9000 trace " + scene + " --rays 100000 --json");
+    ASSERT_EQ(whole.code, 0) << whole.out;
+    ASSERT_EQ(cut.code, 0) << cut.out;
+    const auto a = nlohmann::json::parse(whole.out), b = nlohmann::json::parse(cut.out);
+    for (const char* key : {"rays_effective", "rays_reflected", "rays_by_reflections", "rays_lost"})
+        EXPECT_EQ(a[key], b[key]) << key;
+    EXPECT_NEAR(a["l2"].get<double>(), b["l2"].get<double>(), 1e-9 * a["l2"].get<double>());
+}
+
 TEST(Cli, TraceOutWritesNpyPicturesAndLuminaireFiles) {
     const std::string dir = ::testing::TempDir() + "/fird_out";
     const auto r = run("trace " + std::string(FIRD_SOURCE_DIR) +
