@@ -30,6 +30,18 @@ def run(cmd):
     return time.monotonic() - t0, out
 
 
+def cpu_model():
+    """The processor's name as /proc/cpuinfo gives it (platform.processor() is empty on Linux)."""
+    try:
+        with open("/proc/cpuinfo") as f:
+            for line in f:
+                if line.startswith("model name"):
+                    return line.split(":", 1)[1].strip()
+    except OSError:
+        pass
+    return platform.machine()
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--yardstick", default="/tmp/yardstick/embree_trace")
@@ -37,7 +49,7 @@ def main():
     ap.add_argument("--runs", type=int, default=5)
     ap.add_argument("--models", default="abc")
     a = ap.parse_args()
-    cpu = platform.processor() or platform.machine()
+    cpu = cpu_model()
     print(f"Side by side, {datetime.datetime.utcnow():%Y-%m-%d %H:%M} UTC, {os.cpu_count()} cores ({cpu}); "
           f"{a.runs} alternating pairs per figure, medians.\n")
     print("| model | fird trace s | embree_trace s | whole evaluation ratio | FIRD per candidate ms "

@@ -213,11 +213,13 @@ int run_workbench(const WorkbenchOptions& options) {
     constexpr std::uint32_t kMinImages = 2;
     resize_swapchain(ctx, wd, width, height, kMinImages);
 
-    const ImGuiScope imgui;
     const std::string dir = config_directory();
     const std::string ini =
         dir.empty() ? "" : (std::filesystem::path(dir) / "workbench.ini").string();
     if (!dir.empty()) std::filesystem::create_directories(dir);
+    // After `ini`: Dear ImGui saves the layout to IniFilename when its context is
+    // destroyed, so the string must outlive the scope (declared later, destroyed first).
+    const ImGuiScope imgui;
     ImGui::GetIO().IniFilename = ini.empty() ? nullptr : ini.c_str();
     float xscale = 1.0f, yscale = 1.0f;
     glfwGetWindowContentScale(window, &xscale, &yscale);

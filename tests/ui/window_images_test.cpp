@@ -2,6 +2,7 @@
 // the fixture test before this one): the far field the window shows changed with the
 // parameter, and the scene panel did not move.
 #include <cstdlib>
+#include <filesystem>
 
 #include <gtest/gtest.h>
 
@@ -33,6 +34,16 @@ TEST(WindowedSession, AParameterChangeChangesTheFarFieldShown) {
     // The far-field panel (right, top) changed; the log panel (left, bottom) did not.
     EXPECT_GT(region_difference(before, after, wa, ha, 0.66, 0.08, 0.99, 0.58), 2.0);
     EXPECT_LT(region_difference(before, after, wa, ha, 0.01, 0.70, 0.22, 0.99), 0.5);
+}
+
+// The panel layout is saved where the settings live when the session ends (after its
+// last screenshot), not under a name read from freed memory.
+TEST(WindowedSession, ThePanelLayoutIsSavedInTheConfigDirectoryAtExit) {
+    const std::filesystem::path ini =
+        std::filesystem::path(FIRD_UI_CONFIG_DIR) / "fird/workbench.ini";
+    ASSERT_TRUE(std::filesystem::is_regular_file(ini)) << ini;
+    EXPECT_GE(std::filesystem::last_write_time(ini),
+              std::filesystem::last_write_time("ui_after.png"));
 }
 
 } // namespace
