@@ -7,6 +7,7 @@
 #include "evaluation/evaluation.hpp"
 #include "evaluation/evaluator.hpp"
 #include "io/scene_file.hpp"
+#include "parse.hpp"
 #include "vk/context.hpp"
 
 namespace fird::app {
@@ -22,6 +23,7 @@ void register_trace(CLI::App& app, const GlobalOptions& global, std::function<in
         std::uint64_t seed = 0;
         unsigned threads = 0;
         bool json = false;
+        bool profile = false;
     };
     auto a = std::make_shared<Args>();
     cmd->add_option("SCENE", a->scene, "Scene file (TOML)")->required();
@@ -36,6 +38,9 @@ void register_trace(CLI::App& app, const GlobalOptions& global, std::function<in
     cmd->add_option("--threads", a->threads, "CPU threads for the reference (0: all)")
         ->check(CLI::Range(0.0, 4096.0));
     cmd->add_flag("--json", a->json, "Print one JSON object");
+    cmd->add_flag("--profile", a->profile,
+                  "Fast path: per bounce, rays, device times, walk steps and leaf tests per ray "
+                  "and the SIMD lane utilization (a counting variant of the trace pass)");
     cmd->add_option("--out", a->out, "Write farfield.npy and images to this directory");
     cmd->callback([&global, &run, a, cmd] {
         run = [&global, a, cmd] {
@@ -48,10 +53,12 @@ void register_trace(CLI::App& app, const GlobalOptions& global, std::function<in
             Evaluation e;
             if (a->backend == "gpu") {
                 const auto ctx = vk::Context::create(context_options(global));
-                e = evaluate_fast(ctx, scene);
+                e = evaluate_fast(ctx, scene, a->profile);
                 if (ctx.validation_errors() > 0)
                     throw std::runtime_error("Vulkan validation errors were reported (see above)");
             } else {
+                if (a->profile)
+                    throw UsageError("--profile: the cpu backend has no trace passes to profile");
                 e = evaluate_reference(scene, a->threads);
             }
             if (e.tally.below_surface > 0)
@@ -74,6 +81,7 @@ void register_trace(CLI::App& app, const GlobalOptions& global, std::function<in
                                       .c_str());
                 if (e.l2_lm) std::printf("l2 to the target: %.6g lm\n", *e.l2_lm);
                 std::printf("time: %.1f ms on %s\n", e.timings.total_ms, e.device.c_str());
+                if (!e.bounces.empty()) std::printf("%s", profile_table(e.bounces).c_str());
                 if (!a->out.empty())
                     std::printf("wrote %s/farfield.npy and %s/farfield.png\n", a->out.c_str(),
                                 a->out.c_str());

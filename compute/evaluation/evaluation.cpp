@@ -93,6 +93,37 @@ FarField photometric_target(const Scene& scene, double reflector_farfield_lm) {
     return ff;
 }
 
+nlohmann::json profile_json(const std::vector<BounceProfile>& bounces) {
+    nlohmann::json rows = nlohmann::json::array();
+    for (std::size_t b = 0; b < bounces.size(); ++b) {
+        const BounceProfile& p = bounces[b];
+        const double rays = double(std::max<std::uint64_t>(p.rays, 1));
+        rows.push_back(
+            {{"bounce", b},
+             {"rays", p.rays},
+             {"trace_ms", p.trace_ms},
+             {"order_ms", p.order_ms},
+             {"ns_per_ray", p.trace_ms * 1e6 / rays},
+             {"steps_per_ray", double(p.steps) / rays},
+             {"leaf_tests_per_ray", double(p.leaf_tests) / rays},
+             {"lane_utilization", p.lane_steps ? double(p.steps) / double(p.lane_steps) : 0.0}});
+    }
+    return rows;
+}
+
+std::string profile_table(const std::vector<BounceProfile>& bounces) {
+    std::string out = "| bounce | rays | trace ms | order ms | ns per ray | steps per ray | leaf "
+                      "tests per ray | lane utilization |\n|---|---|---|---|---|---|---|---|\n";
+    for (const auto& row : profile_json(bounces))
+        out += fmt::format("| {} | {} | {:.1f} | {:.1f} | {:.0f} | {:.2f} | {:.2f} | {:.2f} |\n",
+                           row["bounce"].get<std::size_t>(), row["rays"].get<std::uint64_t>(),
+                           row["trace_ms"].get<double>(), row["order_ms"].get<double>(),
+                           row["ns_per_ray"].get<double>(), row["steps_per_ray"].get<double>(),
+                           row["leaf_tests_per_ray"].get<double>(),
+                           row["lane_utilization"].get<double>());
+    return out;
+}
+
 nlohmann::json evaluation_json(const Evaluation& e) {
     const RayTally& t = e.tally;
     const double epr = e.energy_per_ray_lm;
@@ -119,6 +150,7 @@ nlohmann::json evaluation_json(const Evaluation& e) {
                           {"compare", e.timings.compare_ms},
                           {"total", e.timings.total_ms}}}};
     if (e.l2_lm) j["l2"] = *e.l2_lm;
+    if (!e.bounces.empty()) j["profile"] = profile_json(e.bounces);
     return j;
 }
 

@@ -30,6 +30,12 @@ Evaluation evaluate_reference(const Scene& scene, unsigned threads = 0);
 
 nlohmann::json evaluation_json(const Evaluation& evaluation);
 
+// The fast path's per-bounce profile (fird trace --profile): rays, device times, walk
+// steps and leaf tests per ray, and the lane utilization (steps / lane-steps paid), as
+// JSON rows and as a Markdown table.
+nlohmann::json profile_json(const std::vector<BounceProfile>& bounces);
+std::string profile_table(const std::vector<BounceProfile>& bounces);
+
 // farfield.npy (float32, (H, W), lumens), farfield.png, and with a target
 // target.npy / target.png / difference.png.
 // `producer` names the command in the luminaire files' test label.

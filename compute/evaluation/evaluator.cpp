@@ -93,9 +93,10 @@ FarField Evaluator::farfield() const {
     return {fidelity_.farfield_w, fidelity_.farfield_h, tracer_.read_farfield()};
 }
 
-Evaluation evaluate_fast(const vk::Context& ctx, const Scene& scene) {
+Evaluation evaluate_fast(const vk::Context& ctx, const Scene& scene, bool profile) {
     const auto t0 = std::chrono::steady_clock::now();
     Evaluator evaluator(ctx, scene, scene_fidelity(scene));
+    evaluator.tracer().set_profile(profile);
     const CandidateResult r = evaluator.evaluate(scene.reflector);
     Evaluation e;
     e.backend = "gpu";
@@ -104,6 +105,7 @@ Evaluation evaluate_fast(const vk::Context& ctx, const Scene& scene) {
     e.rays_aborted = r.run.aborted;
     e.energy_per_ray_lm = r.run.energy_per_ray_lm;
     e.timings = r.run.timings;
+    if (profile) e.bounces = r.run.bounces;
     e.farfield = evaluator.farfield();
     if (scene.target.kind != TargetDesc::Kind::None) {
         DesiredFarField desired = desired_farfield(ctx, scene, r.farfield_lm);

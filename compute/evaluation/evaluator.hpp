@@ -85,6 +85,8 @@ class Evaluator {
 // One evaluation of the scene as `fird trace` runs it on the fast path: its reflector at
 // the scene's fidelity and, with a [target], the desired far field and l2 (a relative
 // photometric target scaled to this reflector's far-field flux).
-Evaluation evaluate_fast(const vk::Context& ctx, const Scene& scene);
+// With `profile`, the trace runs its counting variant and the result holds the bounces'
+// walk steps, lane-steps and leaf tests (fird trace --profile).
+Evaluation evaluate_fast(const vk::Context& ctx, const Scene& scene, bool profile = false);
 
 } // namespace fird

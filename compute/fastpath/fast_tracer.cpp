@@ -44,6 +44,20 @@ double ms_since(std::chrono::steady_clock::time_point t0) {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
 
+// trace.comp's bindings 0..kTraceBindProfile: uniform texel buffers at 4-6, storage else.
+vk::ComputePipeline trace_pipeline(const vk::Context& ctx,
+                                   const std::array<std::uint32_t, FIRD_SPEC_COUNT>& spec,
+                                   const char* name) {
+    return vk::ComputePipeline(ctx, fird_spv_trace_comp,
+                               {kSB, kSB, kSB, kSB, kTB, kTB, kTB, kSB, kSB, kSB, kSB, kSB, kSB},
+                               sizeof(gpu::TracePush), name, spec);
+}
+
+// 64-bit sums kept on the device as (low, high) pairs of uints.
+std::uint64_t wide(const std::uint32_t* pair) {
+    return std::uint64_t(pair[0]) | (std::uint64_t(pair[1]) << 32);
+}
+
 } // namespace
 
 FastTracer::FastTracer(const vk::Context& ctx, const Scene& scene, std::uint64_t seed,
@@ -56,9 +70,7 @@ FastTracer::FastTracer(const vk::Context& ctx, const Scene& scene, std::uint64_t
                             "fird.heightfield", spec_),
       maxmip_pipeline_(ctx, fird_spv_maxmip_comp, {kSB, kSB, kSB}, sizeof(gpu::MaxMipPush),
                        "fird.maxmip"),
-      trace_pipeline_(ctx, fird_spv_trace_comp,
-                      {kSB, kSB, kSB, kSB, kTB, kTB, kTB, kSB, kSB, kSB, kSB, kSB},
-                      sizeof(gpu::TracePush), "fird.trace", spec_),
+      trace_pipeline_(trace_pipeline(ctx, spec_, "fird.trace")),
       to_lm_pipeline_(ctx, fird_spv_counts_to_lm_comp, {kSB, kSB}, sizeof(ToLmPush),
                       "fird.counts_to_lm"),
       order_pipeline_(ctx, fird_spv_rayset_order_comp, {kSB, kSB, kSB, kSB},
@@ -107,6 +119,7 @@ FastTracer::FastTracer(const vk::Context& ctx, const Scene& scene, std::uint64_t
     hits_ = vk::Buffer(ctx, 32, storage, vk::MemoryUse::Device, "fird.hits.unused");
     texel_hits_ = vk::Buffer(ctx, 16, storage, vk::MemoryUse::Device, "fird.texel_hits.unused");
     walk_ = vk::Buffer(ctx, 16, storage, vk::MemoryUse::Device, "fird.walk.unused");
+    profile_ = vk::Buffer(ctx, 16, storage, vk::MemoryUse::Device, "fird.profile.unused");
     const QuadtreeLayout q = quadtree_layout(params_.hf_w, params_.hf_h);
     if (q.total_floats > limits.max_texel_buffer_elements)
         throw std::invalid_argument(fmt::format(
@@ -249,8 +262,11 @@ void FastTracer::dispatch_trace(VkCommandBuffer cb, const vk::Buffer& in, const 
         vk::storage(hits_),
         vk::storage(order_buckets_),
         vk::storage(texel_hits_),
-        vk::storage(walk_)};
-    const vk::ComputePipeline& p = record_walk ? *trace_walk_pipeline_ : trace_pipeline_;
+        vk::storage(walk_),
+        vk::storage(profile_)};
+    const vk::ComputePipeline& p = record_walk               ? *trace_walk_pipeline_
+                                   : trace_profile_pipeline_ ? *trace_profile_pipeline_
+                                                             : trace_pipeline_;
     p.dispatch(cb, b, &push, groups(push.active_count, FIRD_TRACE_WORKGROUP_SIZE));
 }
 
@@ -284,13 +300,19 @@ void FastTracer::trace_batch(const vk::Buffer& rays, std::uint64_t effective, Fa
             dispatch_trace(cb, *in, *out, counters_, farfield_counts_, push);
             timer_.end(cb);
         });
-        run.timings.trace_ms += timer_.supported() ? timer_.elapsed_ms() : ms_since(t0);
+        const double trace_ms = timer_.supported() ? timer_.elapsed_ms() : ms_since(t0);
+        run.timings.trace_ms += trace_ms;
+        if (run.bounces.size() <= bounce) run.bounces.resize(bounce + 1);
+        run.bounces[bounce].rays += active;
+        run.bounces[bounce].trace_ms += trace_ms;
         active = counters[gpu::kCounterActiveOut];
         in = out;
         if (order) {
             // Into the other ping-pong buffer (this bounce's input is consumed).
             const vk::Buffer* spare = (out == &rays_ping_) ? &rays_pong_ : &rays_ping_;
-            run.timings.trace_ms += order_rays(*out, *spare, active, true);
+            const double order_ms = order_rays(*out, *spare, active, true);
+            run.timings.trace_ms += order_ms;
+            run.bounces[bounce].order_ms += order_ms;
             in = spare;
         }
         out = (in == &rays_ping_) ? &rays_pong_ : &rays_ping_;
@@ -338,6 +360,7 @@ FastRun FastTracer::run() {
     ctx_->submit_and_wait([&](VkCommandBuffer cb) {
         vkCmdFillBuffer(cb, farfield_counts_.get(), 0, VK_WHOLE_SIZE, 0);
         if (count_texel_hits_) vkCmdFillBuffer(cb, texel_hits_.get(), 0, VK_WHOLE_SIZE, 0);
+        if (trace_profile_pipeline_) vkCmdFillBuffer(cb, profile_.get(), 0, VK_WHOLE_SIZE, 0);
     });
     auto* counters = static_cast<std::uint32_t*>(counters_.data());
     std::size_t batch = 0;
@@ -384,6 +407,7 @@ FastRun FastTracer::run() {
         trace_batch(*rays, effective, run, false);
     }
     finish(run);
+    if (trace_profile_pipeline_) read_profile(run);
     run.timings.total_ms = ms_since(t0);
     return run;
 }
@@ -429,6 +453,31 @@ FastRun FastTracer::run_rays(const std::vector<Ray>& rays, std::vector<glm::vec4
 void FastTracer::set_skips(const FastPathSkips& skips) {
     if (skips.discard_before_trace != skips_.discard_before_trace) rayset_chunks_.clear();
     skips_ = skips;
+}
+
+void FastTracer::set_profile(bool on) {
+    if (on == trace_profile_pipeline_.has_value()) return;
+    if (!on) {
+        trace_profile_pipeline_.reset();
+        profile_ =
+            vk::Buffer(*ctx_, 16, vk::kStorageUsage, vk::MemoryUse::Device, "fird.profile.unused");
+        return;
+    }
+    auto spec = spec_;
+    spec[FIRD_SPEC_PROFILE] = 1;
+    trace_profile_pipeline_.emplace(trace_pipeline(*ctx_, spec, "fird.trace.profile"));
+    profile_ = vk::Buffer(*ctx_, (FIRD_MAX_REFLECTIONS + 2) * gpu::kProfileFields * 4,
+                          vk::kStorageUsage, vk::MemoryUse::Readback, "fird.profile");
+}
+
+void FastTracer::read_profile(FastRun& run) const {
+    const auto* p = static_cast<const std::uint32_t*>(profile_.data());
+    for (std::size_t b = 0; b < run.bounces.size(); ++b) {
+        const std::uint32_t* f = p + b * gpu::kProfileFields;
+        run.bounces[b].steps = wide(f + gpu::kProfileSteps);
+        run.bounces[b].lane_steps = wide(f + gpu::kProfileLaneSteps);
+        run.bounces[b].leaf_tests = wide(f + gpu::kProfileLeafTests);
+    }
 }
 
 void FastTracer::set_count_texel_hits(bool on) {
@@ -499,11 +548,7 @@ std::vector<RayPath> FastTracer::trace_paths(const std::vector<Ray>& rays, std::
         if (!trace_walk_pipeline_) {
             auto spec = spec_;
             spec[FIRD_SPEC_RECORD_WALK] = 1;
-            trace_walk_pipeline_.emplace(
-                *ctx_, fird_spv_trace_comp,
-                std::initializer_list<VkDescriptorType>{kSB, kSB, kSB, kSB, kTB, kTB, kTB, kSB, kSB,
-                                                        kSB, kSB, kSB},
-                std::uint32_t(sizeof(gpu::TracePush)), "fird.trace.walk", spec);
+            trace_walk_pipeline_.emplace(trace_pipeline(*ctx_, spec, "fird.trace.walk"));
         }
         kept_walk = std::move(walk_);
         walk_ = vk::Buffer(*ctx_, (1 + 2 * std::uint64_t(gpu::kWalkCapacity)) * 16,

@@ -2,6 +2,7 @@
 // with ping-pong over bounces, far-field histogram, on the shared Vulkan device.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <vector>
@@ -29,6 +30,9 @@ struct FastRun {
     StageTimings timings; // device time where timestamps exist
     bool rayset_reused = false;
     bool heightfield_reused = false;
+    // Per bounce: rays and device times always; steps, lane-steps and leaf tests when
+    // profiled (FastTracer::set_profile).
+    std::vector<BounceProfile> bounces;
 };
 
 // Reflections per texel of the last run (all bounces, and first reflections only), for
@@ -90,6 +94,10 @@ class FastTracer {
     // For measurement only (see FastPathSkips).
     void set_skips(const FastPathSkips& skips);
 
+    // Count walk steps, the lane-steps the SIMD groups pay and leaf tests per bounce in the
+    // next runs (a pipeline variant that counts; off by default).
+    void set_profile(bool on);
+
     // Count reflections per texel in the next runs (off by default: one atomic per hit).
     void set_count_texel_hits(bool on);
     TexelHits read_texel_hits() const;
@@ -132,6 +140,7 @@ class FastTracer {
     double order_rays(const vk::Buffer& from, const vk::Buffer& to, std::uint64_t count,
                       bool reflected);
     void finish(FastRun& run);
+    void read_profile(FastRun& run) const; // the profiling pipeline's counts, per bounce
 
     const vk::Context* ctx_;
     Scene scene_;
@@ -154,7 +163,9 @@ class FastTracer {
         to_lm_pipeline_, order_pipeline_, bucket_scan_pipeline_;
     vk::Buffer params_buffer_, counters_, rays_work_, rays_ping_, rays_pong_, hits_, texel_hits_,
         walk_;
-    std::optional<vk::ComputePipeline> trace_walk_pipeline_; // built when a walk is asked for
+    std::optional<vk::ComputePipeline> trace_walk_pipeline_;    // built when a walk is asked for
+    std::optional<vk::ComputePipeline> trace_profile_pipeline_; // built when profiling
+    vk::Buffer profile_;
     vk::Buffer paper_tree_, refined_tree_, gradients_, control_, order_buckets_;
     vk::TexelView paper_view_, refined_view_, gradients_view_; // as the trace reads them
     vk::Buffer farfield_counts_, farfield_lm_;

@@ -32,6 +32,16 @@ struct StageTimings {
     double total_ms = 0.0;
 };
 
+// One bounce of the fast path's trace, summed over the batches (fird trace --profile).
+struct BounceProfile {
+    std::uint64_t rays = 0;       // rays walked in this bounce
+    double trace_ms = 0.0;        // the trace pass (device time)
+    double order_ms = 0.0;        // ordering the rays it reflected for the next bounce
+    std::uint64_t steps = 0;      // quadtree nodes tested (the profiling pipeline's counts)
+    std::uint64_t lane_steps = 0; // steps the SIMD lanes paid: subgroup size x its longest walk
+    std::uint64_t leaf_tests = 0; // candidate texels tested against the surface
+};
+
 struct Evaluation {
     std::string device;
     std::string backend; // "cpu" or "gpu"
@@ -42,6 +52,7 @@ struct Evaluation {
     std::optional<FarField> target_farfield;
     std::optional<double> l2_lm;
     StageTimings timings;
+    std::vector<BounceProfile> bounces; // the fast path's, when profiled
 };
 
 } // namespace fird

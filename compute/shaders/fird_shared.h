@@ -20,8 +20,8 @@ using uint = std::uint32_t;
 // ---- reduce_sum.comp: sum of x, or of (a - b)^2 (the l2 distance's sum) ----
 FIRD_CONSTANT(uint, kReduceWorkgroupSize, FIRD_REDUCE_WORKGROUP_SIZE);
 FIRD_CONSTANT(uint, kReduceItemsPerThread, 8u);
-FIRD_CONSTANT(uint, kReduceBindingA, 0u);      // float[count]
-FIRD_CONSTANT(uint, kReduceBindingB, 1u);      // float[count] (mode kReduceSquaredDifference)
+FIRD_CONSTANT(uint, kReduceBindingA, 0u);       // float[count]
+FIRD_CONSTANT(uint, kReduceBindingB, 1u);       // float[count] (mode kReduceSquaredDifference)
 FIRD_CONSTANT(uint, kReduceBindingPartial, 2u); // float[groups]
 FIRD_CONSTANT(uint, kReduceSum, 0u);
 FIRD_CONSTANT(uint, kReduceSquaredDifference, 1u);
@@ -32,8 +32,9 @@ struct ReducePush {
 
 // ---- bin_keys.comp: atomic histogram of integer keys ----
 FIRD_CONSTANT(uint, kBinKeysWorkgroupSize, FIRD_BIN_KEYS_WORKGROUP_SIZE);
-FIRD_CONSTANT(uint, kBinKeysBindingKeys, 0u);  // uint[count]
-FIRD_CONSTANT(uint, kBinKeysBindingBins, 1u);  // uint[bin_count + 1]; last slot counts out-of-range keys
+FIRD_CONSTANT(uint, kBinKeysBindingKeys, 0u); // uint[count]
+FIRD_CONSTANT(uint, kBinKeysBindingBins,
+              1u); // uint[bin_count + 1]; last slot counts out-of-range keys
 struct BinKeysPush {
     uint count;
     uint bin_count;
@@ -71,7 +72,8 @@ FIRD_CONSTANT(uint, kHitModeRefined, 1u);
 #define FIRD_SPEC_HIT_MODE 3
 #define FIRD_SPEC_STRICT_POLICY 4
 #define FIRD_SPEC_RECORD_WALK 5 // record one ray's RQRM walk (a pipeline of its own)
-#define FIRD_SPEC_COUNT 6
+#define FIRD_SPEC_PROFILE 6     // count walk steps and leaf tests (a pipeline of its own)
+#define FIRD_SPEC_COUNT 7
 
 // Bindings of the fast-path passes.
 FIRD_CONSTANT(uint, kBindParams, 0u);
@@ -87,27 +89,37 @@ FIRD_CONSTANT(uint, kTraceBindRaysIn, 1u);
 FIRD_CONSTANT(uint, kTraceBindRaysOut, 2u);
 FIRD_CONSTANT(uint, kTraceBindCounters, 3u);
 // Bindings 4-6 are uniform texel buffers (R32F, R32F, RG32F); the others storage buffers.
-FIRD_CONSTANT(uint, kTraceBindPyramid, 4u);  // the traversal quadtree of the hit mode
-FIRD_CONSTANT(uint, kTraceBindHeights, 5u);  // the paper quadtree (level 0 = texel heights)
+FIRD_CONSTANT(uint, kTraceBindPyramid, 4u); // the traversal quadtree of the hit mode
+FIRD_CONSTANT(uint, kTraceBindHeights, 5u); // the paper quadtree (level 0 = texel heights)
 FIRD_CONSTANT(uint, kTraceBindGradients, 6u);
 FIRD_CONSTANT(uint, kTraceBindFarField, 7u);
 FIRD_CONSTANT(uint, kTraceBindHits, 8u);
-FIRD_CONSTANT(uint, kTraceBindBuckets, 9u); // rays appended per direction bucket
+FIRD_CONSTANT(uint, kTraceBindBuckets, 9u);    // rays appended per direction bucket
 FIRD_CONSTANT(uint, kTraceBindTexelHits, 10u); // reflections per texel (exports, views)
-FIRD_CONSTANT(uint, kTraceBindWalk, 11u); // the picked ray's walk (FIRD_SPEC_RECORD_WALK)
+FIRD_CONSTANT(uint, kTraceBindWalk, 11u);      // the picked ray's walk (FIRD_SPEC_RECORD_WALK)
 // Steps the walk buffer holds: walk[0].x counts them; step k is walk[1 + 2k] = (level,
 // node x, node y, node max height) and walk[2 + 2k] = (t, t at the node's exit, 0, 0).
 FIRD_CONSTANT(uint, kWalkCapacity, 8192u);
+FIRD_CONSTANT(uint, kTraceBindProfile, 12u); // the walk's profile (FIRD_SPEC_PROFILE)
+// The profile, per bounce, kProfileFields uints: 64-bit sums as (low, high) pairs of the
+// rays traced, their walk steps (quadtree nodes tested), the lane-steps the subgroups
+// paid (each subgroup runs as long as its longest walk: subgroup size x its most steps)
+// and the leaf tests (candidate texels tested against the surface).
+FIRD_CONSTANT(uint, kProfileRays, 0u);
+FIRD_CONSTANT(uint, kProfileSteps, 2u);
+FIRD_CONSTANT(uint, kProfileLaneSteps, 4u);
+FIRD_CONSTANT(uint, kProfileLeafTests, 6u);
+FIRD_CONSTANT(uint, kProfileFields, 8u);
 
 // Counter slots (uint) in the counters buffer.
-FIRD_CONSTANT(uint, kCounterEffective, 0u);  // rays appended by the rayset pass
+FIRD_CONSTANT(uint, kCounterEffective, 0u); // rays appended by the rayset pass
 FIRD_CONSTANT(uint, kCounterDiscarded, 1u);
-FIRD_CONSTANT(uint, kCounterBelow, 2u);      // born below the surface (a scene error)
+FIRD_CONSTANT(uint, kCounterBelow, 2u); // born below the surface (a scene error)
 FIRD_CONSTANT(uint, kCounterDirect, 3u);
 FIRD_CONSTANT(uint, kCounterFarField, 4u);
-FIRD_CONSTANT(uint, kCounterLost, 5u);       // strict policy: would hit again
-FIRD_CONSTANT(uint, kCounterAborted, 6u);    // traversal bound reached (energy lost)
-FIRD_CONSTANT(uint, kCounterActiveOut, 7u);  // rays appended for the next bounce
+FIRD_CONSTANT(uint, kCounterLost, 5u);          // strict policy: would hit again
+FIRD_CONSTANT(uint, kCounterAborted, 6u);       // traversal bound reached (energy lost)
+FIRD_CONSTANT(uint, kCounterActiveOut, 7u);     // rays appended for the next bounce
 FIRD_CONSTANT(uint, kCounterByReflections, 8u); // + r: far-field rays with r reflections
 FIRD_CONSTANT(uint, kCounterCount, 8u + FIRD_MAX_REFLECTIONS + 1u);
 
@@ -139,7 +151,7 @@ struct SceneParams {
     uint ff_h;
     uint max_bounces;
     uint strict_policy;
-    uint max_steps; // traversal bound per ray and bounce
+    uint max_steps;         // traversal bound per ray and bounce
     uint sobol_scramble[5]; // Owen scramble seeds: 4 dimensions, then the index
     uint sobol_directions[4 * 32];
 };
@@ -155,7 +167,7 @@ struct RaysetPush {
 #define FIRD_BUCKET_SCAN_WORKGROUP_SIZE 256
 FIRD_CONSTANT(uint, kRaysetOrderBits, 8u); // octahedral grid of 2^bits x 2^bits directions
 FIRD_CONSTANT(uint, kRaysetOrderBuckets, 1u << (2u * kRaysetOrderBits));
-FIRD_CONSTANT(uint, kOrderBindRaysIn, 1u);  // (binding 0: the scene parameters)
+FIRD_CONSTANT(uint, kOrderBindRaysIn, 1u); // (binding 0: the scene parameters)
 FIRD_CONSTANT(uint, kOrderBindRaysOut, 2u);
 FIRD_CONSTANT(uint, kOrderBindBuckets, 3u); // uint[kRaysetOrderBuckets]: offsets (scanned counts)
 FIRD_CONSTANT(uint, kScanBindBuckets, 0u);  // bucket_scan.comp's only binding
@@ -165,12 +177,12 @@ struct RaysetOrderPush {
 };
 
 struct TracePush {
-    uint bounce;       // reflections so far (0: rays from the source)
-    uint final_check;  // strict policy: only test for another hit
-    uint active_count; // rays in rays_in (read back by the host after the previous pass)
-    uint record_hits;  // hits[2i] = (hit point, t) or t = -1 for input ray i, and
-                       // hits[2i + 1] = (reflected direction, hit texel's index as bits)
-    uint order_output; // count the appended rays per direction bucket (rayset_order.comp)
+    uint bounce;           // reflections so far (0: rays from the source)
+    uint final_check;      // strict policy: only test for another hit
+    uint active_count;     // rays in rays_in (read back by the host after the previous pass)
+    uint record_hits;      // hits[2i] = (hit point, t) or t = -1 for input ray i, and
+                           // hits[2i + 1] = (reflected direction, hit texel's index as bits)
+    uint order_output;     // count the appended rays per direction bucket (rayset_order.comp)
     uint count_texel_hits; // texel_hits[t] += reflections at texel t; [W H + t] first ones
     uint walk_ray;         // the input ray whose walk is recorded (FIRD_SPEC_RECORD_WALK)
     uint walk_to_box_top;  // measurement only (fird bench --skips): rising rays are walked

@@ -8,6 +8,7 @@
 // the texel by exact integer arithmetic, so float rounding cannot make a ray bounce
 // between two cells; every loop is bounded by P.max_steps (then counted as aborted).
 #extension GL_GOOGLE_include_directive : require
+#extension GL_KHR_shader_subgroup_arithmetic : require
 #include "common.glsl"
 #include "direction_bucket.glsl"
 
@@ -25,6 +26,31 @@ layout(std430, binding = kTraceBindHits) writeonly buffer Hits { vec4 hits[]; };
 layout(std430, binding = kTraceBindBuckets) buffer Buckets { uint buckets[]; };
 layout(std430, binding = kTraceBindTexelHits) buffer TexelHits { uint texel_hits[]; };
 layout(std430, binding = kTraceBindWalk) buffer WalkSteps { vec4 walk[]; };
+layout(std430, binding = kTraceBindProfile) buffer Profile { uint profile[]; };
+layout(push_constant) uniform Push { TracePush pc; };
+
+// Only in the profiling pipeline (folded away elsewhere): this invocation's walk steps and
+// leaf tests, summed per subgroup into 64-bit (low, high) pairs at the end of main.
+uint g_steps = 0u;
+uint g_leaf_tests = 0u;
+void profile_add(uint slot, uint n) {
+    if (n == 0u) return;
+    const uint old = atomicAdd(profile[slot], n);
+    if (old + n < old) atomicAdd(profile[slot + 1u], 1u); // carry into the high word
+}
+void profile_walk() {
+    const uint steps = subgroupAdd(g_steps);
+    const uint lane_steps = subgroupMax(g_steps) * gl_SubgroupSize;
+    const uint leaf_tests = subgroupAdd(g_leaf_tests);
+    const uint rays = subgroupBallotBitCount(subgroupBallot(true));
+    if (subgroupElect()) {
+        const uint base = pc.bounce * kProfileFields;
+        profile_add(base + kProfileRays, rays);
+        profile_add(base + kProfileSteps, steps);
+        profile_add(base + kProfileLaneSteps, lane_steps);
+        profile_add(base + kProfileLeafTests, leaf_tests);
+    }
+}
 
 // Only in the walk-recording pipeline (folded away elsewhere): one step of the picked ray.
 // The count is the invocation's own (written out at the end of main), not read back
@@ -36,7 +62,6 @@ void record_step(bool picked, int level, ivec2 cell, float h, float t, float t_e
     walk[2u + 2u * g_walk_steps] = vec4(t, t_exit, 0.0, 0.0);
     ++g_walk_steps;
 }
-layout(push_constant) uniform Push { TracePush pc; };
 
 const int kMiss = 0;
 const int kHit = 1;
@@ -113,10 +138,11 @@ vec2 texel_pos(Walk w, float t) { return w.O + t * w.D; }
 // travel: beyond 2048 texels a float's ulp (2.4e-4 texel) exceeds any small bias, and a
 // position re-derived at a face just crossed could otherwise put the ray back across it
 // (and cycle between a cell and its parent).
-ivec2 texel_ahead(Walk w, vec2 q, ivec2 current) {
-    const ivec2 f = ivec2(floor(q));
-    return ivec2(w.D.x > 0.0 ? max(f.x, current.x) : (w.D.x < 0.0 ? min(f.x, current.x) : f.x),
-                 w.D.y > 0.0 ? max(f.y, current.y) : (w.D.y < 0.0 ? min(f.y, current.y) : f.y));
+// `heading` is +1 or -1 per axis (+1 where the ray does not move along it: there the
+// texel under q is the current one, as the position never changes on that axis), so one
+// max of signed values serves both directions (no per-step branch on the direction).
+ivec2 texel_ahead(vec2 q, ivec2 current, ivec2 heading) {
+    return heading * max(heading * ivec2(floor(q)), heading * current);
 }
 
 // The first root of the ray against the bilinear surface over the texel `cell` within
@@ -213,8 +239,16 @@ int rqrm(Walk w, float t_start, ivec2 skip_texel, bool picked, out float t_hit,
     // CPU drivers (lavapipe) run both sides of every branch under a lane mask, so the
     // inner loop holds only the walk: it stops at a candidate texel (level 0, the ray
     // dips below its height) and the leaf test runs outside it, once per candidate.
-    // Reciprocals once per ray: the walk multiplies (a division per lane is slow on CPUs).
-    const vec2 inv_D = vec2(w.D.x != 0.0 ? 1.0 / w.D.x : 0.0, w.D.y != 0.0 ? 1.0 / w.D.y : 0.0);
+    // Algorithm 3's node bounds, set up once per ray so that a step has no branch on the
+    // direction: the ray leaves a node through its far face on each axis it moves along
+    // (far_side 1: the high face), at t = (face - O) / D with a reciprocal (a division
+    // per lane is slow on CPUs); an axis it does not move along never ends a node (its
+    // origin is put 1e30 texels behind, so that face's t is ~1e30, past any t_end).
+    const bvec2 moves = notEqual(w.D, vec2(0.0));
+    const vec2 far_side = vec2(greaterThan(w.D, vec2(0.0)));
+    const vec2 inv_D = vec2(moves.x ? 1.0 / w.D.x : 1.0, moves.y ? 1.0 / w.D.y : 1.0);
+    const vec2 face_origin = vec2(moves.x ? w.O.x : -1e30, moves.y ? w.O.y : -1e30);
+    const ivec2 heading = ivec2(w.D.x < 0.0 ? -1 : 1, w.D.y < 0.0 ? -1 : 1);
     const float inv_dz = w.d.z != 0.0 ? 1.0 / w.d.z : 0.0;
     bool across = false; // the candidate was not a hit: leave the texel
     uint step = 0u;
@@ -224,13 +258,13 @@ int rqrm(Walk w, float t_start, ivec2 skip_texel, bool picked, out float t_hit,
         for (; step < P.max_steps; ++step) {
             const ivec2 cell = texel >> level;
             const float cell_size = float(1 << level);
-            const vec2 lo = vec2(cell) * cell_size;
-            const vec2 hi = min(lo + cell_size, vec2(size));
-            const float tx = w.D.x != 0.0 ? ((w.D.x > 0.0 ? hi.x : lo.x) - w.O.x) * inv_D.x : 3.0e38;
-            const float ty = w.D.y != 0.0 ? ((w.D.y > 0.0 ? hi.y : lo.y) - w.O.y) * inv_D.y : 3.0e38;
+            const vec2 face = min((vec2(cell) + far_side) * cell_size, vec2(size));
+            const vec2 t_faces = (face - face_origin) * inv_D;
+            const float tx = t_faces.x, ty = t_faces.y;
             const float t_exit = min(min(tx, ty), t_end);
             const float h = texelFetch(pyramid, int(level_offset + uint(cell.y) * level_w + uint(cell.x))).r;
             record_step(picked, level, cell, h, t, t_exit);
+            if (kProfile != 0u) ++g_steps;
             const float z_in = w.o.z + t * w.d.z;
             const float z_out = w.o.z + max(t_exit, t) * w.d.z;
             const bool below = !across && min(z_in, z_out) <= h;
@@ -249,7 +283,7 @@ int rqrm(Walk w, float t_start, ivec2 skip_texel, bool picked, out float t_hit,
             if (!below && t_exit >= t_end) return kMiss;
             const float t_descend = (w.d.z < 0.0 && z_in > h) ? max(t, (h - w.o.z) * inv_dz) : t;
             t = below ? t_descend : t_exit;
-            const ivec2 ahead = texel_ahead(w, texel_pos(w, t) + bias, texel);
+            const ivec2 ahead = texel_ahead(texel_pos(w, t) + bias, texel, heading);
             if (below) {
                 --level;
                 const uint round_up = (1u << level) - 1u;
@@ -264,8 +298,9 @@ int rqrm(Walk w, float t_start, ivec2 skip_texel, bool picked, out float t_hit,
                 const ivec2 cell_lo = cell << level;
                 const ivec2 cell_hi = min((cell + 1) << level, size) - 1;
                 ivec2 next = clamp(ahead, cell_lo, cell_hi);
-                if (tx <= ty) next.x = w.D.x > 0.0 ? cell_hi.x + 1 : cell_lo.x - 1;
-                if (ty <= tx) next.y = w.D.y > 0.0 ? cell_hi.y + 1 : cell_lo.y - 1;
+                // Across the face(s) it leaves through (a corner: both).
+                const ivec2 across_face = mix(cell_lo - 1, cell_hi + 1, greaterThan(far_side, vec2(0.0)));
+                next = mix(next, across_face, bvec2(tx <= ty, ty <= tx));
                 if (any(lessThan(next, ivec2(0))) || any(greaterThanEqual(next, size))) return kMiss;
                 texel = next;
                 // Up a level only into a new parent: a face inside the parent leads to a
@@ -279,6 +314,7 @@ int rqrm(Walk w, float t_start, ivec2 skip_texel, bool picked, out float t_hit,
             }
         }
         if (!candidate) break;
+        if (kProfile != 0u) ++g_leaf_tests;
         // Algorithm 1 lines 13-15 (paper) or the refined surface.
         if (kHitMode == kHitModePaper) {
             if (texel != skip_texel) { // not the texel the ray reflected from
@@ -391,6 +427,7 @@ void main() {
         }
     }
     if (kRecordWalk != 0u && i == pc.walk_ray) walk[0] = vec4(float(g_walk_steps), 0.0, 0.0, 0.0);
+    if (kProfile != 0u) profile_walk();
     if (far_miss || far_final) atomicAdd(farfield[far_field_cell(far_dir)], 1u);
     FIRD_COUNT(counters, kCounterBelow, below);
     FIRD_COUNT(counters, kCounterAborted, aborted);
