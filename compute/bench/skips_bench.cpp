@@ -71,6 +71,8 @@ std::vector<SkipRow> run_skips_bench(const vk::Context& ctx, const std::vector<s
         pair("rising rays leave at the reflector's highest point",
              {.end_walk_at_reflector_top = false}, false,
              "the holder's open top above the reflector");
+        pair("the source's rays start below the nodes they must descend",
+             {.start_walk_below_source = false}, false, "a source inside the holder box");
         // The compare pass a scene without a target skips: its cost alone.
         ev.set_desired(FarField{
             s.trace.farfield_w, s.trace.farfield_h,

@@ -16,6 +16,7 @@
 #include "rayset_order_comp.h"
 #include "trace_comp.h"
 #include "vk/check.hpp"
+#include "walk_start_comp.h"
 
 #include <glm/geometric.hpp>
 
@@ -44,13 +45,14 @@ double ms_since(std::chrono::steady_clock::time_point t0) {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
 
-// trace.comp's bindings 0..kTraceBindProfile: uniform texel buffers at 4-6, storage else.
+// trace.comp's bindings 0..kTraceBindWalkStart: uniform texel buffers at 4-6, storage else.
 vk::ComputePipeline trace_pipeline(const vk::Context& ctx,
                                    const std::array<std::uint32_t, FIRD_SPEC_COUNT>& spec,
                                    const char* name) {
-    return vk::ComputePipeline(ctx, fird_spv_trace_comp,
-                               {kSB, kSB, kSB, kSB, kTB, kTB, kTB, kSB, kSB, kSB, kSB, kSB, kSB},
-                               sizeof(gpu::TracePush), name, spec);
+    return vk::ComputePipeline(
+        ctx, fird_spv_trace_comp,
+        {kSB, kSB, kSB, kSB, kTB, kTB, kTB, kSB, kSB, kSB, kSB, kSB, kSB, kSB},
+        sizeof(gpu::TracePush), name, spec);
 }
 
 // 64-bit sums kept on the device as (low, high) pairs of uints.
@@ -76,6 +78,7 @@ FastTracer::FastTracer(const vk::Context& ctx, const Scene& scene, std::uint64_t
       order_pipeline_(ctx, fird_spv_rayset_order_comp, {kSB, kSB, kSB, kSB},
                       sizeof(gpu::RaysetOrderPush), "fird.rayset.order"),
       bucket_scan_pipeline_(ctx, fird_spv_bucket_scan_comp, {kSB}, 0, "fird.rayset.bucket_scan"),
+      walk_start_pipeline_(ctx, fird_spv_walk_start_comp, {kSB, kSB, kSB}, 0, "fird.walk_start"),
       timer_(ctx) {
     if (scene.trace.max_bounces > FIRD_MAX_REFLECTIONS)
         throw std::invalid_argument(fmt::format(
@@ -120,6 +123,7 @@ FastTracer::FastTracer(const vk::Context& ctx, const Scene& scene, std::uint64_t
     texel_hits_ = vk::Buffer(ctx, 16, storage, vk::MemoryUse::Device, "fird.texel_hits.unused");
     walk_ = vk::Buffer(ctx, 16, storage, vk::MemoryUse::Device, "fird.walk.unused");
     profile_ = vk::Buffer(ctx, 16, storage, vk::MemoryUse::Device, "fird.profile.unused");
+    walk_start_ = vk::Buffer(ctx, 4, storage, vk::MemoryUse::Device, "fird.walk_start");
     const QuadtreeLayout q = quadtree_layout(params_.hf_w, params_.hf_h);
     if (q.total_floats > limits.max_texel_buffer_elements)
         throw std::invalid_argument(fmt::format(
@@ -240,6 +244,12 @@ void FastTracer::build_heightfield(FastRun& run) {
                                       groups(params_.level_h[level], g));
             vk::barrier_all(cb);
         }
+        const vk::Binding ws[] = {
+            vk::storage(params_buffer_),
+            vk::storage(params_.hit_mode == gpu::kHitModePaper ? paper_tree_ : refined_tree_),
+            vk::storage(walk_start_)};
+        walk_start_pipeline_.dispatch(cb, ws, nullptr, 1);
+        vk::barrier_all(cb);
         timer_.end(cb);
     });
     run.timings.heightfield_ms =
@@ -263,7 +273,8 @@ void FastTracer::dispatch_trace(VkCommandBuffer cb, const vk::Buffer& in, const 
         vk::storage(order_buckets_),
         vk::storage(texel_hits_),
         vk::storage(walk_),
-        vk::storage(profile_)};
+        vk::storage(profile_),
+        vk::storage(walk_start_)};
     const vk::ComputePipeline& p = record_walk               ? *trace_walk_pipeline_
                                    : trace_profile_pipeline_ ? *trace_profile_pipeline_
                                                              : trace_pipeline_;
@@ -295,8 +306,8 @@ void FastTracer::trace_batch(const vk::Buffer& rays, std::uint64_t effective, Fa
                                       .record_hits = record_hits && bounce == 0 ? 1u : 0u,
                                       .order_output = order ? 1u : 0u,
                                       .count_texel_hits = count_texel_hits_ ? 1u : 0u,
-                                      .walk_to_box_top =
-                                          skips_.end_walk_at_reflector_top ? 0u : 1u};
+                                      .walk_to_box_top = skips_.end_walk_at_reflector_top ? 0u : 1u,
+                                      .walk_from_root = skips_.start_walk_below_source ? 0u : 1u};
             dispatch_trace(cb, *in, *out, counters_, farfield_counts_, push);
             timer_.end(cb);
         });

@@ -67,6 +67,7 @@ struct FastPathSkips {
     bool keep_heightfield = true;          // the height field is kept while the reflector is
     bool skip_empty_bounces = true;        // no dispatch for a bounce without active rays
     bool end_walk_at_reflector_top = true; // a rising ray's walk ends at the highest point
+    bool start_walk_below_source = true;   // the source's rays skip the descents they must make
 };
 
 class FastTracer {
@@ -160,12 +161,13 @@ class FastTracer {
 
     std::array<std::uint32_t, FIRD_SPEC_COUNT> spec_; // the scene's fixed shader choices
     vk::ComputePipeline rayset_pipeline_, heightfield_pipeline_, maxmip_pipeline_, trace_pipeline_,
-        to_lm_pipeline_, order_pipeline_, bucket_scan_pipeline_;
+        to_lm_pipeline_, order_pipeline_, bucket_scan_pipeline_, walk_start_pipeline_;
     vk::Buffer params_buffer_, counters_, rays_work_, rays_ping_, rays_pong_, hits_, texel_hits_,
         walk_;
     std::optional<vk::ComputePipeline> trace_walk_pipeline_;    // built when a walk is asked for
     std::optional<vk::ComputePipeline> trace_profile_pipeline_; // built when profiling
     vk::Buffer profile_;
+    vk::Buffer walk_start_; // uint: the level the source's rays start their walk at
     vk::Buffer paper_tree_, refined_tree_, gradients_, control_, order_buckets_;
     vk::TexelView paper_view_, refined_view_, gradients_view_; // as the trace reads them
     vk::Buffer farfield_counts_, farfield_lm_;

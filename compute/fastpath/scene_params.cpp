@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <stdexcept>
 
+#include "model/source_clearance.hpp"
 #include "model/surface.hpp"
 #include "sampling/sobol.hpp"
 
@@ -32,11 +33,14 @@ QuadtreeLayout quadtree_layout(std::uint32_t width, std::uint32_t height) {
 
 gpu::SceneParams scene_params(const Scene& s, std::uint64_t seed) {
     gpu::SceneParams p{};
+    const SourceBox box = source_box(s.source);
     for (int k = 0; k < 3; ++k) {
         p.holder_min[k] = float(s.holder.min_mm[k]);
         p.holder_max[k] = float(s.holder.max_mm[k]);
         p.source_center[k] = float(s.source.center_mm[k]);
         p.source_axis[k] = float(s.source.axis[k]);
+        p.source_box_min[k] = float(box.lo[k]);
+        p.source_box_max[k] = float(box.hi[k]);
     }
     p.source_length = float(s.source.length_mm);
     p.source_radius = float(s.source.radius_mm);

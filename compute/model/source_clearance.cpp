@@ -10,12 +10,6 @@
 
 namespace fird {
 
-namespace {
-
-struct SourceBox {
-    glm::dvec3 lo, hi;
-};
-
 SourceBox source_box(const SourceDesc& s) {
     // Half extents: a cylinder of axis a reaches L/2 |a_k| + r sqrt(1 - a_k^2) along
     // axis k; a sphere r; a point 0.
@@ -30,8 +24,6 @@ SourceBox source_box(const SourceDesc& s) {
     }
     return {s.center_mm - half, s.center_mm + half};
 }
-
-} // namespace
 
 double source_clearance_mm(const Surface& surface, const SourceDesc& source) {
     const SourceBox box = source_box(source);

@@ -7,6 +7,12 @@
 
 namespace fird {
 
+// The axis-aligned box that holds every point of the source's surface, in mm.
+struct SourceBox {
+    glm::dvec3 lo, hi;
+};
+SourceBox source_box(const SourceDesc& source);
+
 // The lowest point of the source's bounding box minus the highest the surface reaches
 // under it, in mm (conservative: the surface's height bound over the footprint). Positive
 // when the reflector is clear; +infinity when the source is not over the reflector.

@@ -85,6 +85,9 @@ FIRD_CONSTANT(uint, kHeightfieldBindGradients, 2u);
 FIRD_CONSTANT(uint, kHeightfieldBindControl, 3u);
 FIRD_CONSTANT(uint, kMaxMipBindPaper, 1u);
 FIRD_CONSTANT(uint, kMaxMipBindRefined, 2u);
+FIRD_CONSTANT(uint, kWalkStartBindPyramid, 1u); // walk_start.comp: the traversal quadtree
+FIRD_CONSTANT(uint, kWalkStartBindLevel, 2u);   // uint: the level the source's rays start at
+FIRD_CONSTANT(uint, kWalkStartMaxNodes, 4096u); // nodes over the source checked per level
 FIRD_CONSTANT(uint, kTraceBindRaysIn, 1u);
 FIRD_CONSTANT(uint, kTraceBindRaysOut, 2u);
 FIRD_CONSTANT(uint, kTraceBindCounters, 3u);
@@ -100,7 +103,8 @@ FIRD_CONSTANT(uint, kTraceBindWalk, 11u);      // the picked ray's walk (FIRD_SP
 // Steps the walk buffer holds: walk[0].x counts them; step k is walk[1 + 2k] = (level,
 // node x, node y, node max height) and walk[2 + 2k] = (t, t at the node's exit, 0, 0).
 FIRD_CONSTANT(uint, kWalkCapacity, 8192u);
-FIRD_CONSTANT(uint, kTraceBindProfile, 12u); // the walk's profile (FIRD_SPEC_PROFILE)
+FIRD_CONSTANT(uint, kTraceBindProfile, 12u);   // the walk's profile (FIRD_SPEC_PROFILE)
+FIRD_CONSTANT(uint, kTraceBindWalkStart, 13u); // uint: walk_start.comp's level
 // The profile, per bounce, kProfileFields uints: 64-bit sums as (low, high) pairs of the
 // rays traced, their walk steps (quadtree nodes tested), the lane-steps the subgroups
 // paid (each subgroup runs as long as its longest walk: subgroup size x its most steps)
@@ -130,6 +134,8 @@ struct SceneParams {
     float holder_max[4];
     float source_center[4];
     float source_axis[4];
+    float source_box_min[4]; // the source's bounding box (walk_start.comp)
+    float source_box_max[4];
     float source_length;
     float source_radius;
     uint source_kind;
@@ -187,6 +193,8 @@ struct TracePush {
     uint walk_ray;         // the input ray whose walk is recorded (FIRD_SPEC_RECORD_WALK)
     uint walk_to_box_top;  // measurement only (fird bench --skips): rising rays are walked
                            // to the holder's top, not to the reflector's highest point
+    uint walk_from_root;   // measurement only: the source's rays start at the root, not at
+                           // walk_start.comp's level
 };
 
 struct MeshRasterPush {

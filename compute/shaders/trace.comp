@@ -27,6 +27,7 @@ layout(std430, binding = kTraceBindBuckets) buffer Buckets { uint buckets[]; };
 layout(std430, binding = kTraceBindTexelHits) buffer TexelHits { uint texel_hits[]; };
 layout(std430, binding = kTraceBindWalk) buffer WalkSteps { vec4 walk[]; };
 layout(std430, binding = kTraceBindProfile) buffer Profile { uint profile[]; };
+layout(std430, binding = kTraceBindWalkStart) readonly buffer WalkStart { uint walk_start_level; };
 layout(push_constant) uniform Push { TracePush pc; };
 
 // Only in the profiling pipeline (folded away elsewhere): this invocation's walk steps and
@@ -229,13 +230,21 @@ int rqrm(Walk w, float t_start, ivec2 skip_texel, bool picked, out float t_hit,
 
     // A ray leaving the surface after a reflection lies under every node above its texel,
     // so a walk from the root would only descend to that texel: start there instead.
+    // A ray from the source that starts inside the source's bounding box lies under
+    // every node down to walk_start.comp's level: its walk starts there.
     const bool from_surface = skip_texel.x >= 0;
-    int level = from_surface ? 0 : top;
+    const vec3 start = w.o + t * w.d;
+    const bool at_source = !from_surface && pc.walk_from_root == 0u &&
+                           all(greaterThanEqual(start, vec3(P.source_box_min[0], P.source_box_min[1], P.source_box_min[2]))) &&
+                           all(lessThanEqual(start, vec3(P.source_box_max[0], P.source_box_max[1], P.source_box_max[2])));
+    const uint s = walk_start_level;
+    int level = from_surface ? 0 : (at_source ? int(s) : top);
     // The node's row in the quadtree buffer follows the level by integer arithmetic
     // (level l is ceil(W / 2^l) x ceil(H / 2^l) nodes, stored after the finer levels):
-    // indexing the parameter tables by a per-ray level costs a gather on CPU drivers.
-    uint level_offset = from_surface ? 0u : P.level_offset[top];
-    uint level_w = from_surface ? P.hf_w : P.level_w[top];
+    // indexing the parameter tables by a per-ray level costs a gather on CPU drivers (so
+    // both candidates are read at indices common to all rays, then one is chosen).
+    uint level_offset = from_surface ? 0u : (at_source ? P.level_offset[s] : P.level_offset[top]);
+    uint level_w = from_surface ? P.hf_w : (at_source ? P.level_w[s] : P.level_w[top]);
     // CPU drivers (lavapipe) run both sides of every branch under a lane mask, so the
     // inner loop holds only the walk: it stops at a candidate texel (level 0, the ray
     // dips below its height) and the leaf test runs outside it, once per candidate.

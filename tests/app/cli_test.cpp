@@ -121,6 +121,31 @@ TEST(Cli, SmallerBatchesTraceTheSameRays) {
     EXPECT_NEAR(a["l2"].get<double>(), b["l2"].get<double>(), 1e-9 * a["l2"].get<double>());
 }
 
+// fird trace --profile: one row per bounce, read by key; the rays of bounce 0 are the
+// effective rays; the cpu backend has no trace passes to profile (a usage error).
+TEST(Cli, TraceProfileHasARowPerBounce) {
+    const std::string scene = std::string(FIRD_SOURCE_DIR) + "/scenes/model_b.toml";
+    const auto r = run("trace " + scene + " --rays 20000 --json --profile");
+    ASSERT_EQ(r.code, 0) << r.out;
+    const auto j = nlohmann::json::parse(r.out);
+    ASSERT_TRUE(j.contains("profile"));
+    const auto& rows = j["profile"];
+    ASSERT_FALSE(rows.empty());
+    EXPECT_EQ(rows[0]["rays"].get<std::uint64_t>(), j["rays_effective"].get<std::uint64_t>());
+    for (const auto& row : rows) {
+        for (const char* key : {"bounce", "rays", "trace_ms", "order_ms", "ns_per_ray",
+                                "steps_per_ray", "leaf_tests_per_ray", "lane_utilization"})
+            EXPECT_TRUE(row.contains(key)) << key;
+        EXPECT_GT(row["steps_per_ray"].get<double>(), 0.0);
+        EXPECT_GT(row["lane_utilization"].get<double>(), 0.0);
+        EXPECT_LE(row["lane_utilization"].get<double>(), 1.0);
+    }
+    EXPECT_FALSE(nlohmann::json::parse(run("trace " + scene + " --rays 2000 --json").out)
+                     .contains("profile"));
+    const auto cpu = run("trace " + scene + " --rays 2000 --backend cpu --profile");
+    EXPECT_EQ(cpu.code, 2) << cpu.out;
+}
+
 TEST(Cli, TraceOutWritesNpyPicturesAndLuminaireFiles) {
     const std::string dir = ::testing::TempDir() + "/fird_out";
     const auto r = run("trace " + std::string(FIRD_SOURCE_DIR) +

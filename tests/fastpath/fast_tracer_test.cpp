@@ -197,6 +197,76 @@ TEST_F(VulkanTest, RaysetIsReusedAndHeightFieldRebuiltOnlyWhenTheReflectorChange
     EXPECT_EQ(batched.read_farfield(), t.read_farfield());
 }
 
+// The profile of a run (fird trace --profile) counts what the trace did: every effective
+// ray walks in bounce 0, each bounce walks the rays the one before reflected, a subgroup
+// pays at least its lanes' steps, a ray that reflects was tested against the surface at
+// least once, and profiling changes no result.
+TEST_F(VulkanTest, ProfileCountsTheWalksOfEachBounce) {
+    Scene s = scene("model_c.toml");
+    s.trace.rays = 40000;
+    FastTracer t(ctx(), s, 5);
+    t.set_reflector(s.reflector);
+    const FastRun plain = t.run();
+    t.set_profile(true);
+    const FastRun p = t.run();
+    EXPECT_EQ(p.tally.farfield, plain.tally.farfield);
+    EXPECT_EQ(t.read_farfield(), [&] {
+        t.set_profile(false);
+        (void)t.run();
+        return t.read_farfield();
+    }());
+    ASSERT_EQ(p.bounces.size(), s.trace.max_bounces);
+    EXPECT_EQ(p.bounces[0].rays, p.tally.emitted - p.tally.discarded);
+    for (std::size_t b = 0; b < p.bounces.size(); ++b) {
+        const BounceProfile& r = p.bounces[b];
+        // Rays reflected in bounce b: walked again in bounce b + 1, or leaving after the last.
+        const std::uint64_t reflected =
+            b + 1 < p.bounces.size() ? p.bounces[b + 1].rays : p.tally.by_reflections[b + 1];
+        SCOPED_TRACE(b);
+        EXPECT_GE(r.steps, r.rays / 2); // rays that miss the box take no step
+        EXPECT_GE(r.lane_steps, r.steps);
+        EXPECT_LE(r.lane_steps, r.steps * 64 + 64 * r.rays); // bounded by the longest walks
+        EXPECT_GE(r.leaf_tests, reflected);
+        EXPECT_GT(r.trace_ms, 0.0);
+    }
+    // Bounce b + 1's rays leave far-field rays with b + 1 reflections or reflect again.
+    for (std::size_t b = 0; b + 1 < p.bounces.size(); ++b)
+        EXPECT_EQ(p.bounces[b + 1].rays,
+                  p.tally.by_reflections[b + 1] + (b + 2 < p.bounces.size()
+                                                       ? p.bounces[b + 2].rays
+                                                       : p.tally.by_reflections[b + 2]));
+    // Without profiling no steps are counted.
+    EXPECT_EQ(plain.bounces[0].steps, 0u);
+}
+
+// The source's rays start their walk below the root (walk_start.comp) where the
+// descents they skip are ones the walk from the root must make: the same far field
+// count for count, in fewer steps, for a source inside the holder (Model B) and one half
+// above it (Model C); for every hit mode.
+TEST_F(VulkanTest, WalksFromBelowTheSourceGiveTheRootWalksFarFieldInFewerSteps) {
+    for (const char* name : {"model_b.toml", "model_c.toml", "model_a.toml"})
+        for (HitMode mode : {HitMode::Refined, HitMode::Paper}) {
+            SCOPED_TRACE(name);
+            Scene s = scene(name);
+            s.trace.rays = 30000;
+            s.trace.hit_mode = mode;
+            FastTracer t(ctx(), s, 9);
+            t.set_reflector(s.reflector);
+            t.set_profile(true);
+            const FastRun below = t.run();
+            const auto far_below = t.read_farfield();
+            FastPathSkips from_root;
+            from_root.start_walk_below_source = false;
+            t.set_skips(from_root);
+            const FastRun root = t.run();
+            EXPECT_EQ(t.read_farfield(), far_below);
+            EXPECT_EQ(root.tally.farfield, below.tally.farfield);
+            EXPECT_LT(below.bounces[0].steps, root.bounces[0].steps);
+            for (std::size_t b = 1; b < root.bounces.size(); ++b)
+                EXPECT_EQ(below.bounces[b].steps, root.bounces[b].steps);
+        }
+}
+
 // The octahedral-map cell of a direction along a Morton curve, written independently of
 // direction_bucket.glsl (in double precision).
 std::uint32_t direction_bucket(const glm::dvec3& d, int bits) {
