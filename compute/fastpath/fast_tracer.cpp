@@ -275,7 +275,16 @@ void FastTracer::dispatch_trace(VkCommandBuffer cb, const vk::Buffer& in, const 
         vk::storage(walk_),
         vk::storage(profile_),
         vk::storage(walk_start_)};
+    // The variant that does what the push constants ask and no more (the walk-recording
+    // one also records hits; profile counts come from plain runs only).
+    const bool diagnostics = push.record_hits != 0u || push.count_texel_hits != 0u;
+    if (diagnostics && !record_walk && !trace_diagnostics_pipeline_) {
+        auto spec = spec_;
+        spec[FIRD_SPEC_DIAGNOSTICS] = 1;
+        trace_diagnostics_pipeline_.emplace(trace_pipeline(*ctx_, spec, "fird.trace.diagnostics"));
+    }
     const vk::ComputePipeline& p = record_walk               ? *trace_walk_pipeline_
+                                   : diagnostics             ? *trace_diagnostics_pipeline_
                                    : trace_profile_pipeline_ ? *trace_profile_pipeline_
                                                              : trace_pipeline_;
     p.dispatch(cb, b, &push, groups(push.active_count, FIRD_TRACE_WORKGROUP_SIZE));
@@ -559,6 +568,7 @@ std::vector<RayPath> FastTracer::trace_paths(const std::vector<Ray>& rays, std::
         if (!trace_walk_pipeline_) {
             auto spec = spec_;
             spec[FIRD_SPEC_RECORD_WALK] = 1;
+            spec[FIRD_SPEC_DIAGNOSTICS] = 1;
             trace_walk_pipeline_.emplace(trace_pipeline(*ctx_, spec, "fird.trace.walk"));
         }
         kept_walk = std::move(walk_);

@@ -166,6 +166,8 @@ class FastTracer {
         walk_;
     std::optional<vk::ComputePipeline> trace_walk_pipeline_;    // built when a walk is asked for
     std::optional<vk::ComputePipeline> trace_profile_pipeline_; // built when profiling
+    // Built when hits are recorded or texel hits counted.
+    std::optional<vk::ComputePipeline> trace_diagnostics_pipeline_;
     vk::Buffer profile_;
     vk::Buffer walk_start_; // uint: the level the source's rays start their walk at
     vk::Buffer paper_tree_, refined_tree_, gradients_, control_, order_buckets_;

@@ -73,7 +73,8 @@ FIRD_CONSTANT(uint, kHitModeRefined, 1u);
 #define FIRD_SPEC_STRICT_POLICY 4
 #define FIRD_SPEC_RECORD_WALK 5 // record one ray's RQRM walk (a pipeline of its own)
 #define FIRD_SPEC_PROFILE 6     // count walk steps and leaf tests (a pipeline of its own)
-#define FIRD_SPEC_COUNT 7
+#define FIRD_SPEC_DIAGNOSTICS 7 // record hits and count texel hits (a pipeline of its own)
+#define FIRD_SPEC_COUNT 8
 
 // Bindings of the fast-path passes.
 FIRD_CONSTANT(uint, kBindParams, 0u);

@@ -358,11 +358,14 @@ uint far_field_cell(vec3 d) {
     return uint(row) * P.ff_w + uint(col);
 }
 
+// The hit records and texel-hit counts (tests, paths, exports) are only in the
+// diagnostics pipeline (kDiagnostics): CPU drivers run a branch's masked stores and
+// atomics even when a push constant turns it off for every lane.
 void main() {
     const uint i = gl_GlobalInvocationID.x;
     if (i >= pc.active_count) return;
     const Ray ray = rays_in[i];
-    if (pc.record_hits != 0u) {
+    if (kDiagnostics != 0u && pc.record_hits != 0u) {
         hits[2u * i] = vec4(0.0, 0.0, 0.0, -1.0);
         hits[2u * i + 1u] = vec4(0.0);
     }
@@ -416,11 +419,11 @@ void main() {
                 const vec3 r = normalize(w.d - 2.0 * dot(w.d, n) * n);
                 if (kHitMode == kHitModePaper) p.z = max(p.z, height_at(hit_texel)); // on the texel top
                 const uint texel = uint(hit_texel.y) * P.hf_w + uint(hit_texel.x);
-                if (pc.record_hits != 0u) {
+                if (kDiagnostics != 0u && pc.record_hits != 0u) {
                     hits[2u * i] = vec4(p_hit, t_hit);
                     hits[2u * i + 1u] = vec4(r, uintBitsToFloat(texel));
                 }
-                if (pc.count_texel_hits != 0u) {
+                if (kDiagnostics != 0u && pc.count_texel_hits != 0u) {
                     atomicAdd(texel_hits[texel], 1u);
                     if (pc.bounce == 0u) atomicAdd(texel_hits[P.hf_w * P.hf_h + texel], 1u);
                 }
