@@ -23,6 +23,7 @@ void register_bench(CLI::App& app, const GlobalOptions& global, std::function<in
         double reference_rays = 2e6;
         bool same_rays = false;
         bool skips = false;
+        bool candidates = false;
         int reps = 5;
         std::string out = "bench_out";
     };
@@ -38,11 +39,18 @@ void register_bench(CLI::App& app, const GlobalOptions& global, std::function<in
     cmd->add_flag("--skips", a->skips,
                   "Instead: the time each skip of the fast path saves (each switched off for the "
                   "measurement)");
-    cmd->add_option("--reps", a->reps, "Runs per measurement of --skips")
+    cmd->add_flag("--candidates", a->candidates,
+                  "Instead: what one candidate of a search costs (rayset kept, height field "
+                  "rebuilt, trace, histogram, compare), at --rays (one count; default: the "
+                  "scene's); writes candidates.csv");
+    cmd->add_option("--reps", a->reps, "Runs per measurement of --skips and --candidates")
         ->check(CLI::Range(1, 100));
     cmd->add_option("--out", a->out, "Directory for bench.csv, bench.md and bench.png");
-    cmd->callback([&global, &run, a] {
-        run = [&global, a] {
+    cmd->callback([&global, &run, a, cmd] {
+        const bool cmd_rays_given = cmd->count("--rays") > 0;
+        run = [&global, a, cmd_rays_given] {
+            if (a->skips && a->candidates)
+                throw UsageError("--skips and --candidates exclude each other");
             if (a->skips) {
                 const auto ctx = vk::Context::create(context_options(global));
                 const auto rows = run_skips_bench(ctx, a->scenes, a->reps, [](const SkipRow& r) {
@@ -54,6 +62,19 @@ void register_bench(CLI::App& app, const GlobalOptions& global, std::function<in
                 std::printf("%s", md.c_str());
                 create_output_directory(a->out);
                 write_text_file(a->out + "/skips.md", md);
+                return 0;
+            }
+            if (a->candidates) {
+                const auto counts = cmd_rays_given ? parse_counts("--rays", a->rays, 4e9)
+                                                   : std::vector<std::uint64_t>{0};
+                if (counts.size() != 1) throw UsageError("--candidates takes one --rays count");
+                const auto ctx = vk::Context::create(context_options(global));
+                const auto rows = run_candidate_bench(ctx, a->scenes, counts[0], a->reps);
+                const std::string md = candidates_markdown(
+                    rows, ctx.summary().name + " (" + ctx.summary().driver_info + ")");
+                std::printf("%s", md.c_str());
+                create_output_directory(a->out);
+                write_candidates_csv(a->out + "/candidates.csv", rows);
                 return 0;
             }
             BenchOptions o;

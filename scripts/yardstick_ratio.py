@@ -4,8 +4,10 @@
 Runs, alternately and several times, (a) one whole evaluation as a user runs it:
 `fird trace scenes/bench/model_X_target.toml` against `embree_trace --model X` (process
 start included, the scene's rays, same reflector, no target); and (b) the cost per
-candidate inside a search at 1e6 rays: FIRD's height field + trace + histogram (the rayset
-kept; `fird trace --json` timings) against the yardstick's `trace_bin` for the same rays.
+candidate inside a search at 1e6 rays: `fird bench --candidates` (wall time of one
+evaluation of a changed reflector in a warm process: the rayset kept, height field,
+trace, histogram and compare against the target, median of 5) against the yardstick's
+`trace_bin` for the same rays (its trace and binning, without ray generation or BVH build).
 Prints the median of the pairwise ratios per model (the machine's speed drifts: only
 pairs taken side by side are compared).
 
@@ -13,12 +15,14 @@ Usage: scripts/yardstick_ratio.py [--yardstick PATH] [--runs N] [--models abc]
 Build the yardstick first as its README says (Embree 3, TBB; not part of FIRD).
 """
 import argparse
+import csv
 import datetime
 import json
 import os
 import platform
 import statistics
 import subprocess
+import tempfile
 import time
 
 RAYS = {"a": 10_000_000, "b": 5_000_000, "c": 10_000_000}
@@ -65,9 +69,11 @@ def main():
             fird_s.append(tf)
             ys_s.append(ty)
             ratios.append(tf / ty)
-            _, out = run([a.fird, "trace", scene, "--rays", "1000000", "--json"])
-            t = json.loads(out)["timings_ms"]
-            c = t["heightfield"] + t["trace"] + t["histogram"] + t["compare"]
+            with tempfile.TemporaryDirectory() as d:
+                run([a.fird, "bench", "--candidates", f"scenes/model_{m}.toml", "--rays", "1000000",
+                     "--reps", "5", "--out", d])
+                with open(os.path.join(d, "candidates.csv")) as f:
+                    c = float(next(csv.DictReader(f))["candidate_ms"])
             _, out = run([a.yardstick, "--model", m.upper(), "--rays", "1000000", "--seed", "1"])
             y = json.loads(out)["timings_ms"]["trace_bin"]
             cand.append(c)

@@ -62,4 +62,23 @@ std::vector<SkipRow> run_skips_bench(const vk::Context& ctx, const std::vector<s
                                      int reps, const std::function<void(const SkipRow&)>& progress);
 std::string skips_markdown(const std::vector<SkipRow>& rows, const std::string& device);
 
+// One candidate of a search as the optimizer pays for it (fird bench --candidates): the
+// rayset kept, the height field rebuilt (two reflectors alternate), the trace, histogram
+// and, with a [target], the compare; medians over `reps` after one warm evaluation.
+struct CandidateRow {
+    std::string scene;
+    std::uint64_t rays = 0;
+    int reps = 0;
+    double candidate_ms = 0.0; // wall time of Evaluator::evaluate
+    double heightfield_ms = 0.0, trace_ms = 0.0, histogram_ms = 0.0, compare_ms = 0.0;
+};
+// rays 0: each scene's own.
+std::vector<CandidateRow> run_candidate_bench(const vk::Context& ctx,
+                                              const std::vector<std::string>& scenes,
+                                              std::uint64_t rays, int reps);
+std::string candidates_markdown(const std::vector<CandidateRow>& rows, const std::string& device);
+// candidates.csv: scene, rays, reps, candidate_ms, heightfield_ms, trace_ms, histogram_ms,
+// compare_ms (written whole or not at all).
+void write_candidates_csv(const std::string& path, const std::vector<CandidateRow>& rows);
+
 } // namespace fird

@@ -168,38 +168,64 @@ TEST(Cli, TraceOutWritesNpyPicturesAndLuminaireFiles) {
     }
 }
 
+// A CSV file read by column name (header first; fields may be quoted, none holds a comma).
+struct Csv {
+    std::vector<std::string> header;
+    std::vector<std::vector<std::string>> rows;
+    std::string at(std::size_t row, const std::string& column) const {
+        const auto c = std::find(header.begin(), header.end(), column);
+        EXPECT_NE(c, header.end()) << column;
+        if (c == header.end() || row >= rows.size()) return {};
+        const auto k = std::size_t(c - header.begin());
+        return k < rows[row].size() ? rows[row][k] : std::string{};
+    }
+    double number(std::size_t row, const std::string& column) const {
+        const std::string v = at(row, column);
+        return v.empty() ? std::nan("") : std::stod(v);
+    }
+};
+
+Csv read_csv(const std::string& path) {
+    Csv csv;
+    std::ifstream in(path);
+    for (std::string line; std::getline(in, line);) {
+        std::vector<std::string> cells;
+        std::istringstream is(line);
+        for (std::string c; std::getline(is, c, ',');) {
+            if (c.size() >= 2 && c.front() == '"' && c.back() == '"') c = c.substr(1, c.size() - 2);
+            cells.push_back(c);
+        }
+        if (line.back() == ',') cells.emplace_back();
+        if (csv.header.empty())
+            csv.header = cells;
+        else
+            csv.rows.push_back(cells);
+    }
+    return csv;
+}
+
 // Runs `fird bench` on the flat mirror with `options` into a fresh directory under
-// `name`; returns that directory and bench.csv's lines split at commas (header first).
-std::pair<std::string, std::vector<std::vector<std::string>>>
-bench_flat_mirror(const std::string& name, const std::string& options) {
+// `name`; returns that directory and bench.csv.
+std::pair<std::string, Csv> bench_flat_mirror(const std::string& name, const std::string& options) {
     const std::string dir = ::testing::TempDir() + "/" + name;
     const auto r = run("bench " + std::string(FIRD_SOURCE_DIR) + "/scenes/test/flat_mirror.toml " +
                        options + " --out " + dir + " 2>/dev/null");
     EXPECT_EQ(r.code, 0) << r.out;
-    std::vector<std::vector<std::string>> lines;
-    std::ifstream csv(dir + "/bench.csv");
-    for (std::string line; std::getline(csv, line);) {
-        std::vector<std::string> cells;
-        std::istringstream is(line);
-        for (std::string c; std::getline(is, c, ',');)
-            cells.push_back(c);
-        lines.push_back(cells);
-    }
-    return {dir, lines};
+    return {dir, read_csv(dir + "/bench.csv")};
 }
 
 TEST(Cli, BenchWritesTableCsvAndPlot) {
     const auto [dir, csv] = bench_flat_mirror(
         "fird_bench", "--heightfields 40x40,61x37 --rays 2e4 --reference-rays 1e5");
-    ASSERT_EQ(csv.size(), 5u); // header + 2 height fields x 1 ray count x 2 hit modes
-    EXPECT_NE(std::find(csv[0].begin(), csv[0].end(), "trace_ms"), csv[0].end());
-    for (std::size_t i = 1; i < csv.size(); ++i) {
-        ASSERT_EQ(csv[i].size(), csv[0].size());
+    ASSERT_EQ(csv.rows.size(), 4u); // 2 height fields x 1 ray count x 2 hit modes
+    for (std::size_t i = 0; i < csv.rows.size(); ++i) {
+        ASSERT_EQ(csv.rows[i].size(), csv.header.size());
         // l2 and noise are positive and finite; no aborted rays; no same-rays reference.
-        EXPECT_GT(std::stod(csv[i][12]), 0.0);
-        EXPECT_GT(std::stod(csv[i][13]), 0.0);
-        EXPECT_EQ(csv[i][14], "");
-        EXPECT_EQ(csv[i].back(), "0");
+        EXPECT_GT(csv.number(i, "trace_ms"), 0.0);
+        EXPECT_GT(csv.number(i, "l2_lm"), 0.0);
+        EXPECT_GT(csv.number(i, "noise_lm"), 0.0);
+        EXPECT_EQ(csv.at(i, "l2_same_rays_lm"), "");
+        EXPECT_EQ(csv.at(i, "aborted"), "0");
     }
     FILE* png = std::fopen((dir + "/bench.png").c_str(), "rb");
     EXPECT_TRUE(png);
@@ -213,17 +239,35 @@ TEST(Cli, BenchWritesTableCsvAndPlot) {
 TEST(Cli, BenchSameRaysErrorIsTheDiscretizationAlone) {
     const auto [dir, csv] = bench_flat_mirror(
         "fird_bench_same", "--heightfields 64x64 --rays 2e4 --reference-rays 1e5 --same-rays");
-    ASSERT_EQ(csv.size(), 3u); // header + 2 hit modes
-    ASSERT_EQ(csv[0].size(), 16u);
-    EXPECT_EQ(csv[0][14], "l2_same_rays_lm");
-    for (std::size_t i = 1; i < csv.size(); ++i) {
-        ASSERT_EQ(csv[i].size(), 16u);
-        const double l2 = std::stod(csv[i][12]), noise = std::stod(csv[i][13]);
-        const double same = std::stod(csv[i][14]);
+    ASSERT_EQ(csv.rows.size(), 2u); // 2 hit modes
+    for (std::size_t i = 0; i < csv.rows.size(); ++i) {
+        const double l2 = csv.number(i, "l2_lm"), noise = csv.number(i, "noise_lm");
+        const double same = csv.number(i, "l2_same_rays_lm");
         EXPECT_GT(l2, 0.5 * noise);
         EXPECT_GE(same, 0.0);
         EXPECT_LT(same, 0.05 * noise);
     }
+}
+
+// fird bench --candidates: one row per scene with the candidate's wall time and its stages
+// (the compare runs: the scene has a target), read by name; one ray count only.
+TEST(Cli, BenchCandidatesTimesASearchsCandidate) {
+    const std::string dir = ::testing::TempDir() + "/fird_bench_candidates";
+    const std::string scene = std::string(FIRD_SOURCE_DIR) + "/scenes/model_b.toml";
+    const auto r = run("bench --candidates " + scene + " --rays 2e4 --reps 3 --out " + dir);
+    ASSERT_EQ(r.code, 0) << r.out;
+    const Csv csv = read_csv(dir + "/candidates.csv");
+    ASSERT_EQ(csv.rows.size(), 1u);
+    EXPECT_EQ(csv.at(0, "rays"), "20000");
+    EXPECT_EQ(csv.at(0, "reps"), "3");
+    const double stages = csv.number(0, "heightfield_ms") + csv.number(0, "trace_ms") +
+                          csv.number(0, "histogram_ms") + csv.number(0, "compare_ms");
+    EXPECT_GT(csv.number(0, "trace_ms"), 0.0);
+    EXPECT_GT(csv.number(0, "heightfield_ms"), 0.0); // rebuilt for every candidate
+    EXPECT_GT(csv.number(0, "compare_ms"), 0.0);
+    EXPECT_GE(csv.number(0, "candidate_ms"), 0.5 * stages);
+    const auto two = run("bench --candidates " + scene + " --rays 1e4,2e4 --out " + dir);
+    EXPECT_EQ(two.code, 2) << two.out;
 }
 
 // A malformed option value is a usage error (exit 2) naming the option.

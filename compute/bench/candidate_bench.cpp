@@ -1,0 +1,87 @@
+// fird bench --candidates: what one candidate of a search costs, as the optimizer pays it.
+#include <algorithm>
+#include <chrono>
+#include <sstream>
+
+#include <fmt/format.h>
+
+#include "bench/bench.hpp"
+#include "evaluation/desired_farfield.hpp"
+#include "evaluation/evaluator.hpp"
+#include "io/atomic_file.hpp"
+#include "io/scene_file.hpp"
+#include "optimize/search.hpp"
+
+namespace fird {
+
+namespace {
+
+double median(std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    return v.empty() ? 0.0 : v[v.size() / 2];
+}
+
+} // namespace
+
+std::vector<CandidateRow> run_candidate_bench(const vk::Context& ctx,
+                                              const std::vector<std::string>& paths,
+                                              std::uint64_t rays, int reps) {
+    std::vector<CandidateRow> rows;
+    for (const std::string& path : paths) {
+        Scene s = load_scene(path);
+        if (rays) s.trace.rays = rays;
+        Evaluator ev(ctx, s, scene_fidelity(s));
+        // Two reflectors alternate, so every candidate rebuilds its height field as a
+        // search's do (the scene's and its target's; one reflector alone: rebuilt anyway).
+        const ReflectorDesc a = s.reflector;
+        const bool has_target = s.target.kind == TargetDesc::Kind::Reflector;
+        const ReflectorDesc b = has_target ? target_reflector(s) : s.reflector;
+        FastPathSkips skips;
+        skips.keep_heightfield = has_target;
+        ev.tracer().set_skips(skips);
+        const CandidateResult first = ev.evaluate(a); // the rayset, pipelines and caches warm
+        if (s.target.kind != TargetDesc::Kind::None)
+            ev.set_desired(desired_farfield(ctx, s, first.farfield_lm).farfield);
+        CandidateRow row{.scene = s.name, .rays = s.trace.rays, .reps = reps};
+        std::vector<double> wall, hf, trace, hist, compare;
+        for (int k = 0; k < reps; ++k) {
+            const CandidateResult r = ev.evaluate(k % 2 ? a : b);
+            wall.push_back(r.wall_ms);
+            hf.push_back(r.run.timings.heightfield_ms);
+            trace.push_back(r.run.timings.trace_ms);
+            hist.push_back(r.run.timings.histogram_ms);
+            compare.push_back(r.run.timings.compare_ms);
+        }
+        row.candidate_ms = median(wall);
+        row.heightfield_ms = median(hf);
+        row.trace_ms = median(trace);
+        row.histogram_ms = median(hist);
+        row.compare_ms = median(compare);
+        rows.push_back(row);
+    }
+    return rows;
+}
+
+std::string candidates_markdown(const std::vector<CandidateRow>& rows, const std::string& device) {
+    std::string out = fmt::format(
+        "Device: {}\n\n| scene | rays | candidate ms | height field ms | trace ms | histogram ms | "
+        "compare ms |\n|---|---|---|---|---|---|---|\n",
+        device);
+    for (const CandidateRow& r : rows)
+        out += fmt::format("| {} | {:.0e} | {:.1f} | {:.1f} | {:.1f} | {:.1f} | {:.1f} |\n",
+                           r.scene, double(r.rays), r.candidate_ms, r.heightfield_ms, r.trace_ms,
+                           r.histogram_ms, r.compare_ms);
+    return out;
+}
+
+void write_candidates_csv(const std::string& path, const std::vector<CandidateRow>& rows) {
+    std::ostringstream csv;
+    csv << "scene,rays,reps,candidate_ms,heightfield_ms,trace_ms,histogram_ms,compare_ms\n";
+    for (const CandidateRow& r : rows)
+        csv << fmt::format("\"{}\",{},{},{:.3f},{:.3f},{:.3f},{:.3f},{:.3f}\n", r.scene, r.rays,
+                           r.reps, r.candidate_ms, r.heightfield_ms, r.trace_ms, r.histogram_ms,
+                           r.compare_ms);
+    write_text_file(path, csv.str());
+}
+
+} // namespace fird
