@@ -53,7 +53,8 @@ void register_trace(CLI::App& app, const GlobalOptions& global, std::function<in
             Evaluation e;
             if (a->backend == "gpu") {
                 const auto ctx = vk::Context::create(context_options(global));
-                e = evaluate_fast(ctx, scene, a->profile);
+                e = evaluate_fast(ctx, scene,
+                                  {.profile = a->profile, .read_farfields = !a->out.empty()});
                 if (ctx.validation_errors() > 0)
                     throw std::runtime_error("Vulkan validation errors were reported (see above)");
             } else {

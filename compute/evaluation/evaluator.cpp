@@ -93,10 +93,11 @@ FarField Evaluator::farfield() const {
     return {fidelity_.farfield_w, fidelity_.farfield_h, tracer_.read_farfield()};
 }
 
-Evaluation evaluate_fast(const vk::Context& ctx, const Scene& scene, bool profile) {
+Evaluation evaluate_fast(const vk::Context& ctx, const Scene& scene,
+                         const FastEvaluationOptions& options) {
     const auto t0 = std::chrono::steady_clock::now();
     Evaluator evaluator(ctx, scene, scene_fidelity(scene));
-    evaluator.tracer().set_profile(profile);
+    evaluator.tracer().set_profile(options.profile);
     const CandidateResult r = evaluator.evaluate(scene.reflector);
     Evaluation e;
     e.backend = "gpu";
@@ -105,8 +106,8 @@ Evaluation evaluate_fast(const vk::Context& ctx, const Scene& scene, bool profil
     e.rays_aborted = r.run.aborted;
     e.energy_per_ray_lm = r.run.energy_per_ray_lm;
     e.timings = r.run.timings;
-    if (profile) e.bounces = r.run.bounces;
-    e.farfield = evaluator.farfield();
+    if (options.profile) e.bounces = r.run.bounces;
+    if (options.read_farfields) e.farfield = evaluator.farfield();
     if (scene.target.kind != TargetDesc::Kind::None) {
         DesiredFarField desired = desired_farfield(ctx, scene, r.farfield_lm);
         evaluator.set_desired(desired.farfield);

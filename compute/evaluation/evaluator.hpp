@@ -85,8 +85,16 @@ class Evaluator {
 // One evaluation of the scene as `fird trace` runs it on the fast path: its reflector at
 // the scene's fidelity and, with a [target], the desired far field and l2 (a relative
 // photometric target scaled to this reflector's far-field flux).
-// With `profile`, the trace runs its counting variant and the result holds the bounces'
-// walk steps, lane-steps and leaf tests (fird trace --profile).
-Evaluation evaluate_fast(const vk::Context& ctx, const Scene& scene, bool profile = false);
+// What `fird trace` asks of one fast evaluation beyond the numbers.
+struct FastEvaluationOptions {
+    // The trace runs its counting variant; the result holds the bounces' walk steps,
+    // lane-steps and leaf tests (fird trace --profile).
+    bool profile = false;
+    // Read the far fields back into the result (pictures and files need them; the JSON
+    // numbers do not: the tally and l2 come from the device).
+    bool read_farfields = true;
+};
+Evaluation evaluate_fast(const vk::Context& ctx, const Scene& scene,
+                         const FastEvaluationOptions& options = {});
 
 } // namespace fird
