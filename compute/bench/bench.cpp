@@ -17,6 +17,11 @@
 
 namespace fird {
 
+double median_ms(std::vector<double> timings) {
+    std::sort(timings.begin(), timings.end());
+    return timings.empty() ? 0.0 : timings[timings.size() / 2];
+}
+
 std::vector<BenchRow> run_bench(const vk::Context& ctx, const BenchOptions& o,
                                 const std::function<void(const BenchRow&)>& progress) {
     std::vector<BenchRow> rows;

@@ -62,6 +62,9 @@ std::vector<SkipRow> run_skips_bench(const vk::Context& ctx, const std::vector<s
                                      int reps, const std::function<void(const SkipRow&)>& progress);
 std::string skips_markdown(const std::vector<SkipRow>& rows, const std::string& device);
 
+// The median of a set of timings (the upper middle one for an even count; 0 when empty).
+double median_ms(std::vector<double> timings);
+
 // One candidate of a search as the optimizer pays for it (fird bench --candidates): the
 // rayset kept, the height field rebuilt (two reflectors alternate), the trace, histogram
 // and, with a [target], the compare; medians over `reps` after one warm evaluation.

@@ -14,15 +14,6 @@
 
 namespace fird {
 
-namespace {
-
-double median(std::vector<double> v) {
-    std::sort(v.begin(), v.end());
-    return v.empty() ? 0.0 : v[v.size() / 2];
-}
-
-} // namespace
-
 std::vector<CandidateRow> run_candidate_bench(const vk::Context& ctx,
                                               const std::vector<std::string>& paths,
                                               std::uint64_t rays, int reps) {
@@ -52,11 +43,11 @@ std::vector<CandidateRow> run_candidate_bench(const vk::Context& ctx,
             hist.push_back(r.run.timings.histogram_ms);
             compare.push_back(r.run.timings.compare_ms);
         }
-        row.candidate_ms = median(wall);
-        row.heightfield_ms = median(hf);
-        row.trace_ms = median(trace);
-        row.histogram_ms = median(hist);
-        row.compare_ms = median(compare);
+        row.candidate_ms = median_ms(wall);
+        row.heightfield_ms = median_ms(hf);
+        row.trace_ms = median_ms(trace);
+        row.histogram_ms = median_ms(hist);
+        row.compare_ms = median_ms(compare);
         rows.push_back(row);
     }
     return rows;

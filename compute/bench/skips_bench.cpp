@@ -12,11 +12,6 @@ namespace fird {
 
 namespace {
 
-double median(std::vector<double> v) {
-    std::sort(v.begin(), v.end());
-    return v.empty() ? 0.0 : v[v.size() / 2];
-}
-
 double ms_of(const std::function<void()>& f) {
     const auto t0 = std::chrono::steady_clock::now();
     f();
@@ -48,7 +43,7 @@ std::vector<SkipRow> run_skips_bench(const vk::Context& ctx, const std::vector<s
             for (int k = 0; k < reps; ++k)
                 t.push_back(ms_of([&] { (void)ev.evaluate(same_reflector || k % 2 ? a : b); }));
             ev.tracer().set_skips({});
-            return median(t);
+            return median_ms(t);
         };
         const FastPathSkips on{};
         // Alternate with and without, so drift hits both alike.
@@ -58,7 +53,7 @@ std::vector<SkipRow> run_skips_bench(const vk::Context& ctx, const std::vector<s
                 with.push_back(eval_ms(on, same));
                 without.push_back(eval_ms(off, same));
             }
-            add({s.name, name, median(with), median(without), note});
+            add({s.name, name, median_ms(with), median_ms(without), note});
         };
         pair("rayset kept while only the reflector changes", {.keep_rayset = false}, false,
              "each candidate of a search");
@@ -80,7 +75,7 @@ std::vector<SkipRow> run_skips_bench(const vk::Context& ctx, const std::vector<s
         std::vector<double> compare;
         for (int k = 0; k < reps; ++k)
             compare.push_back(ms_of([&] { (void)ev.compare(); }));
-        add({s.name, "no compare pass without a target", 0.0, median(compare),
+        add({s.name, "no compare pass without a target", 0.0, median_ms(compare),
              "the l2 reduction alone"});
     }
     return rows;

@@ -46,9 +46,13 @@ double ms_since(std::chrono::steady_clock::time_point t0) {
 }
 
 // trace.comp's bindings 0..kTraceBindWalkStart: uniform texel buffers at 4-6, storage else.
+// `variant` lists the specialization constants (FIRD_SPEC_RECORD_WALK, _PROFILE,
+// _DIAGNOSTICS) switched on over the scene's.
 vk::ComputePipeline trace_pipeline(const vk::Context& ctx,
-                                   const std::array<std::uint32_t, FIRD_SPEC_COUNT>& spec,
-                                   const char* name) {
+                                   std::array<std::uint32_t, FIRD_SPEC_COUNT> spec,
+                                   std::initializer_list<int> variant, const char* name) {
+    for (const int id : variant)
+        spec[std::size_t(id)] = 1;
     return vk::ComputePipeline(
         ctx, fird_spv_trace_comp,
         {kSB, kSB, kSB, kSB, kTB, kTB, kTB, kSB, kSB, kSB, kSB, kSB, kSB, kSB},
@@ -72,7 +76,7 @@ FastTracer::FastTracer(const vk::Context& ctx, const Scene& scene, std::uint64_t
                             "fird.heightfield", spec_),
       maxmip_pipeline_(ctx, fird_spv_maxmip_comp, {kSB, kSB, kSB}, sizeof(gpu::MaxMipPush),
                        "fird.maxmip"),
-      trace_pipeline_(trace_pipeline(ctx, spec_, "fird.trace")),
+      trace_pipeline_(trace_pipeline(ctx, spec_, {}, "fird.trace")),
       to_lm_pipeline_(ctx, fird_spv_counts_to_lm_comp, {kSB, kSB}, sizeof(ToLmPush),
                       "fird.counts_to_lm"),
       order_pipeline_(ctx, fird_spv_rayset_order_comp, {kSB, kSB, kSB, kSB},
@@ -279,9 +283,8 @@ void FastTracer::dispatch_trace(VkCommandBuffer cb, const vk::Buffer& in, const 
     // one also records hits; profile counts come from plain runs only).
     const bool diagnostics = push.record_hits != 0u || push.count_texel_hits != 0u;
     if (diagnostics && !record_walk && !trace_diagnostics_pipeline_) {
-        auto spec = spec_;
-        spec[FIRD_SPEC_DIAGNOSTICS] = 1;
-        trace_diagnostics_pipeline_.emplace(trace_pipeline(*ctx_, spec, "fird.trace.diagnostics"));
+        trace_diagnostics_pipeline_.emplace(
+            trace_pipeline(*ctx_, spec_, {FIRD_SPEC_DIAGNOSTICS}, "fird.trace.diagnostics"));
     }
     const vk::ComputePipeline& p = record_walk               ? *trace_walk_pipeline_
                                    : diagnostics             ? *trace_diagnostics_pipeline_
@@ -483,9 +486,8 @@ void FastTracer::set_profile(bool on) {
             vk::Buffer(*ctx_, 16, vk::kStorageUsage, vk::MemoryUse::Device, "fird.profile.unused");
         return;
     }
-    auto spec = spec_;
-    spec[FIRD_SPEC_PROFILE] = 1;
-    trace_profile_pipeline_.emplace(trace_pipeline(*ctx_, spec, "fird.trace.profile"));
+    trace_profile_pipeline_.emplace(
+        trace_pipeline(*ctx_, spec_, {FIRD_SPEC_PROFILE}, "fird.trace.profile"));
     profile_ = vk::Buffer(*ctx_, (FIRD_MAX_REFLECTIONS + 2) * gpu::kProfileFields * 4,
                           vk::kStorageUsage, vk::MemoryUse::Readback, "fird.profile");
 }
@@ -566,10 +568,8 @@ std::vector<RayPath> FastTracer::trace_paths(const std::vector<Ray>& rays, std::
     vk::Buffer kept_walk;
     if (record) {
         if (!trace_walk_pipeline_) {
-            auto spec = spec_;
-            spec[FIRD_SPEC_RECORD_WALK] = 1;
-            spec[FIRD_SPEC_DIAGNOSTICS] = 1;
-            trace_walk_pipeline_.emplace(trace_pipeline(*ctx_, spec, "fird.trace.walk"));
+            trace_walk_pipeline_.emplace(trace_pipeline(
+                *ctx_, spec_, {FIRD_SPEC_RECORD_WALK, FIRD_SPEC_DIAGNOSTICS}, "fird.trace.walk"));
         }
         kept_walk = std::move(walk_);
         walk_ = vk::Buffer(*ctx_, (1 + 2 * std::uint64_t(gpu::kWalkCapacity)) * 16,
