@@ -33,8 +33,9 @@ void register_trace(CLI::App& app, const GlobalOptions& global, std::function<in
         ->check(CLI::NonNegativeNumber);
     cmd->add_option("--backend", a->backend, "gpu (the fast path) or cpu (the exact reference)")
         ->check(CLI::IsMember({"gpu", "cpu"}));
-    cmd->add_option("--sampler", a->sampler, "random or sobol (overrides [trace] sampler)")
-        ->check(CLI::IsMember({"random", "sobol"}));
+    cmd->add_option("--sampler", a->sampler,
+                    "stratified, random (independent rays) or sobol (overrides [trace] sampler)")
+        ->check(CLI::IsMember(sampler_names()));
     cmd->add_option("--threads", a->threads, "CPU threads for the reference (0: all)")
         ->check(CLI::Range(0.0, 4096.0));
     cmd->add_flag("--json", a->json, "Print one JSON object");
@@ -47,8 +48,7 @@ void register_trace(CLI::App& app, const GlobalOptions& global, std::function<in
             TraceOverrides o;
             if (cmd->count("--rays")) o.rays = a->rays;
             if (cmd->count("--seed")) o.seed = a->seed;
-            if (!a->sampler.empty())
-                o.sampler = a->sampler == "sobol" ? SamplerKind::Sobol : SamplerKind::Random;
+            if (!a->sampler.empty()) o.sampler = *sampler_from_name(a->sampler);
             const Scene scene = apply_overrides(load_scene(a->scene), o);
             Evaluation e;
             if (a->backend == "gpu") {

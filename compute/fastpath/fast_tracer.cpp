@@ -27,6 +27,7 @@ namespace {
 constexpr VkDescriptorType kSB = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
 constexpr VkDescriptorType kTB = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
 constexpr std::uint64_t kRayBytes = 32;
+constexpr std::uint64_t kCountersBytes = std::uint64_t(gpu::kTallyCopies) * gpu::kCounterCount * 4;
 // The most device memory a kept rayset may take (1e7 emitted rays take at most 320 MB).
 constexpr std::uint64_t kRaysetCacheBytes = 1ull << 30;
 // Below this many rays a bounce's output is traced in the order it was appended.
@@ -112,8 +113,7 @@ FastTracer::FastTracer(const vk::Context& ctx, const Scene& scene, std::uint64_t
     const auto storage = vk::kStorageUsage;
     params_buffer_ =
         vk::Buffer(ctx, sizeof(gpu::SceneParams), storage, vk::MemoryUse::Upload, "fird.params");
-    counters_ =
-        vk::Buffer(ctx, gpu::kCounterCount * 4, storage, vk::MemoryUse::Readback, "fird.counters");
+    counters_ = vk::Buffer(ctx, kCountersBytes, storage, vk::MemoryUse::Readback, "fird.counters");
     // The rayset is kept between runs (§5) when it fits the cache budget; otherwise
     // each batch is generated again into one working buffer (constant memory).
     const std::uint64_t batches = (scene.trace.rays + batch_capacity_ - 1) / batch_capacity_;
@@ -340,16 +340,22 @@ void FastTracer::trace_batch(const vk::Buffer& rays, std::uint64_t effective, Fa
         }
         out = (in == &rays_ping_) ? &rays_pong_ : &rays_ping_;
     }
-    // Tally this batch's counters (32-bit on the device, 64-bit here).
+    // Tally this batch's counters (32-bit on the device, summed over the copies in 64 bits).
+    const auto total = [&](std::uint32_t slot) {
+        std::uint64_t sum = 0;
+        for (std::uint32_t c = 0; c < gpu::kTallyCopies; ++c)
+            sum += counters[c * gpu::kCounterCount + slot];
+        return sum;
+    };
     RayTally& t = run.tally;
-    t.discarded += counters[gpu::kCounterDiscarded];
-    t.direct += counters[gpu::kCounterDirect];
-    t.farfield += counters[gpu::kCounterFarField];
-    t.lost += counters[gpu::kCounterLost];
-    t.below_surface += counters[gpu::kCounterBelow];
-    run.aborted += counters[gpu::kCounterAborted];
+    t.discarded += total(gpu::kCounterDiscarded);
+    t.direct += total(gpu::kCounterDirect);
+    t.farfield += total(gpu::kCounterFarField);
+    t.lost += total(gpu::kCounterLost);
+    t.below_surface += total(gpu::kCounterBelow);
+    run.aborted += total(gpu::kCounterAborted);
     for (std::uint32_t r = 0; r <= params_.max_bounces; ++r)
-        t.by_reflections[r] += counters[gpu::kCounterByReflections + r];
+        t.by_reflections[r] += total(gpu::kCounterByReflections + r);
 }
 
 void FastTracer::finish(FastRun& run) {
@@ -368,6 +374,28 @@ void FastTracer::finish(FastRun& run) {
         throw std::logic_error(
             fmt::format("fast path energy balance broken: {} emitted, {} accounted", t.emitted,
                         t.discarded + t.direct + t.farfield + t.lost));
+}
+
+std::uint64_t FastTracer::generate_rayset(std::uint64_t first, std::uint64_t n,
+                                          const vk::Buffer& rays, FastRun& run) {
+    const auto t0 = std::chrono::steady_clock::now();
+    ctx_->submit_and_wait([&](VkCommandBuffer cb) {
+        timer_.begin(cb);
+        vkCmdFillBuffer(cb, counters_.get(), 0, VK_WHOLE_SIZE, 0);
+        if (!gpu::rayset_ordered_at_birth(params_.sampler_kind, params_.source_kind))
+            vkCmdFillBuffer(cb, order_buckets_.get(), 0, VK_WHOLE_SIZE, 0);
+        vk::barrier_all(cb);
+        const vk::Binding b[] = {vk::storage(params_buffer_), vk::storage(rays),
+                                 vk::storage(counters_), vk::storage(order_buckets_)};
+        const gpu::RaysetPush push{.first_lo = std::uint32_t(first),
+                                   .first_hi = std::uint32_t(first >> 32),
+                                   .count = std::uint32_t(n),
+                                   .keep_all = skips_.discard_before_trace ? 0u : 1u};
+        rayset_pipeline_.dispatch(cb, b, &push, groups(n, FIRD_RAYSET_WORKGROUP_SIZE));
+        timer_.end(cb);
+    });
+    run.timings.rayset_ms += timer_.supported() ? timer_.elapsed_ms() : ms_since(t0);
+    return static_cast<const std::uint32_t*>(counters_.data())[gpu::kCounterEffective];
 }
 
 FastRun FastTracer::run() {
@@ -392,41 +420,33 @@ FastRun FastTracer::run() {
         if (batch < rayset_chunks_.size()) {
             // The rayset does not depend on the reflector (§5): reuse it.
             const RaysetChunk& chunk = rayset_chunks_[batch];
-            std::memset(counters, 0, gpu::kCounterCount * 4);
+            std::memset(counters, 0, kCountersBytes);
             counters[gpu::kCounterDiscarded] = std::uint32_t(n - chunk.effective);
             run.rayset_reused = true;
             trace_batch(chunk.rays, chunk.effective, run, false);
             continue;
         }
-        const auto tr = std::chrono::steady_clock::now();
-        ctx_->submit_and_wait([&](VkCommandBuffer cb) {
-            timer_.begin(cb);
-            vkCmdFillBuffer(cb, counters_.get(), 0, VK_WHOLE_SIZE, 0);
-            vkCmdFillBuffer(cb, order_buckets_.get(), 0, VK_WHOLE_SIZE, 0);
-            vk::barrier_all(cb);
-            // Generated into the ping buffer, then ordered into the rayset buffer.
-            const vk::Binding b[] = {vk::storage(params_buffer_), vk::storage(rays_ping_),
-                                     vk::storage(counters_), vk::storage(order_buckets_)};
-            const gpu::RaysetPush push{.first_lo = std::uint32_t(first),
-                                       .first_hi = std::uint32_t(first >> 32),
-                                       .count = std::uint32_t(n),
-                                       .keep_all = skips_.discard_before_trace ? 0u : 1u};
-            rayset_pipeline_.dispatch(cb, b, &push, groups(n, FIRD_RAYSET_WORKGROUP_SIZE));
-            timer_.end(cb);
-        });
-        run.timings.rayset_ms += timer_.supported() ? timer_.elapsed_ms() : ms_since(tr);
-        const std::uint64_t effective = counters[gpu::kCounterEffective];
-        const vk::Buffer* rays = &rays_work_;
-        if (cache_rayset_) {
-            // Kept for the next run: a buffer per batch, sized to its effective rays.
+        // Kept for the next run (a buffer per batch), or generated again each run.
+        const auto keep = [&](std::uint64_t ray_count) -> const vk::Buffer& {
+            if (!cache_rayset_) return rays_work_;
             rayset_chunks_.push_back(
-                {vk::Buffer(*ctx_, std::max<std::uint64_t>(effective, 1) * kRayBytes,
+                {vk::Buffer(*ctx_, std::max<std::uint64_t>(ray_count, 1) * kRayBytes,
                             vk::kStorageUsage, vk::MemoryUse::Device,
                             fmt::format("fird.rayset.{}", batch)),
-                 effective});
-            rays = &rayset_chunks_.back().rays;
+                 0});
+            return rayset_chunks_.back().rays;
+        };
+        const vk::Buffer* rays = nullptr;
+        std::uint64_t effective = 0;
+        if (gpu::rayset_ordered_at_birth(params_.sampler_kind, params_.source_kind)) {
+            rays = &keep(n); // emitted in direction order: generated in place
+            effective = generate_rayset(first, n, *rays, run);
+        } else {
+            effective = generate_rayset(first, n, rays_ping_, run);
+            rays = &keep(effective); // then sorted by direction into place
+            run.timings.rayset_ms += order_rays(rays_ping_, *rays, effective, false);
         }
-        run.timings.rayset_ms += order_rays(rays_ping_, *rays, effective, false);
+        if (cache_rayset_) rayset_chunks_.back().effective = effective;
         trace_batch(*rays, effective, run, false);
     }
     finish(run);
@@ -557,7 +577,7 @@ std::vector<RayPath> FastTracer::trace_paths(const std::vector<Ray>& rays, std::
                   "fird.paths.in");
     vk::Buffer out(*ctx_, slots * kRayBytes, vk::kStorageUsage, vk::MemoryUse::Device,
                    "fird.paths.out");
-    vk::Buffer counters(*ctx_, gpu::kCounterCount * 4, vk::kStorageUsage, vk::MemoryUse::Device,
+    vk::Buffer counters(*ctx_, kCountersBytes, vk::kStorageUsage, vk::MemoryUse::Device,
                         "fird.paths.counters");
     vk::Buffer farfield(*ctx_, std::uint64_t(farfield_cells()) * 4, vk::kStorageUsage,
                         vk::MemoryUse::Device, "fird.paths.farfield");

@@ -140,6 +140,10 @@ class FastTracer {
     // rayset_order.comp, on the bucket counts the producing pass left); returns ms.
     double order_rays(const vk::Buffer& from, const vk::Buffer& to, std::uint64_t count,
                       bool reflected);
+    // The rayset pass over rays [first, first + n): appends the effective ones to `rays`
+    // (and counts them per direction bucket unless they come ordered); returns how many.
+    std::uint64_t generate_rayset(std::uint64_t first, std::uint64_t n, const vk::Buffer& rays,
+                                  FastRun& run);
     void finish(FastRun& run);
     void read_profile(FastRun& run) const; // the profiling pipeline's counts, per bounce
 

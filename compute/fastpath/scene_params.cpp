@@ -56,9 +56,13 @@ gpu::SceneParams scene_params(const Scene& s, std::uint64_t seed) {
                                                                 : gpu::kSourcePointIsotropic;
         break;
     }
-    p.sampler_kind = s.trace.sampler == SamplerKind::Sobol ? 1u : 0u;
+    p.sampler_kind = s.trace.sampler == SamplerKind::Sobol    ? gpu::kSamplerSobol
+                     : s.trace.sampler == SamplerKind::Random ? gpu::kSamplerRandom
+                                                              : gpu::kSamplerStratified;
     p.seed_lo = std::uint32_t(seed);
     p.seed_hi = std::uint32_t(seed >> 32);
+    p.rays_lo = std::uint32_t(s.trace.rays);
+    p.rays_hi = std::uint32_t(s.trace.rays >> 32);
     const SobolTables sobol = sobol_tables(seed);
     for (int d = 0; d < 4; ++d)
         for (int b = 0; b < 32; ++b)

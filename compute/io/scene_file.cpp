@@ -299,8 +299,7 @@ TraceSettings read_trace(const TableReader& t) {
     s.bounce_policy = t.choice("bounce_policy", {"paper", "strict"}, "paper") == "strict"
                           ? BouncePolicy::Strict
                           : BouncePolicy::Paper;
-    s.sampler = t.choice("sampler", {"random", "sobol"}, "random") == "sobol" ? SamplerKind::Sobol
-                                                                              : SamplerKind::Random;
+    s.sampler = *sampler_from_name(t.choice("sampler", sampler_names(), "stratified"));
     s.hit_mode = t.choice("hit_mode", {"paper", "refined"}, "refined") == "paper"
                      ? HitMode::Paper
                      : HitMode::Refined;
@@ -490,7 +489,7 @@ std::string scene_to_toml(const Scene& s) {
         {"seed", std::int64_t(t.seed)},
         {"max_bounces", std::int64_t(t.max_bounces)},
         {"bounce_policy", t.bounce_policy == BouncePolicy::Strict ? "strict" : "paper"},
-        {"sampler", t.sampler == SamplerKind::Sobol ? "sobol" : "random"},
+        {"sampler", sampler_name(t.sampler)},
         {"hit_mode", t.hit_mode == HitMode::Paper ? "paper" : "refined"},
         {"heightfield", toml::array{std::int64_t(t.heightfield_w), std::int64_t(t.heightfield_h)}},
         {"farfield", toml::array{std::int64_t(t.farfield_w), std::int64_t(t.farfield_h)}}};

@@ -2,29 +2,74 @@
 
 namespace fird {
 
-const char* family_name(Family f) {
-    switch (f) {
-    case Family::Plane:
-        return "plane";
-    case Family::Paraboloid:
-        return "paraboloid";
-    case Family::Cup:
-        return "cup";
-    case Family::FlutedCup:
-        return "fluted_cup";
-    case Family::BSpline:
-        return "bspline";
-    case Family::Mesh:
-        return "mesh";
-    }
+namespace {
+
+// The names of an enumeration's values in scene files and on the command line: one table
+// per enumeration, read both ways.
+template <typename E> struct Named {
+    E value;
+    const char* name;
+};
+
+constexpr Named<Family> kFamilies[] = {
+    {Family::Plane, "plane"},          {Family::Paraboloid, "paraboloid"}, {Family::Cup, "cup"},
+    {Family::FlutedCup, "fluted_cup"}, {Family::BSpline, "bspline"},       {Family::Mesh, "mesh"}};
+constexpr Named<SearchMethod> kMethods[] = {
+    {SearchMethod::Auto, "auto"},     {SearchMethod::Grid, "grid"},
+    {SearchMethod::Bobyqa, "bobyqa"}, {SearchMethod::Sbplx, "sbplx"},
+    {SearchMethod::Cobyla, "cobyla"}, {SearchMethod::DirectL, "direct"},
+    {SearchMethod::Crs2, "crs2"}};
+constexpr Named<SamplerKind> kSamplers[] = {{SamplerKind::Stratified, "stratified"},
+                                            {SamplerKind::Random, "random"},
+                                            {SamplerKind::Sobol, "sobol"}};
+
+template <typename E, std::size_t N> const char* name_of(const Named<E> (&table)[N], E value) {
+    for (const Named<E>& n : table)
+        if (n.value == value) return n.name;
     return "?";
 }
 
-std::optional<Family> family_from_name(const std::string& name) {
-    for (Family f : {Family::Plane, Family::Paraboloid, Family::Cup, Family::FlutedCup,
-                     Family::BSpline, Family::Mesh})
-        if (name == family_name(f)) return f;
+template <typename E, std::size_t N>
+std::optional<E> value_of(const Named<E> (&table)[N], const std::string& name) {
+    for (const Named<E>& n : table)
+        if (name == n.name) return n.value;
     return std::nullopt;
+}
+
+template <typename E, std::size_t N> std::vector<std::string> names_of(const Named<E> (&table)[N]) {
+    std::vector<std::string> names;
+    for (const Named<E>& n : table)
+        names.emplace_back(n.name);
+    return names;
+}
+
+} // namespace
+
+const char* family_name(Family f) {
+    return name_of(kFamilies, f);
+}
+std::optional<Family> family_from_name(const std::string& name) {
+    return value_of(kFamilies, name);
+}
+
+const char* method_name(SearchMethod m) {
+    return name_of(kMethods, m);
+}
+std::vector<std::string> method_names() {
+    return names_of(kMethods);
+}
+std::optional<SearchMethod> method_from_name(const std::string& name) {
+    return value_of(kMethods, name);
+}
+
+const char* sampler_name(SamplerKind s) {
+    return name_of(kSamplers, s);
+}
+std::vector<std::string> sampler_names() {
+    return names_of(kSamplers);
+}
+std::optional<SamplerKind> sampler_from_name(const std::string& name) {
+    return value_of(kSamplers, name);
 }
 
 std::vector<std::string> family_parameters(Family f) {
@@ -42,45 +87,6 @@ std::vector<std::string> family_parameters(Family f) {
         return {};
     }
     return {};
-}
-
-namespace {
-constexpr SearchMethod kMethods[] = {
-    SearchMethod::Auto,   SearchMethod::Grid,    SearchMethod::Bobyqa, SearchMethod::Sbplx,
-    SearchMethod::Cobyla, SearchMethod::DirectL, SearchMethod::Crs2};
-} // namespace
-
-const char* method_name(SearchMethod m) {
-    switch (m) {
-    case SearchMethod::Auto:
-        return "auto";
-    case SearchMethod::Grid:
-        return "grid";
-    case SearchMethod::Bobyqa:
-        return "bobyqa";
-    case SearchMethod::Sbplx:
-        return "sbplx";
-    case SearchMethod::Cobyla:
-        return "cobyla";
-    case SearchMethod::DirectL:
-        return "direct";
-    case SearchMethod::Crs2:
-        return "crs2";
-    }
-    return "?";
-}
-
-std::vector<std::string> method_names() {
-    std::vector<std::string> names;
-    for (SearchMethod m : kMethods)
-        names.emplace_back(method_name(m));
-    return names;
-}
-
-std::optional<SearchMethod> method_from_name(const std::string& name) {
-    for (SearchMethod m : kMethods)
-        if (name == method_name(m)) return m;
-    return std::nullopt;
 }
 
 ReflectorDesc target_reflector(const Scene& scene) {

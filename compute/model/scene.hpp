@@ -73,7 +73,9 @@ struct ReflectorDesc {
 };
 
 enum class BouncePolicy { Paper, Strict };
-enum class SamplerKind { Random, Sobol };
+// stratified: Philox with its first two dimensions stratified (sampling/strata.hpp), the
+// default; random: independent Philox rays; sobol: scrambled Sobol points.
+enum class SamplerKind { Stratified, Random, Sobol };
 enum class HitMode { Paper, Refined };
 
 struct TraceSettings {
@@ -81,7 +83,7 @@ struct TraceSettings {
     std::uint64_t seed = 1;
     std::uint32_t max_bounces = 1;
     BouncePolicy bounce_policy = BouncePolicy::Paper;
-    SamplerKind sampler = SamplerKind::Random;
+    SamplerKind sampler = SamplerKind::Stratified;
     HitMode hit_mode = HitMode::Refined;
     std::uint32_t heightfield_w = 1200;
     std::uint32_t heightfield_h = 800;
@@ -140,6 +142,10 @@ const char* method_name(SearchMethod m);
 std::optional<SearchMethod> method_from_name(const std::string& name);
 // Every method name, in the order --help lists them.
 std::vector<std::string> method_names();
+
+const char* sampler_name(SamplerKind s);
+std::optional<SamplerKind> sampler_from_name(const std::string& name);
+std::vector<std::string> sampler_names();
 
 // The reflector the target describes: the scene's reflector with the target's values.
 ReflectorDesc target_reflector(const Scene& scene);

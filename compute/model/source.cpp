@@ -5,17 +5,23 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <stdexcept>
+
+#include <fmt/format.h>
 
 #include <glm/geometric.hpp>
 
 #include "sampling/philox.hpp"
 #include "sampling/sobol.hpp"
+#include "sampling/strata.hpp"
 
 namespace fird {
 
 namespace {
 
 constexpr double kTwoPi = 2.0 * std::numbers::pi;
+// The Philox stream that picks the rays sample_effective_rays shows (the rays use stream 0).
+constexpr std::uint32_t kSampleStream = 1;
 
 // Two unit vectors completing n to a right-handed orthonormal frame
 // (Duff et al., "Building an orthonormal basis, revisited", 2017).
@@ -59,8 +65,13 @@ Ray sample_source(const SourceDesc& s, const std::array<double, 4>& u) {
                 cosine_direction(normal, u[2], u[3])};
     }
     case SourceKind::Sphere: {
-        const glm::dvec3 normal = uniform_sphere(u[0], u[1]);
-        return {s.center_mm + s.radius_mm * normal, cosine_direction(normal, u[2], u[3])};
+        // Direction first: the joint density of the surface normal n (uniform) and the
+        // direction d (Lambertian about n) is max(0, n.d) / (4 pi^2), symmetric in n and d;
+        // so d uniform and n Lambertian about d is the same distribution, and the
+        // direction now comes from the stratified uniforms (sampling/strata.hpp).
+        const glm::dvec3 direction = uniform_sphere(u[0], u[1]);
+        const glm::dvec3 normal = cosine_direction(direction, u[2], u[3]);
+        return {s.center_mm + s.radius_mm * normal, direction};
     }
     case SourceKind::Point:
         if (s.emittance == Emittance::Cosine)
@@ -70,9 +81,20 @@ Ray sample_source(const SourceDesc& s, const std::array<double, 4>& u) {
     return {s.center_mm, {0.0, 0.0, 1.0}};
 }
 
-std::array<double, 4> ray_uniforms(SamplerKind sampler, std::uint64_t seed, std::uint64_t index) {
-    if (sampler == SamplerKind::Sobol) return sobol_uniforms(seed, index);
-    return philox_uniforms(seed, index, 0u);
+std::array<double, 4> ray_uniforms(SamplerKind sampler, std::uint64_t seed, std::uint64_t index,
+                                   std::uint64_t rays) {
+    if (index >= rays)
+        throw std::invalid_argument(
+            fmt::format("ray {} of {}: past the rays emitted", index, rays));
+    switch (sampler) {
+    case SamplerKind::Sobol:
+        return sobol_uniforms(seed, index);
+    case SamplerKind::Random:
+        return philox_uniforms(seed, index, 0u);
+    case SamplerKind::Stratified:
+        break;
+    }
+    return stratified_uniforms(seed, index, rays);
 }
 
 bool clip_to_box(const Ray& ray, const glm::dvec3& lo, const glm::dvec3& hi, double& t_enter,
@@ -105,12 +127,28 @@ bool ray_meets_box(const Ray& ray, const Holder& holder) {
 }
 
 std::vector<Ray> sample_effective_rays(const Scene& s, std::uint32_t k) {
-    std::vector<Ray> rays;
-    const std::uint64_t stride = std::max<std::uint64_t>(1, s.trace.rays / (4ull * k + 1));
-    for (std::uint64_t i = 0; i < s.trace.rays && rays.size() < k; i += stride) {
-        const Ray r = emit_ray(s.source, s.trace.sampler, s.trace.seed, i);
-        if (ray_meets_box(r, s.holder)) rays.push_back(r);
+    // One index at random in each of m equal runs of the emission order, m growing until
+    // k are found: the whole emission is covered (the stratified sampler emits in direction
+    // order, so a prefix would hold the zenith's directions only), and not on a lattice
+    // (evenly spaced indices pick a regular sublattice of its direction strata).
+    std::vector<Ray> found;
+    for (std::uint64_t m = 4ull * k + 1; found.size() < k; m *= 2) {
+        m = std::min<std::uint64_t>(m, s.trace.rays);
+        found.clear();
+        for (std::uint64_t j = 0; j < m; ++j) {
+            const double jitter = philox_uniforms(s.trace.seed, j, kSampleStream)[0];
+            const auto i =
+                std::min(s.trace.rays - 1,
+                         std::uint64_t((double(j) + jitter) * double(s.trace.rays) / double(m)));
+            const Ray r = emit_ray(s.source, s.trace.sampler, s.trace.seed, i, s.trace.rays);
+            if (ray_meets_box(r, s.holder)) found.push_back(r);
+        }
+        if (m == s.trace.rays) break;
     }
+    if (found.size() <= k) return found;
+    std::vector<Ray> rays; // k of them, evenly over the emission order
+    for (std::uint32_t j = 0; j < k; ++j)
+        rays.push_back(found[std::size_t(std::uint64_t(j) * found.size() / k)]);
     return rays;
 }
 

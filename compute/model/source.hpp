@@ -19,16 +19,19 @@ struct Ray {
 
 // Maps four uniforms in (0, 1) to an emitted ray:
 // cylinder: uniform on the lateral surface (caps dark), Lambertian about the outward normal;
-// sphere: uniform on the surface, Lambertian about the outward normal;
+// sphere: uniform on the surface, Lambertian about the outward normal (the direction from
+// u[0], u[1], then the point: the same distribution, see source.cpp);
 // point: isotropic, or Lambertian about `axis`.
 Ray sample_source(const SourceDesc& source, const std::array<double, 4>& u);
 
-// The uniforms for ray `index`: Philox (random) or scrambled Sobol, both keyed by seed.
-std::array<double, 4> ray_uniforms(SamplerKind sampler, std::uint64_t seed, std::uint64_t index);
+// The uniforms for ray `index` of the `rays` emitted, keyed by seed: Philox stratified in
+// its first two dimensions (sampling/strata.hpp), independent Philox, or scrambled Sobol.
+std::array<double, 4> ray_uniforms(SamplerKind sampler, std::uint64_t seed, std::uint64_t index,
+                                   std::uint64_t rays);
 
 inline Ray emit_ray(const SourceDesc& source, SamplerKind sampler, std::uint64_t seed,
-                    std::uint64_t index) {
-    return sample_source(source, ray_uniforms(sampler, seed, index));
+                    std::uint64_t index, std::uint64_t rays) {
+    return sample_source(source, ray_uniforms(sampler, seed, index, rays));
 }
 
 // K of the scene's effective rays, spread evenly over its emission order: rays the fast

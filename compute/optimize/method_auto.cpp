@@ -9,7 +9,9 @@
 //                               flat direction to each lattice value of its held
 //                               parameter, then a compass search on the lattice (pairs
 //                               of parameters stepped together where single steps fail);
-//   confirm  (last: the scene's rays and grid) the compass search again, from there.
+//   confirm  (last: the scene's rays and grid) the compass search again, from there, with
+//                               pairs of steps as well where its l2 came out far above the
+//                               lattice stage's (the coarse grid hid the structure).
 // The continuous stages hold each flat direction's parameter fixed; the lattice stages
 // move every parameter (a strict descent cannot wander along a flat direction).
 #include <algorithm>
@@ -21,6 +23,11 @@
 namespace fird {
 
 namespace {
+
+// How much worse the scene's fidelity may find the lattice stage's best before the confirm
+// stage also polls pairs of steps: the l2 of noise falls with more rays, so a confirmed l2
+// above twice the coarser stage's is structure the coarse grid did not show.
+constexpr double kCoarseMissedFactor = 2.0;
 
 std::vector<double> best_x(const Objective& f, const std::vector<double>& fallback) {
     const Candidate* b = f.stage_best();
@@ -73,9 +80,8 @@ StopReason run_auto(Objective& f, const std::vector<Fidelity>& stages) {
     std::vector<double> x = space.start;
     for (std::size_t s = 0; s + 1 < stages.size(); ++s) {
         f.begin_stage(s == 0 ? "explore" : "refine", stages[s]);
-        NloptRun run{.algorithm = s == 0 ? nlopt::GN_DIRECT : nlopt::LN_BOBYQA,
-                     .x0 = x,
-                     .free = continuous};
+        NloptRun run{
+            .algorithm = s == 0 ? nlopt::GN_DIRECT : nlopt::LN_BOBYQA, .x0 = x, .free = continuous};
         for (std::size_t k = 0; k < n; ++k) {
             run.initial_step.push_back(2.0 * space.step[k]);
             run.xtol.push_back(space.step[k] * (s == 0 ? 2.0 : 1.0));
@@ -87,6 +93,7 @@ StopReason run_auto(Objective& f, const std::vector<Fidelity>& stages) {
         (void)run_nlopt(f, run);
         x = best_x(f, x);
     }
+    double lattice_l2 = HUGE_VAL;
     if (stages.size() >= 2) {
         f.begin_stage("lattice", stages[stages.size() - 2]);
         std::vector<double> entry = space.snap(x);
@@ -97,9 +104,17 @@ StopReason run_auto(Objective& f, const std::vector<Fidelity>& stages) {
         }
         (void)run_lattice_descent(f, entry, all, true);
         x = best_x(f, entry);
+        if (const Candidate* b = f.stage_best()) lattice_l2 = b->l2_lm;
     }
     f.begin_stage("confirm", stages.back());
-    return run_lattice_descent(f, x, all, false);
+    const StopReason single = run_lattice_descent(f, x, all, false);
+    // The scene's far field can tell apart what the lattice stage's coarser one could not
+    // (a beam a step off focus lands in the same coarse cells): when the confirmed l2 is
+    // more than twice the lattice stage's, its neighbourhood is polled again with pairs of
+    // steps too (x and the single steps are answered from the stage's memo).
+    const Candidate* confirmed = f.stage_best();
+    if (!confirmed || confirmed->l2_lm <= kCoarseMissedFactor * lattice_l2) return single;
+    return run_lattice_descent(f, confirmed->x, all, true);
 }
 
 } // namespace fird

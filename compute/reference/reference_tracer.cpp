@@ -77,7 +77,7 @@ ReferenceResult trace_reference(const SourceDesc& source, const Surface& surface
             if (begin >= o.rays) break;
             const std::uint64_t end = std::min(o.rays, begin + kBlock);
             for (std::uint64_t i = begin; i < end; ++i) {
-                const Ray ray = emit_ray(source, o.sampler, o.seed, i);
+                const Ray ray = emit_ray(source, o.sampler, o.seed, i, o.rays);
                 const PathResult path =
                     trace_path(surface, surface.holder(), ray, o.max_bounces, o.bounce_policy);
                 RayTally& t = local.tally;

@@ -40,7 +40,7 @@ struct ReferenceResult {
 struct ReferenceOptions {
     std::uint64_t rays = 0;
     std::uint64_t seed = 1;
-    SamplerKind sampler = SamplerKind::Random;
+    SamplerKind sampler = SamplerKind::Stratified;
     std::uint32_t max_bounces = 1;
     BouncePolicy bounce_policy = BouncePolicy::Paper;
     std::uint32_t farfield_w = 1800;

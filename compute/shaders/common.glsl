@@ -41,6 +41,7 @@ uvec4 philox(uvec4 c, uvec2 k) {
 
 // Uniforms in (0, 1): the top 24 bits, at cell midpoints (exact in float).
 vec4 to_unit(uvec4 bits) { return (vec4(bits >> 8u) + 0.5) * (1.0 / 16777216.0); }
+vec2 to_unit(uvec2 bits) { return (vec2(bits >> 8u) + 0.5) * (1.0 / 16777216.0); }
 
 uint lk_permute(uint x, uint seed) {
     x += seed;
@@ -52,8 +53,58 @@ uint lk_permute(uint x, uint seed) {
 }
 uint owen_scramble(uint x, uint seed) { return bitfieldReverse(lk_permute(bitfieldReverse(x), seed)); }
 
+// Gathers the even bits of x into its low 16 bits (inverse of a Morton spread).
+uint compact_bits(uint x) {
+    x &= 0x55555555u;
+    x = (x | (x >> 1u)) & 0x33333333u;
+    x = (x | (x >> 2u)) & 0x0f0f0f0fu;
+    x = (x | (x >> 4u)) & 0x00ff00ffu;
+    x = (x | (x >> 8u)) & 0x0000ffffu;
+    return x;
+}
+
+// a > b for 64-bit (high, low) pairs.
+bool greater_u64(uvec2 a, uvec2 b) { return a.x > b.x || (a.x == b.x && a.y > b.y); }
+
+// q * N as a 64-bit (high, low) pair (q < 2^17, N = rays emitted).
+uvec2 times_rays(uint q) {
+    uint hi, lo;
+    umulExtended(q, P.rays_lo, hi, lo);
+    return uvec2(hi + q * P.rays_hi, lo);
+}
+
+const uint kStrataBits = 2u * kStratumBits;  // bits of a stratum's Morton index
+const uint kStrata = 1u << kStrataBits;
+const uint kOffsetBits = 23u - kStratumBits; // a uniform: cell, offset and a half bit
+const float kOffsetScale = 1.0 / float(1u << 23u);
+
+// As sampling/strata.hpp: the stratum of ray `index` is floor((index * kStrata + s) / rays)
+// for kStrataBits random bits s, in exact integer arithmetic (a float quotient, then
+// corrected: it is off by at most one).
+uint stratum(uint index_lo, uint index_hi, uint s) {
+    const uvec2 num = uvec2((index_hi << kStrataBits) | (index_lo >> (32u - kStrataBits)),
+                            (index_lo << kStrataBits) | s);
+    const float rays = float(P.rays_hi) * 4294967296.0 + float(P.rays_lo);
+    uint q = uint(min((float(num.x) * 4294967296.0 + float(num.y)) / rays, float(kStrata - 1u)));
+    for (int k = 0; k < 2; ++k)
+        if (q > 0u && greater_u64(times_rays(q), num)) --q;
+    for (int k = 0; k < 2; ++k)
+        if (q + 1u < kStrata && !greater_u64(times_rays(q + 1u), num)) ++q;
+    return q;
+}
+
 vec4 ray_uniforms(uint index_lo, uint index_hi) {
-    if (kSamplerKind == 0u) return to_unit(philox(uvec4(index_lo, index_hi, 0u, 0u), uvec2(P.seed_lo, P.seed_hi)));
+    if (kSamplerKind == kSamplerStratified) {
+        const uvec4 w = philox(uvec4(index_lo, index_hi, 0u, 0u), uvec2(P.seed_lo, P.seed_hi));
+        const uint c = stratum(index_lo, index_hi, w.x >> (32u - kStrataBits));
+        // The cell's corner plus a uniform offset inside it: 23 bits and a half, exact in float.
+        const uvec2 cell = uvec2(compact_bits(c), compact_bits(c >> 1u));
+        const uvec2 offset = uvec2(w.y >> (32u - kOffsetBits), (w.y >> (32u - 2u * kOffsetBits)) & ((1u << kOffsetBits) - 1u));
+        const vec2 u01 = (vec2((cell << kOffsetBits) | offset) + 0.5) * kOffsetScale;
+        return vec4(u01, to_unit(w.zw));
+    }
+    if (kSamplerKind == kSamplerRandom)
+        return to_unit(philox(uvec4(index_lo, index_hi, 0u, 0u), uvec2(P.seed_lo, P.seed_hi)));
     const uint i = owen_scramble(index_lo, P.sobol_scramble[4]);
     uvec4 x = uvec4(0u);
     for (uint b = 0u; b < 32u; ++b) {
@@ -102,9 +153,10 @@ Ray sample_source(vec4 u) {
         r.origin = vec4(c + (u.x - 0.5) * P.source_length * axis + P.source_radius * n, 0.0);
         r.direction = vec4(cosine_direction(n, u.z, u.w), 0.0);
     } else if (kSourceKind == kSourceSphere) {
-        const vec3 n = uniform_sphere(u.x, u.y);
-        r.origin = vec4(c + P.source_radius * n, 0.0);
-        r.direction = vec4(cosine_direction(n, u.z, u.w), 0.0);
+        // Direction first (model/source.cpp says why it is the same distribution).
+        const vec3 d = uniform_sphere(u.x, u.y);
+        r.origin = vec4(c + P.source_radius * cosine_direction(d, u.z, u.w), 0.0);
+        r.direction = vec4(d, 0.0);
     } else if (kSourceKind == kSourcePointCosine) {
         r.origin = vec4(c, 0.0);
         r.direction = vec4(cosine_direction(axis, u.x, u.y), 0.0);
@@ -137,11 +189,13 @@ bool clip_to_box(vec3 o, vec3 d, vec3 lo, vec3 hi, out vec2 t01) {
 }
 
 // Per-subgroup aggregation: one atomic per subgroup instead of one per ray on the same
-// counter (every ray touches the same few counters; serialized atomics dominated).
+// counter (every ray touches the same few counters; serialized atomics dominated), into
+// this workgroup's copy of the counters (kTallyCopies).
 #define FIRD_COUNT(counter_array, slot, condition)                                          \
     {                                                                                      \
         const uint fird_n_ = subgroupBallotBitCount(subgroupBallot(condition));            \
-        if (fird_n_ > 0u && subgroupElect()) atomicAdd(counter_array[slot], fird_n_);       \
+        const uint fird_copy_ = (gl_WorkGroupID.x % kTallyCopies) * kCounterCount;          \
+        if (fird_n_ > 0u && subgroupElect()) atomicAdd(counter_array[fird_copy_ + (slot)], fird_n_); \
     }
 
 // Appends where `condition` holds: returns each such lane's slot in the output array.

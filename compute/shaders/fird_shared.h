@@ -9,8 +9,10 @@
 namespace fird::gpu {
 using uint = std::uint32_t;
 #define FIRD_CONSTANT(type, name, value) inline constexpr type name = value
+#define FIRD_FUNCTION constexpr
 #else
 #define FIRD_CONSTANT(type, name, value) const type name = value
+#define FIRD_FUNCTION
 #endif
 
 // Workgroup sizes are macros so GLSL layout qualifiers and C++ dispatch math share them.
@@ -59,6 +61,21 @@ FIRD_CONSTANT(uint, kSourceCylinder, 0u);
 FIRD_CONSTANT(uint, kSourceSphere, 1u);
 FIRD_CONSTANT(uint, kSourcePointIsotropic, 2u);
 FIRD_CONSTANT(uint, kSourcePointCosine, 3u);
+
+FIRD_CONSTANT(uint, kSamplerRandom, 0u); // independent Philox rays
+FIRD_CONSTANT(uint, kSamplerSobol, 1u);
+FIRD_CONSTANT(uint, kSamplerStratified, 2u); // Philox, stratified in its first two dimensions
+// The stratified sampler's strata: a 2^bits x 2^bits grid over its first two uniforms,
+// visited along a Morton curve as the ray index grows (sampling/strata.hpp, common.glsl).
+FIRD_CONSTANT(uint, kStratumBits, 8u);
+
+// A sphere's or a point's direction is a function of the first two uniforms alone, so with
+// the stratified sampler its rayset is emitted already ordered by direction: rayset.comp
+// writes it in place and no sort follows. A cylinder's direction also depends on the last
+// two, and the other samplers' rays come in no order: those raysets are sorted.
+FIRD_FUNCTION bool rayset_ordered_at_birth(uint sampler_kind, uint source_kind) {
+    return sampler_kind == kSamplerStratified && source_kind != kSourceCylinder;
+}
 
 FIRD_CONSTANT(uint, kHitModePaper, 0u);
 FIRD_CONSTANT(uint, kHitModeRefined, 1u);
@@ -127,6 +144,11 @@ FIRD_CONSTANT(uint, kCounterAborted, 6u);       // traversal bound reached (ener
 FIRD_CONSTANT(uint, kCounterActiveOut, 7u);     // rays appended for the next bounce
 FIRD_CONSTANT(uint, kCounterByReflections, 8u); // + r: far-field rays with r reflections
 FIRD_CONSTANT(uint, kCounterCount, 8u + FIRD_MAX_REFLECTIONS + 1u);
+// The counters buffer holds kTallyCopies copies of the counters: a workgroup adds its
+// tallies to copy (workgroup id mod kTallyCopies), so that the threads of a CPU driver do
+// not pass one cache line back and forth on every atomic; the host sums the copies. The
+// slot allocators (kCounterEffective, kCounterActiveOut) live in copy 0 alone.
+FIRD_CONSTANT(uint, kTallyCopies, 64u);
 
 // Everything a pass needs to know about the scene, in one storage buffer (std430;
 // only 4-byte scalars and arrays of them, so C++ and GLSL agree on the layout).
@@ -140,9 +162,11 @@ struct SceneParams {
     float source_length;
     float source_radius;
     uint source_kind;
-    uint sampler_kind; // 0 random (Philox), 1 Sobol
+    uint sampler_kind; // kSamplerRandom, kSamplerSobol or kSamplerStratified
     uint seed_lo;
     uint seed_hi;
+    uint rays_lo; // rays emitted in all (the stratified sampler's strata depend on it)
+    uint rays_hi;
     uint family;
     uint bspline_nx;
     uint bspline_ny;

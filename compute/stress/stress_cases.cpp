@@ -172,11 +172,15 @@ std::vector<StressCase> stress_cases(const vk::Context& ctx, const std::string& 
                          .hit_tolerance_texels = tol,
                          .compare_paths = paths,
                          .note = paths ? "" : paper_note});
+        // Five bounces between near-vertical walls amplify the first hit's hundredth of a
+        // texel likewise: over 2000 rays the direction p99 ranged 0.016-0.17 rad with the
+        // sample's seed (independent or stratified rays alike; 0.05 held for one seed only).
         cases.push_back({.name = fmt::format("cup, steep walls p = 8, {}", mode),
                          .scene = cup("cup p8", 8.0, m),
                          .hit_tolerance_texels = tol,
+                         .direction_tolerance_rad = 0.25,
                          .compare_paths = paths,
-                         .note = paths ? "" : paper_note});
+                         .note = paths ? "5 bounces: direction p99 up to 0.25 rad" : paper_note});
         // Six bounces among the flutes amplify a hundredth of a texel into a visible turn
         // of a few rays' last direction: the tolerance is for that far tail.
         cases.push_back({.name = fmt::format("fluted cup, w = 1 (its bound), {}", mode),

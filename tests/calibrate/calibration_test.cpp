@@ -15,11 +15,14 @@ Scene mirror() {
 
 using Calibration = VulkanTest;
 
-// The target reflector against itself: the l2 is noise alone, so its mean must follow
-// flux sqrt(sum p (1 - p) (1/n + 1/N)) within 6 % at each count, and fall as n^-1/2.
+// The target reflector against itself: the l2 is noise alone, so with independent rays
+// its mean must follow flux sqrt(sum p (1 - p) (1/n + 1/N)) within 6 % at each count, and
+// fall as n^-1/2.
 TEST_F(Calibration, MeanL2FollowsTheMonteCarloPrediction) {
+    Scene s = mirror();
+    s.trace.sampler = SamplerKind::Random;
     const RaysTable t = calibrate_rays(
-        ctx(), mirror(), {.counts = {2000, 20000, 200000}, .runs = 16, .desired_rays = 4000000});
+        ctx(), s, {.counts = {2000, 20000, 200000}, .runs = 16, .desired_rays = 4000000});
     ASSERT_EQ(t.rows.size(), 3u);
     for (const RaysRow& r : t.rows) {
         EXPECT_EQ(r.runs, 16u);
@@ -28,6 +31,19 @@ TEST_F(Calibration, MeanL2FollowsTheMonteCarloPrediction) {
     }
     EXPECT_GT(t.rows[0].mean_l2, 5.0 * t.rows[2].mean_l2);
     EXPECT_NEAR(t.slope, -0.5, 0.05);
+}
+
+// Stratified rays are never noisier than independent ones, and on this coarse far field
+// (the mirror's 360 x 180 cells) visibly less noisy once the strata hold several rays each.
+TEST_F(Calibration, StratifiedRaysBeatTheIndependentRaysPrediction) {
+    Scene s = mirror();
+    s.trace.sampler = SamplerKind::Stratified;
+    const RaysTable t =
+        calibrate_rays(ctx(), s, {.counts = {2000, 200000}, .runs = 16, .desired_rays = 4000000});
+    ASSERT_EQ(t.rows.size(), 2u);
+    for (const RaysRow& r : t.rows)
+        EXPECT_LT(r.mean_l2 / r.predicted_l2, 1.06) << r.rays;
+    EXPECT_LT(t.rows[1].mean_l2 / t.rows[1].predicted_l2, 0.8);
 }
 
 TEST_F(Calibration, SemivariogramSeriesStepsAndWriteStepsRoundTrip) {

@@ -72,7 +72,7 @@ TEST(Mesh, TessellatedTiltedPlaneReflectsExactlyLikeThePlane) {
     const glm::dvec3 n = glm::normalize(glm::dvec3(-0.2, 0.1, 1.0));
     int reflected = 0;
     for (std::uint64_t i = 0; i < 5000; ++i) {
-        const Ray ray = emit_ray(s.source, SamplerKind::Random, 3, i);
+        const Ray ray = emit_ray(s.source, SamplerKind::Random, 3, i, 5000);
         std::vector<glm::dvec3> path;
         const PathResult r = trace_path(surface, s.holder, ray, 1, BouncePolicy::Strict, &path);
         if (r.fate != RayFate::FarField) continue;

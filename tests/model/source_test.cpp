@@ -1,11 +1,16 @@
 // Light-source sampling checked statistically against its analytic distributions.
+#include <algorithm>
 #include <cmath>
+#include <numbers>
+#include <stdexcept>
+#include <vector>
 
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>
 
 #include "model/source.hpp"
 #include "sampling/philox.hpp"
+#include "sampling/strata.hpp"
 
 namespace fird {
 namespace {
@@ -20,7 +25,7 @@ TEST(Source, CylinderIsLambertianAboutTheOutwardNormalAndUniformAlongItsLength) 
                        .radius_mm = 0.5};
     double cos_sum = 0.0, along_sq = 0.0;
     for (int i = 0; i < kN; ++i) {
-        const Ray r = emit_ray(s, SamplerKind::Random, 1, std::uint64_t(i));
+        const Ray r = emit_ray(s, SamplerKind::Random, 1, std::uint64_t(i), kN);
         const glm::dvec3 rel = r.origin - s.center_mm;
         ASSERT_NEAR(std::hypot(rel.y, rel.z), 0.5, 1e-12) << "on the lateral surface";
         ASSERT_LE(std::abs(rel.x), 2.0) << "caps are dark";
@@ -35,18 +40,31 @@ TEST(Source, CylinderIsLambertianAboutTheOutwardNormalAndUniformAlongItsLength) 
     EXPECT_NEAR(along_sq / kN, 4.0 / 3.0, 1e-2);
 }
 
+// The sphere samples its direction first, then the point: still uniform on the surface
+// and Lambertian about the outward normal, with every sampler.
 TEST(Source, SphereIsUniformOnTheSurfaceAndLambertian) {
     const SourceDesc s{.kind = SourceKind::Sphere, .center_mm = {0, 0, 0}, .radius_mm = 2.0};
-    glm::dvec3 mean_pos{0.0};
-    double cos_sum = 0.0;
-    for (int i = 0; i < kN; ++i) {
-        const Ray r = emit_ray(s, SamplerKind::Sobol, 3, std::uint64_t(i));
-        ASSERT_NEAR(glm::length(r.origin), 2.0, 1e-12);
-        mean_pos += r.origin / double(kN);
-        cos_sum += glm::dot(r.direction, r.origin / 2.0);
+    for (SamplerKind sampler : {SamplerKind::Stratified, SamplerKind::Random, SamplerKind::Sobol}) {
+        SCOPED_TRACE(sampler_name(sampler));
+        glm::dvec3 mean_pos{0.0};
+        double cos_sum = 0.0, cos_sq = 0.0, pos_z_sq = 0.0;
+        for (int i = 0; i < kN; ++i) {
+            const Ray r = emit_ray(s, sampler, 3, std::uint64_t(i), kN);
+            ASSERT_NEAR(glm::length(r.origin), 2.0, 1e-12);
+            ASSERT_NEAR(glm::length(r.direction), 1.0, 1e-12);
+            mean_pos += r.origin / double(kN);
+            const double c = glm::dot(r.direction, r.origin / 2.0);
+            ASSERT_GE(c, 0.0) << "leaves outwards";
+            cos_sum += c;
+            cos_sq += c * c;
+            pos_z_sq += r.origin.z * r.origin.z / 4.0;
+        }
+        EXPECT_NEAR(glm::length(mean_pos), 0.0, 0.02);
+        // Lambertian: pdf(cos) = 2 cos, E[cos] = 2/3, E[cos^2] = 1/2; uniform: E[z^2] = 1/3.
+        EXPECT_NEAR(cos_sum / kN, 2.0 / 3.0, 3e-3);
+        EXPECT_NEAR(cos_sq / kN, 0.5, 3e-3);
+        EXPECT_NEAR(pos_z_sq / kN, 1.0 / 3.0, 3e-3);
     }
-    EXPECT_NEAR(glm::length(mean_pos), 0.0, 0.02);
-    EXPECT_NEAR(cos_sum / kN, 2.0 / 3.0, 3e-3);
 }
 
 TEST(Source, IsotropicPointCoversTheSphereEvenly) {
@@ -54,7 +72,7 @@ TEST(Source, IsotropicPointCoversTheSphereEvenly) {
     int up = 0;
     double z_sq = 0.0;
     for (int i = 0; i < kN; ++i) {
-        const Ray r = emit_ray(s, SamplerKind::Random, 5, std::uint64_t(i));
+        const Ray r = emit_ray(s, SamplerKind::Random, 5, std::uint64_t(i), kN);
         up += r.direction.z > 0;
         z_sq += r.direction.z * r.direction.z;
     }
@@ -68,6 +86,69 @@ TEST(Source, RaysMissingTheBoxAreDetected) {
     EXPECT_FALSE(ray_meets_box({{0.5, 0.5, 2}, {0, 0, 1}}, h)) << "behind the ray (t < 0)";
     EXPECT_FALSE(ray_meets_box({{2, 0.5, 0.5}, {0, 1, 0}}, h)) << "parallel outside the slab";
     EXPECT_TRUE(ray_meets_box({{0.5, 0.5, 0.5}, {1, 0, 0}}, h)) << "starting inside";
+}
+
+// Stratified sampling: ray i of N lies in stratum floor((i K + s) / N), never before its
+// predecessor's, and every one of the K strata holds N / K rays give or take two; inside
+// its cell a ray is uniform, and the last two dimensions are plain uniforms.
+TEST(Sampling, StratifiedRaysVisitEveryStratumInOrderAndEvenly) {
+    constexpr std::uint64_t kRays = 3 * kStrata + 12345; // not a multiple of the strata
+    std::vector<std::uint32_t> count(kStrata, 0);
+    std::uint32_t previous = 0;
+    double sum[4] = {}, offset_sum = 0.0;
+    for (std::uint64_t i = 0; i < kRays; ++i) {
+        const std::array<double, 4> u = stratified_uniforms(9, i, kRays);
+        for (int k = 0; k < 4; ++k) {
+            ASSERT_GT(u[k], 0.0);
+            ASSERT_LT(u[k], 1.0);
+            sum[k] += u[k];
+        }
+        const double cells = double(1u << gpu::kStratumBits);
+        const auto qx = std::uint32_t(u[0] * cells), qy = std::uint32_t(u[1] * cells);
+        std::uint32_t c = 0; // Morton index, written out here
+        for (std::uint32_t b = 0; b < gpu::kStratumBits; ++b)
+            c |= (((qx >> b) & 1u) << (2 * b)) | (((qy >> b) & 1u) << (2 * b + 1));
+        ASSERT_GE(c, previous) << "ray " << i;
+        previous = c;
+        ++count[c];
+        offset_sum += u[0] * cells - double(qx);
+    }
+    const double share = double(kRays) / double(kStrata);
+    for (std::uint32_t c = 0; c < kStrata; ++c)
+        ASSERT_NEAR(double(count[c]), share, 2.0) << "stratum " << c; // independent: up to 9
+    for (int k = 0; k < 4; ++k)
+        EXPECT_NEAR(sum[k] / double(kRays), 0.5, 2e-3) << "dimension " << k;
+    EXPECT_NEAR(offset_sum / double(kRays), 0.5, 3e-3) << "uniform inside the cell";
+}
+
+// A sphere's and a point's rays come out of the stratified sampler in direction order
+// (rayset.comp keeps that order instead of sorting); a cylinder's do not.
+TEST(Sampling, StratifiedSphereAndPointRaysComeInDirectionOrder) {
+    const auto mean_turn_deg = [](const SourceDesc& s, SamplerKind sampler) {
+        double sum = 0.0;
+        glm::dvec3 previous = emit_ray(s, sampler, 4, 0, kN).direction;
+        for (int i = 1; i < kN; ++i) {
+            const glm::dvec3 d = emit_ray(s, sampler, 4, std::uint64_t(i), kN).direction;
+            sum += std::acos(std::clamp(glm::dot(d, previous), -1.0, 1.0));
+            previous = d;
+        }
+        return sum / (kN - 1) * 180.0 / std::numbers::pi;
+    };
+    const SourceDesc sphere{.kind = SourceKind::Sphere, .radius_mm = 1.0};
+    const SourceDesc point{.kind = SourceKind::Point, .emittance = Emittance::Isotropic};
+    const SourceDesc cosine{.kind = SourceKind::Point, .axis = {0, 0, -1}};
+    for (const SourceDesc& s : {sphere, point, cosine}) {
+        EXPECT_LT(mean_turn_deg(s, SamplerKind::Stratified), 3.0);
+        EXPECT_GT(mean_turn_deg(s, SamplerKind::Random), 40.0); // independent: 60-90 degrees
+    }
+    const SourceDesc cylinder{
+        .kind = SourceKind::Cylinder, .axis = {1, 0, 0}, .length_mm = 4.0, .radius_mm = 0.5};
+    EXPECT_GT(mean_turn_deg(cylinder, SamplerKind::Stratified), 30.0);
+}
+
+TEST(Sampling, RayIndicesPastTheRaysEmittedAreRefused) {
+    EXPECT_THROW((void)ray_uniforms(SamplerKind::Stratified, 1, 10, 10), std::invalid_argument);
+    EXPECT_NO_THROW((void)ray_uniforms(SamplerKind::Stratified, 1, 9, 10));
 }
 
 TEST(Sampling, PhiloxStreamsForNeighbouringSeedsAreUnrelated) {

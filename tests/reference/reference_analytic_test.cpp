@@ -21,7 +21,7 @@ TEST(ReferenceAnalytic, FlatTiltedMirrorGivesMirroredDirections) {
     const glm::dvec3 n = glm::normalize(glm::dvec3(-0.2, 0.1, 1.0));
     int reflected = 0;
     for (std::uint64_t i = 0; i < 20000; ++i) {
-        const Ray ray = emit_ray(s.source, SamplerKind::Random, 11, i);
+        const Ray ray = emit_ray(s.source, SamplerKind::Random, 11, i, 20000);
         std::vector<glm::dvec3> path;
         const PathResult r = trace_path(surface, s.holder, ray, 1, BouncePolicy::Strict, &path);
         if (r.fate != RayFate::FarField) continue;
@@ -53,7 +53,7 @@ TEST(ReferenceAnalytic, PointAtParaboloidFocusSendsEveryReflectedRayToTheZenith)
     // And directions are exactly +z, not just within the 1-degree row.
     for (std::uint64_t i = 0; i < 5000; ++i) {
         const PathResult p =
-            trace_path(surface, s.holder, emit_ray(s.source, SamplerKind::Random, 5, i), 1,
+            trace_path(surface, s.holder, emit_ray(s.source, SamplerKind::Random, 5, i, 5000), 1,
                        BouncePolicy::Strict);
         if (p.fate == RayFate::FarField) {
             ASSERT_NEAR(p.direction.z, 1.0, 1e-9);
@@ -93,7 +93,7 @@ bounce_policy = "strict"
     int two = 0;
     int total = 0;
     for (std::uint64_t i = 0; i < 20000; ++i) {
-        const Ray ray = emit_ray(s.source, SamplerKind::Random, 9, i);
+        const Ray ray = emit_ray(s.source, SamplerKind::Random, 9, i, 20000);
         const PathResult p = trace_path(surface, s.holder, ray, 2, BouncePolicy::Strict);
         if (p.fate != RayFate::FarField) continue;
         ++total;
