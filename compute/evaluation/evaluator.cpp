@@ -98,6 +98,7 @@ Evaluation evaluate_fast(const vk::Context& ctx, const Scene& scene,
     const auto t0 = std::chrono::steady_clock::now();
     Evaluator evaluator(ctx, scene, scene_fidelity(scene));
     evaluator.tracer().set_profile(options.profile);
+    evaluator.tracer().set_rayset_kept(false); // one run: nothing reuses it
     const CandidateResult r = evaluator.evaluate(scene.reflector);
     Evaluation e;
     e.backend = "gpu";

@@ -115,12 +115,11 @@ FastTracer::FastTracer(const vk::Context& ctx, const Scene& scene, std::uint64_t
         vk::Buffer(ctx, sizeof(gpu::SceneParams), storage, vk::MemoryUse::Upload, "fird.params");
     counters_ = vk::Buffer(ctx, kCountersBytes, storage, vk::MemoryUse::Readback, "fird.counters");
     // The rayset is kept between runs (§5) when it fits the cache budget; otherwise
-    // each batch is generated again into one working buffer (constant memory).
+    // each batch is generated again into a ping-pong buffer (constant memory).
     const std::uint64_t batches = (scene.trace.rays + batch_capacity_ - 1) / batch_capacity_;
-    cache_rayset_ = batches * ray_bytes <=
-                    std::min<std::uint64_t>(kRaysetCacheBytes, limits.device_local_heap_bytes / 4);
-    if (!cache_rayset_)
-        rays_work_ = vk::Buffer(ctx, ray_bytes, storage, vk::MemoryUse::Device, "fird.rayset");
+    rayset_fits_ = batches * ray_bytes <=
+                   std::min<std::uint64_t>(kRaysetCacheBytes, limits.device_local_heap_bytes / 4);
+    cache_rayset_ = rayset_fits_;
     rays_ping_ = vk::Buffer(ctx, ray_bytes, storage, vk::MemoryUse::Device, "fird.rays.ping");
     rays_pong_ = vk::Buffer(ctx, ray_bytes, storage, vk::MemoryUse::Device, "fird.rays.pong");
     hits_ = vk::Buffer(ctx, 32, storage, vk::MemoryUse::Device, "fird.hits.unused");
@@ -188,6 +187,11 @@ void FastTracer::set_reflector(const ReflectorDesc& reflector) {
     upload_params();
     reflector_ = reflector;
     heightfield_dirty_ = true;
+}
+
+void FastTracer::set_rayset_kept(bool kept) {
+    cache_rayset_ = kept && rayset_fits_;
+    if (!cache_rayset_) rayset_chunks_.clear();
 }
 
 void FastTracer::set_seed(std::uint64_t seed) {
@@ -426,9 +430,10 @@ FastRun FastTracer::run() {
             trace_batch(chunk.rays, chunk.effective, run, false);
             continue;
         }
-        // Kept for the next run (a buffer per batch), or generated again each run.
+        // Kept for the next run (a buffer per batch), or generated again each run into the
+        // ping-pong buffer the first bounce does not write (its input is consumed by then).
         const auto keep = [&](std::uint64_t ray_count) -> const vk::Buffer& {
-            if (!cache_rayset_) return rays_work_;
+            if (!cache_rayset_) return rays_pong_;
             rayset_chunks_.push_back(
                 {vk::Buffer(*ctx_, std::max<std::uint64_t>(ray_count, 1) * kRayBytes,
                             vk::kStorageUsage, vk::MemoryUse::Device,

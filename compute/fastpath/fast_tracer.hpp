@@ -85,6 +85,11 @@ class FastTracer {
     // height field stay): independent runs of one reflector, as calibration makes them.
     void set_seed(std::uint64_t seed);
 
+    // Whether run() keeps the rayset for the next run (the default, when it fits the
+    // budget). A single evaluation (fird trace) does not: its rays then go straight into
+    // a ping-pong buffer, and the memory of a kept copy is never touched.
+    void set_rayset_kept(bool kept);
+
     // Traces every ray of the scene; the far field stays on the device (farfield_lm()).
     FastRun run();
 
@@ -157,7 +162,8 @@ class FastTracer {
         vk::Buffer rays;
         std::uint64_t effective = 0;
     };
-    bool cache_rayset_ = false;              // the whole rayset fits the cache budget
+    bool rayset_fits_ = false;               // the whole rayset fits the cache budget
+    bool cache_rayset_ = false;              // ... and is kept between runs
     std::vector<RaysetChunk> rayset_chunks_; // batch i's kept rays at [i]
     bool heightfield_dirty_ = true;
     bool count_texel_hits_ = false;
@@ -166,8 +172,7 @@ class FastTracer {
     std::array<std::uint32_t, FIRD_SPEC_COUNT> spec_; // the scene's fixed shader choices
     vk::ComputePipeline rayset_pipeline_, heightfield_pipeline_, maxmip_pipeline_, trace_pipeline_,
         to_lm_pipeline_, order_pipeline_, bucket_scan_pipeline_, walk_start_pipeline_;
-    vk::Buffer params_buffer_, counters_, rays_work_, rays_ping_, rays_pong_, hits_, texel_hits_,
-        walk_;
+    vk::Buffer params_buffer_, counters_, rays_ping_, rays_pong_, hits_, texel_hits_, walk_;
     std::optional<vk::ComputePipeline> trace_walk_pipeline_;    // built when a walk is asked for
     std::optional<vk::ComputePipeline> trace_profile_pipeline_; // built when profiling
     // Built when hits are recorded or texel hits counted.

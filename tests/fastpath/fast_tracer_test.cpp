@@ -199,6 +199,31 @@ TEST_F(VulkanTest, RaysetIsReusedAndHeightFieldRebuiltOnlyWhenTheReflectorChange
     EXPECT_EQ(batched.read_farfield(), t.read_farfield());
 }
 
+// A rayset not kept (one evaluation, fird trace) is generated into the ping-pong buffers
+// and traced to the same far field, count for count, as a kept one: in one batch or
+// several, emitted in order (sphere) or sorted (cylinder).
+TEST_F(VulkanTest, RaysetNotKeptTracesTheKeptRaysetsFarField) {
+    for (const char* name : {"model_a.toml", "model_c.toml"})
+        for (std::uint64_t batch : {std::uint64_t(0), std::uint64_t(7000)}) {
+            SCOPED_TRACE(fmt::format("{}, batch {}", name, batch));
+            Scene s = scene(name);
+            s.trace.rays = 30000;
+            FastTracer kept(ctx(), s, 3, batch);
+            kept.set_reflector(s.reflector);
+            const FastRun k = kept.run();
+            FastTracer once(ctx(), s, 3, batch);
+            once.set_rayset_kept(false);
+            once.set_reflector(s.reflector);
+            const FastRun o = once.run();
+            EXPECT_EQ(o.tally.farfield, k.tally.farfield);
+            EXPECT_EQ(o.tally.discarded, k.tally.discarded);
+            EXPECT_EQ(once.read_farfield(), kept.read_farfield());
+            const FastRun again = once.run(); // generated again, the same rays
+            EXPECT_FALSE(again.rayset_reused);
+            EXPECT_EQ(again.tally.farfield, k.tally.farfield);
+        }
+}
+
 // The profile of a run (fird trace --profile) counts what the trace did: every effective
 // ray walks in bounce 0, each bounce walks the rays the one before reflected, a subgroup
 // pays at least its lanes' steps, a ray that reflects was tested against the surface at
