@@ -386,7 +386,7 @@ std::uint64_t FastTracer::generate_rayset(std::uint64_t first, std::uint64_t n,
     ctx_->submit_and_wait([&](VkCommandBuffer cb) {
         timer_.begin(cb);
         vkCmdFillBuffer(cb, counters_.get(), 0, VK_WHOLE_SIZE, 0);
-        if (!gpu::rayset_ordered_at_birth(params_.sampler_kind, params_.source_kind))
+        if (!rayset_ordered_at_birth())
             vkCmdFillBuffer(cb, order_buckets_.get(), 0, VK_WHOLE_SIZE, 0);
         vk::barrier_all(cb);
         const vk::Binding b[] = {vk::storage(params_buffer_), vk::storage(rays),
@@ -443,7 +443,7 @@ FastRun FastTracer::run() {
         };
         const vk::Buffer* rays = nullptr;
         std::uint64_t effective = 0;
-        if (gpu::rayset_ordered_at_birth(params_.sampler_kind, params_.source_kind)) {
+        if (rayset_ordered_at_birth()) {
             rays = &keep(n); // emitted in direction order: generated in place
             effective = generate_rayset(first, n, *rays, run);
         } else {

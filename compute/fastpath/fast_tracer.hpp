@@ -149,6 +149,9 @@ class FastTracer {
     // (and counts them per direction bucket unless they come ordered); returns how many.
     std::uint64_t generate_rayset(std::uint64_t first, std::uint64_t n, const vk::Buffer& rays,
                                   FastRun& run);
+    bool rayset_ordered_at_birth() const {
+        return gpu::rayset_ordered_at_birth(params_.sampler_kind, params_.source_kind);
+    }
     void finish(FastRun& run);
     void read_profile(FastRun& run) const; // the profiling pipeline's counts, per bounce
 

@@ -86,14 +86,8 @@ std::array<double, 4> ray_uniforms(SamplerKind sampler, std::uint64_t seed, std:
     if (index >= rays)
         throw std::invalid_argument(
             fmt::format("ray {} of {}: past the rays emitted", index, rays));
-    switch (sampler) {
-    case SamplerKind::Sobol:
-        return sobol_uniforms(seed, index);
-    case SamplerKind::Random:
-        return philox_uniforms(seed, index, 0u);
-    case SamplerKind::Stratified:
-        break;
-    }
+    if (sampler == SamplerKind::Sobol) return sobol_uniforms(seed, index);
+    if (sampler == SamplerKind::Random) return philox_uniforms(seed, index, 0u);
     return stratified_uniforms(seed, index, rays);
 }
 

@@ -13,10 +13,9 @@
 
 namespace fird {
 
-inline constexpr std::uint32_t kStrataBits = 2 * gpu::kStratumBits;
-inline constexpr std::uint64_t kStrata = 1ull << kStrataBits;
-// A stratified uniform is cell, offset and a half bit: 23 bits and a half, exact in float.
-inline constexpr std::uint32_t kStratumOffsetBits = 23 - gpu::kStratumBits;
+using gpu::kStrata;
+using gpu::kStrataBits;
+using gpu::kStratumOffsetBits;
 
 // The even bits of x gathered into its low half (the inverse of a Morton spread).
 constexpr std::uint32_t compact_bits(std::uint32_t x) {

@@ -73,10 +73,6 @@ uvec2 times_rays(uint q) {
     return uvec2(hi + q * P.rays_hi, lo);
 }
 
-const uint kStrataBits = 2u * kStratumBits;  // bits of a stratum's Morton index
-const uint kStrata = 1u << kStrataBits;
-const uint kOffsetBits = 23u - kStratumBits; // a uniform: cell, offset and a half bit
-const float kOffsetScale = 1.0 / float(1u << 23u);
 
 // As sampling/strata.hpp: the stratum of ray `index` is floor((index * kStrata + s) / rays)
 // for kStrataBits random bits s, in exact integer arithmetic (a float quotient, then
@@ -99,8 +95,9 @@ vec4 ray_uniforms(uint index_lo, uint index_hi) {
         const uint c = stratum(index_lo, index_hi, w.x >> (32u - kStrataBits));
         // The cell's corner plus a uniform offset inside it: 23 bits and a half, exact in float.
         const uvec2 cell = uvec2(compact_bits(c), compact_bits(c >> 1u));
-        const uvec2 offset = uvec2(w.y >> (32u - kOffsetBits), (w.y >> (32u - 2u * kOffsetBits)) & ((1u << kOffsetBits) - 1u));
-        const vec2 u01 = (vec2((cell << kOffsetBits) | offset) + 0.5) * kOffsetScale;
+        const uint bits = kStratumOffsetBits;
+        const uvec2 offset = uvec2(w.y >> (32u - bits), (w.y >> (32u - 2u * bits)) & ((1u << bits) - 1u));
+        const vec2 u01 = (vec2((cell << bits) | offset) + 0.5) * (1.0 / 8388608.0);
         return vec4(u01, to_unit(w.zw));
     }
     if (kSamplerKind == kSamplerRandom)

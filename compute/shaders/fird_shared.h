@@ -68,6 +68,11 @@ FIRD_CONSTANT(uint, kSamplerStratified, 2u); // Philox, stratified in its first 
 // The stratified sampler's strata: a 2^bits x 2^bits grid over its first two uniforms,
 // visited along a Morton curve as the ray index grows (sampling/strata.hpp, common.glsl).
 FIRD_CONSTANT(uint, kStratumBits, 8u);
+FIRD_CONSTANT(uint, kStrataBits, 2u * kStratumBits); // bits of a stratum's Morton index
+FIRD_CONSTANT(uint, kStrata, 1u << kStrataBits);
+// A stratified uniform is cell, offset inside it and a half bit: 23 bits and a half, exact
+// in float.
+FIRD_CONSTANT(uint, kStratumOffsetBits, 23u - kStratumBits);
 
 // A sphere's or a point's direction is a function of the first two uniforms alone, so with
 // the stratified sampler its rayset is emitted already ordered by direction: rayset.comp

@@ -1,26 +1,18 @@
 #version 450
 // The rayset (§4.1): sample the source, keep the rays whose forward half-line meets the
 // holder box, count the others as discarded. The kept rays are appended in emission
-// order within a workgroup (a random sampler's sphere or point rays are thereby in
-// direction order already: fird_shared.h); a cylinder's or Sobol rays are also counted per
-// direction bucket for rayset_order.comp to sort.
+// order within a workgroup (a stratified sampler's sphere or point rays are thereby in
+// direction order already: fird_shared.h); other rays (a cylinder's; independent or Sobol
+// ones) are also counted per direction bucket for rayset_order.comp to sort.
 #extension GL_GOOGLE_include_directive : require
 #include "common.glsl"
 #include "direction_bucket.glsl"
 
 layout(local_size_x = FIRD_RAYSET_WORKGROUP_SIZE) in;
-layout(std430, binding = kRaysetBindRays) writeonly buffer Rays {
-    Ray rays[];
-};
-layout(std430, binding = kRaysetBindCounters) buffer Counters {
-    uint counters[];
-};
-layout(std430, binding = kRaysetBindBuckets) buffer Buckets {
-    uint buckets[];
-};
-layout(push_constant) uniform Push {
-    RaysetPush pc;
-};
+layout(std430, binding = kRaysetBindRays) writeonly buffer Rays { Ray rays[]; };
+layout(std430, binding = kRaysetBindCounters) buffer Counters { uint counters[]; };
+layout(std430, binding = kRaysetBindBuckets) buffer Buckets { uint buckets[]; };
+layout(push_constant) uniform Push { RaysetPush pc; };
 
 shared uint subgroup_first[FIRD_RAYSET_WORKGROUP_SIZE]; // per subgroup: kept rays, then offset
 shared uint group_first;                                // the workgroup's first slot in the rayset
