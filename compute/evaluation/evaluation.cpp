@@ -106,21 +106,25 @@ nlohmann::json profile_json(const std::vector<BounceProfile>& bounces) {
              {"ns_per_ray", p.trace_ms * 1e6 / rays},
              {"steps_per_ray", double(p.steps) / rays},
              {"leaf_tests_per_ray", double(p.leaf_tests) / rays},
-             {"lane_utilization", p.lane_steps ? double(p.steps) / double(p.lane_steps) : 0.0}});
+             {"lane_utilization", p.lane_steps ? double(p.steps) / double(p.lane_steps) : 0.0},
+             {"leaf_lane_utilization",
+              p.lane_leaf_tests ? double(p.leaf_tests) / double(p.lane_leaf_tests) : 0.0}});
     }
     return rows;
 }
 
 std::string profile_table(const std::vector<BounceProfile>& bounces) {
     std::string out = "| bounce | rays | trace ms | order ms | ns per ray | steps per ray | leaf "
-                      "tests per ray | lane utilization |\n|---|---|---|---|---|---|---|---|\n";
+                      "tests per ray | lane utilization | leaf lane utilization |\n"
+                      "|---|---|---|---|---|---|---|---|---|\n";
     for (const auto& row : profile_json(bounces))
-        out += fmt::format("| {} | {} | {:.1f} | {:.1f} | {:.0f} | {:.2f} | {:.2f} | {:.2f} |\n",
-                           row["bounce"].get<std::size_t>(), row["rays"].get<std::uint64_t>(),
-                           row["trace_ms"].get<double>(), row["order_ms"].get<double>(),
-                           row["ns_per_ray"].get<double>(), row["steps_per_ray"].get<double>(),
-                           row["leaf_tests_per_ray"].get<double>(),
-                           row["lane_utilization"].get<double>());
+        out += fmt::format(
+            "| {} | {} | {:.1f} | {:.1f} | {:.0f} | {:.2f} | {:.2f} | {:.2f} | {:.2f} |\n",
+            row["bounce"].get<std::size_t>(), row["rays"].get<std::uint64_t>(),
+            row["trace_ms"].get<double>(), row["order_ms"].get<double>(),
+            row["ns_per_ray"].get<double>(), row["steps_per_ray"].get<double>(),
+            row["leaf_tests_per_ray"].get<double>(), row["lane_utilization"].get<double>(),
+            row["leaf_lane_utilization"].get<double>());
     return out;
 }
 

@@ -524,6 +524,7 @@ void FastTracer::read_profile(FastRun& run) const {
         run.bounces[b].steps = wide(f + gpu::kProfileSteps);
         run.bounces[b].lane_steps = wide(f + gpu::kProfileLaneSteps);
         run.bounces[b].leaf_tests = wide(f + gpu::kProfileLeafTests);
+        run.bounces[b].lane_leaf_tests = wide(f + gpu::kProfileLaneLeafTests);
     }
 }
 

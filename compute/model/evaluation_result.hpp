@@ -34,12 +34,13 @@ struct StageTimings {
 
 // One bounce of the fast path's trace, summed over the batches (fird trace --profile).
 struct BounceProfile {
-    std::uint64_t rays = 0;       // rays walked in this bounce
-    double trace_ms = 0.0;        // the trace pass (device time)
-    double order_ms = 0.0;        // ordering the rays it reflected for the next bounce
-    std::uint64_t steps = 0;      // quadtree nodes tested (the profiling pipeline's counts)
-    std::uint64_t lane_steps = 0; // steps the SIMD lanes paid: subgroup size x its longest walk
-    std::uint64_t leaf_tests = 0; // candidate texels tested against the surface
+    std::uint64_t rays = 0;            // rays walked in this bounce
+    double trace_ms = 0.0;             // the trace pass (device time)
+    double order_ms = 0.0;             // ordering the rays it reflected for the next bounce
+    std::uint64_t steps = 0;           // quadtree nodes tested (the profiling pipeline's counts)
+    std::uint64_t lane_steps = 0;      // steps the SIMD lanes paid: subgroup size x steps it ran
+    std::uint64_t leaf_tests = 0;      // candidate texels tested against the surface
+    std::uint64_t lane_leaf_tests = 0; // leaf tests the SIMD lanes paid, the same way
 };
 
 struct Evaluation {

@@ -130,13 +130,14 @@ FIRD_CONSTANT(uint, kTraceBindProfile, 12u);   // the walk's profile (FIRD_SPEC_
 FIRD_CONSTANT(uint, kTraceBindWalkStart, 13u); // uint: walk_start.comp's level
 // The profile, per bounce, kProfileFields uints: 64-bit sums as (low, high) pairs of the
 // rays traced, their walk steps (quadtree nodes tested), the lane-steps the subgroups
-// paid (each subgroup runs as long as its longest walk: subgroup size x its most steps)
-// and the leaf tests (candidate texels tested against the surface).
+// paid (subgroup size x the steps it ran: a lane waiting for the others pays too), the
+// leaf tests (candidate texels tested against the surface) and the lane-leaf-tests paid.
 FIRD_CONSTANT(uint, kProfileRays, 0u);
 FIRD_CONSTANT(uint, kProfileSteps, 2u);
 FIRD_CONSTANT(uint, kProfileLaneSteps, 4u);
 FIRD_CONSTANT(uint, kProfileLeafTests, 6u);
-FIRD_CONSTANT(uint, kProfileFields, 8u);
+FIRD_CONSTANT(uint, kProfileLaneLeafTests, 8u);
+FIRD_CONSTANT(uint, kProfileFields, 10u);
 
 // Counter slots (uint) in the counters buffer.
 FIRD_CONSTANT(uint, kCounterEffective, 0u); // rays appended by the rayset pass

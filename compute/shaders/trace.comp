@@ -31,9 +31,14 @@ layout(std430, binding = kTraceBindWalkStart) readonly buffer WalkStart { uint w
 layout(push_constant) uniform Push { TracePush pc; };
 
 // Only in the profiling pipeline (folded away elsewhere): this invocation's walk steps and
-// leaf tests, summed per subgroup into 64-bit (low, high) pairs at the end of main.
+// leaf tests, and the steps and leaf tests its subgroup ran as a whole (counted by the
+// lane the subgroup elects in each iteration: a lane that waits for the others, between
+// two phases of its walk or after it, costs as much as a working one), summed per
+// subgroup into 64-bit (low, high) pairs at the end of main.
 uint g_steps = 0u;
 uint g_leaf_tests = 0u;
+uint g_group_steps = 0u;
+uint g_group_leaf_tests = 0u;
 void profile_add(uint slot, uint n) {
     if (n == 0u) return;
     const uint old = atomicAdd(profile[slot], n);
@@ -41,8 +46,9 @@ void profile_add(uint slot, uint n) {
 }
 void profile_walk() {
     const uint steps = subgroupAdd(g_steps);
-    const uint lane_steps = subgroupMax(g_steps) * gl_SubgroupSize;
+    const uint lane_steps = subgroupAdd(g_group_steps) * gl_SubgroupSize;
     const uint leaf_tests = subgroupAdd(g_leaf_tests);
+    const uint lane_leaf_tests = subgroupAdd(g_group_leaf_tests) * gl_SubgroupSize;
     const uint rays = subgroupBallotBitCount(subgroupBallot(true));
     if (subgroupElect()) {
         const uint base = pc.bounce * kProfileFields;
@@ -50,6 +56,7 @@ void profile_walk() {
         profile_add(base + kProfileSteps, steps);
         profile_add(base + kProfileLaneSteps, lane_steps);
         profile_add(base + kProfileLeafTests, leaf_tests);
+        profile_add(base + kProfileLaneLeafTests, lane_leaf_tests);
     }
 }
 
@@ -273,7 +280,10 @@ int rqrm(Walk w, float t_start, ivec2 skip_texel, bool picked, out float t_hit,
             const float t_exit = min(min(tx, ty), t_end);
             const float h = texelFetch(pyramid, int(level_offset + uint(cell.y) * level_w + uint(cell.x))).r;
             record_step(picked, level, cell, h, t, t_exit);
-            if (kProfile != 0u) ++g_steps;
+            if (kProfile != 0u) {
+                ++g_steps;
+                if (subgroupElect()) ++g_group_steps;
+            }
             const float z_in = w.o.z + t * w.d.z;
             const float z_out = w.o.z + max(t_exit, t) * w.d.z;
             const bool below = !across && min(z_in, z_out) <= h;
@@ -323,7 +333,10 @@ int rqrm(Walk w, float t_start, ivec2 skip_texel, bool picked, out float t_hit,
             }
         }
         if (!candidate) break;
-        if (kProfile != 0u) ++g_leaf_tests;
+        if (kProfile != 0u) {
+            ++g_leaf_tests;
+            if (subgroupElect()) ++g_group_leaf_tests;
+        }
         // Algorithm 1 lines 13-15 (paper) or the refined surface.
         if (kHitMode == kHitModePaper) {
             if (texel != skip_texel) { // not the texel the ray reflected from

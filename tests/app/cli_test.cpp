@@ -133,12 +133,15 @@ TEST(Cli, TraceProfileHasARowPerBounce) {
     ASSERT_FALSE(rows.empty());
     EXPECT_EQ(rows[0]["rays"].get<std::uint64_t>(), j["rays_effective"].get<std::uint64_t>());
     for (const auto& row : rows) {
-        for (const char* key : {"bounce", "rays", "trace_ms", "order_ms", "ns_per_ray",
-                                "steps_per_ray", "leaf_tests_per_ray", "lane_utilization"})
+        for (const char* key :
+             {"bounce", "rays", "trace_ms", "order_ms", "ns_per_ray", "steps_per_ray",
+              "leaf_tests_per_ray", "lane_utilization", "leaf_lane_utilization"})
             EXPECT_TRUE(row.contains(key)) << key;
         EXPECT_GT(row["steps_per_ray"].get<double>(), 0.0);
-        EXPECT_GT(row["lane_utilization"].get<double>(), 0.0);
-        EXPECT_LE(row["lane_utilization"].get<double>(), 1.0);
+        for (const char* key : {"lane_utilization", "leaf_lane_utilization"}) {
+            EXPECT_GT(row[key].get<double>(), 0.0) << key;
+            EXPECT_LE(row[key].get<double>(), 1.0) << key;
+        }
     }
     EXPECT_FALSE(nlohmann::json::parse(run("trace " + scene + " --rays 2000 --json").out)
                      .contains("profile"));
