@@ -73,9 +73,9 @@ FastTracer::FastTracer(const vk::Context& ctx, const Scene& scene, std::uint64_t
       spec_(specialization(params_, scene.reflector.family)),
       rayset_pipeline_(ctx, fird_spv_rayset_comp, {kSB, kSB, kSB, kSB}, sizeof(gpu::RaysetPush),
                        "fird.rayset", spec_),
-      heightfield_pipeline_(ctx, fird_spv_heightfield_comp, {kSB, kSB, kSB, kSB}, 0,
+      heightfield_pipeline_(ctx, fird_spv_heightfield_comp, {kSB, kSB, kSB, kSB, kSB}, 0,
                             "fird.heightfield", spec_),
-      maxmip_pipeline_(ctx, fird_spv_maxmip_comp, {kSB, kSB, kSB}, sizeof(gpu::MaxMipPush),
+      maxmip_pipeline_(ctx, fird_spv_maxmip_comp, {kSB, kSB, kSB, kSB}, sizeof(gpu::MaxMipPush),
                        "fird.maxmip"),
       trace_pipeline_(trace_pipeline(ctx, spec_, {}, "fird.trace")),
       to_lm_pipeline_(ctx, fird_spv_counts_to_lm_comp, {kSB, kSB}, sizeof(ToLmPush),
@@ -156,6 +156,9 @@ FastTracer::FastTracer(const vk::Context& ctx, const Scene& scene, std::uint64_t
     gradients_ = vk::Buffer(ctx, std::uint64_t(params_.hf_w) * params_.hf_h * 8, tree_usage,
                             vk::MemoryUse::Device, "fird.normals");
     gradients_view_ = vk::TexelView(ctx, gradients_, VK_FORMAT_R32G32_SFLOAT, "fird.normals.view");
+    corners_ = vk::Buffer(ctx, std::uint64_t(params_.hf_w + 1) * (params_.hf_h + 1) * 4, tree_usage,
+                          vk::MemoryUse::Device, "fird.heights.corners");
+    corners_view_ = vk::TexelView(ctx, corners_, VK_FORMAT_R32_SFLOAT, "fird.heights.corners.view");
     control_ = vk::Buffer(ctx, 4, storage, vk::MemoryUse::Device, "fird.bspline.control");
     order_buckets_ = vk::Buffer(ctx, gpu::kRaysetOrderBuckets * 4, storage, vk::MemoryUse::Device,
                                 "fird.rayset.order_buckets");
@@ -232,6 +235,16 @@ void FastTracer::build_heightfield(FastRun& run) {
     if (mesh_) {
         mesh_rasterizer_->rasterize(*mesh_, scene_.holder, params_.hf_w, params_.hf_h, paper_tree_,
                                     gradients_);
+        // The texel corners are the centres of a grid one texel larger, half a texel out.
+        const double half_x = (scene_.holder.max_mm.x - scene_.holder.min_mm.x) / params_.hf_w / 2;
+        const double half_y = (scene_.holder.max_mm.y - scene_.holder.min_mm.y) / params_.hf_h / 2;
+        const Holder around{scene_.holder.min_mm - glm::dvec3(half_x, half_y, 0.0),
+                            scene_.holder.max_mm + glm::dvec3(half_x, half_y, 0.0)};
+        const vk::Buffer corner_gradients(
+            *ctx_, std::uint64_t(params_.hf_w + 1) * (params_.hf_h + 1) * 8, vk::kStorageUsage,
+            vk::MemoryUse::Device, "fird.mesh_raster.corner_gradients");
+        mesh_rasterizer_->rasterize(*mesh_, around, params_.hf_w + 1, params_.hf_h + 1, corners_,
+                                    corner_gradients);
         raster_ms = ms_since(t0);
     }
     ctx_->submit_and_wait([&](VkCommandBuffer cb) {
@@ -239,13 +252,14 @@ void FastTracer::build_heightfield(FastRun& run) {
         constexpr std::uint32_t g = FIRD_HEIGHTFIELD_WORKGROUP_SIZE;
         if (!mesh_) {
             const vk::Binding hf[] = {vk::storage(params_buffer_), vk::storage(paper_tree_),
-                                      vk::storage(gradients_), vk::storage(control_)};
-            heightfield_pipeline_.dispatch(cb, hf, nullptr, groups(params_.hf_w, g),
-                                           groups(params_.hf_h, g));
+                                      vk::storage(gradients_), vk::storage(control_),
+                                      vk::storage(corners_)};
+            heightfield_pipeline_.dispatch(cb, hf, nullptr, groups(params_.hf_w + 1, g),
+                                           groups(params_.hf_h + 1, g));
             vk::barrier_all(cb);
         }
         const vk::Binding mm[] = {vk::storage(params_buffer_), vk::storage(paper_tree_),
-                                  vk::storage(refined_tree_)};
+                                  vk::storage(refined_tree_), vk::storage(corners_)};
         for (std::uint32_t level = 0; level < params_.levels; ++level) {
             const gpu::MaxMipPush push{.level = level};
             maxmip_pipeline_.dispatch(cb, mm, &push, groups(params_.level_w[level], g),
@@ -274,7 +288,7 @@ void FastTracer::dispatch_trace(VkCommandBuffer cb, const vk::Buffer& in, const 
         vk::storage(out),
         vk::storage(counters),
         vk::texel(params_.hit_mode == gpu::kHitModePaper ? paper_view_ : refined_view_),
-        vk::texel(paper_view_),
+        vk::texel(params_.hit_mode == gpu::kHitModePaper ? paper_view_ : corners_view_),
         vk::texel(gradients_view_),
         vk::storage(farfield),
         vk::storage(hits_),

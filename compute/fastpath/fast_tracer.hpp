@@ -183,7 +183,9 @@ class FastTracer {
     vk::Buffer profile_;
     vk::Buffer walk_start_; // uint: the level the source's rays start their walk at
     vk::Buffer paper_tree_, refined_tree_, gradients_, control_, order_buckets_;
-    vk::TexelView paper_view_, refined_view_, gradients_view_; // as the trace reads them
+    vk::Buffer corners_; // the refined surface's heights at the (W + 1) x (H + 1) texel corners
+    // As the trace reads them.
+    vk::TexelView paper_view_, refined_view_, gradients_view_, corners_view_;
     vk::Buffer farfield_counts_, farfield_lm_;
     vk::GpuTimer timer_;
     std::optional<MeshRasterizer> mesh_rasterizer_; // mesh reflectors only

@@ -106,8 +106,11 @@ FIRD_CONSTANT(uint, kRaysetBindBuckets, 3u); // rays per direction bucket (rayse
 FIRD_CONSTANT(uint, kHeightfieldBindHeights, 1u);
 FIRD_CONSTANT(uint, kHeightfieldBindGradients, 2u);
 FIRD_CONSTANT(uint, kHeightfieldBindControl, 3u);
+// The refined surface's heights, at the (W + 1) x (H + 1) texel corners (row-major).
+FIRD_CONSTANT(uint, kHeightfieldBindCorners, 4u);
 FIRD_CONSTANT(uint, kMaxMipBindPaper, 1u);
 FIRD_CONSTANT(uint, kMaxMipBindRefined, 2u);
+FIRD_CONSTANT(uint, kMaxMipBindCorners, 3u);
 FIRD_CONSTANT(uint, kWalkStartBindPyramid, 1u); // walk_start.comp: the traversal quadtree
 FIRD_CONSTANT(uint, kWalkStartBindLevel, 2u);   // uint: the level the source's rays start at
 FIRD_CONSTANT(uint, kWalkStartMaxNodes, 4096u); // nodes over the source checked per level
@@ -116,7 +119,9 @@ FIRD_CONSTANT(uint, kTraceBindRaysOut, 2u);
 FIRD_CONSTANT(uint, kTraceBindCounters, 3u);
 // Bindings 4-6 are uniform texel buffers (R32F, R32F, RG32F); the others storage buffers.
 FIRD_CONSTANT(uint, kTraceBindPyramid, 4u); // the traversal quadtree of the hit mode
-FIRD_CONSTANT(uint, kTraceBindHeights, 5u); // the paper quadtree (level 0 = texel heights)
+// The hit mode's surface: the paper quadtree (level 0 = texel heights) or the refined
+// surface's corner heights.
+FIRD_CONSTANT(uint, kTraceBindHeights, 5u);
 FIRD_CONSTANT(uint, kTraceBindGradients, 6u);
 FIRD_CONSTANT(uint, kTraceBindFarField, 7u);
 FIRD_CONSTANT(uint, kTraceBindHits, 8u);

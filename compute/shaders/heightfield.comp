@@ -1,8 +1,10 @@
 #version 450
 // The height texture (§4.2): the reflector evaluated at each texel centre of a W x H
 // grid over the holder rectangle, clamped to the holder's z range, with its gradient
-// (the normal texture). B-splines read their control heights. Meshes are rasterized
-// instead (fastpath/mesh_raster.cpp).
+// (the normal texture); and at the (W + 1) x (H + 1) texel corners, where the refined
+// hit mode's bilinear surface takes its heights (one bilinear patch per texel).
+// B-splines read their control heights. Meshes are rasterized instead
+// (fastpath/mesh_raster.cpp).
 #extension GL_GOOGLE_include_directive : require
 #include "family.glsl"
 
@@ -10,6 +12,7 @@ layout(local_size_x = FIRD_HEIGHTFIELD_WORKGROUP_SIZE, local_size_y = FIRD_HEIGH
 layout(std430, binding = kHeightfieldBindHeights) buffer Heights { float heights[]; };
 layout(std430, binding = kHeightfieldBindGradients) writeonly buffer Gradients { vec2 gradients[]; };
 layout(std430, binding = kHeightfieldBindControl) readonly buffer Control { float control[]; };
+layout(std430, binding = kHeightfieldBindCorners) writeonly buffer Corners { float corners[]; };
 
 void basis(float t, out vec4 b, out vec4 db) {
     const float s = 1.0 - t;
@@ -36,14 +39,20 @@ vec3 bspline(float x, float y) {
     return r;
 }
 
+vec3 surface(vec2 xy) {
+    return kFamily == kFamilyBSpline ? bspline(xy.x, xy.y) : family_height_gradient(xy.x, xy.y);
+}
+
+// Invocation p evaluates texel p's centre (where there is one) and its low corner.
 void main() {
     const uvec2 p = gl_GlobalInvocationID.xy;
-    if (p.x >= P.hf_w || p.y >= P.hf_h) return;
+    if (p.x > P.hf_w || p.y > P.hf_h) return;
     const vec3 lo = holder_min(), hi = holder_max();
     const vec2 texel = (hi.xy - lo.xy) / vec2(P.hf_w, P.hf_h);
+    corners[p.y * (P.hf_w + 1u) + p.x] = clamp(surface(lo.xy + vec2(p) * texel).x, lo.z, hi.z);
+    if (p.x == P.hf_w || p.y == P.hf_h) return;
     const uint index = p.y * P.hf_w + p.x;
-    const vec2 xy = lo.xy + (vec2(p) + 0.5) * texel;
-    const vec3 zg = kFamily == kFamilyBSpline ? bspline(xy.x, xy.y) : family_height_gradient(xy.x, xy.y);
+    const vec3 zg = surface(lo.xy + (vec2(p) + 0.5) * texel);
     const bool plateau = zg.x <= lo.z || zg.x >= hi.z; // clamped: flat
     heights[index] = clamp(zg.x, lo.z, hi.z);
     gradients[index] = plateau ? vec2(0.0) : zg.yz;

@@ -76,6 +76,7 @@ const int kHit = 1;
 const int kAborted = 2;
 const int kBlocked = 3; // entered the box through a side face below the surface
 
+// The paper mode's texel height (its quadtree's level 0).
 float height_at(ivec2 t) {
     t = clamp(t, ivec2(0), ivec2(P.hf_w - 1u, P.hf_h - 1u));
     return texelFetch(heights, int(uint(t.y) * P.hf_w + uint(t.x))).r;
@@ -85,47 +86,28 @@ vec2 gradient_at(ivec2 t) {
     return texelFetch(gradients, int(uint(t.y) * P.hf_w + uint(t.x))).rg;
 }
 
-// The refined mode's surface height at texel-space q: the bilinear interpolation of the
-// four texel-centre samples around it (clamped to the texture at its edges).
-float surface_height(vec2 q) {
-    const ivec2 base = ivec2(floor(q - 0.5));
-    const vec2 f = q - 0.5 - vec2(base);
-    return mix(mix(height_at(base), height_at(base + ivec2(1, 0)), f.x),
-               mix(height_at(base + ivec2(0, 1)), height_at(base + ivec2(1, 1)), f.x), f.y);
+// The refined mode's surface over texel `cell`: the bilinear patch through the heights at
+// its four corners, (x0y0, x1y0, x0y1, x1y1) (heightfield.comp samples the corners).
+vec4 patch_corners(ivec2 cell) {
+    const uint row = P.hf_w + 1u;
+    const int c = int(uint(cell.y) * row + uint(cell.x));
+    return vec4(texelFetch(heights, c).r, texelFetch(heights, c + 1).r,
+                texelFetch(heights, c + int(row)).r, texelFetch(heights, c + int(row) + 1).r);
 }
 
-// The bilinear surface through the texel-centre samples around one texel: its 3 x 3
-// neighbourhood, loaded once per candidate (CPU drivers turn every storage-buffer load
-// into a per-lane loop, so the leaf test's many interpolations read registers instead).
-struct Neighbourhood {
-    vec3 r0, r1, r2; // rows y-1, y, y+1 of heights at x-1, x, x+1 (clamped to the texture)
-    ivec2 cell;
-};
-
-Neighbourhood load_neighbourhood(ivec2 cell) {
-    Neighbourhood n;
-    n.cell = cell;
-    n.r0 = vec3(height_at(cell + ivec2(-1, -1)), height_at(cell + ivec2(0, -1)), height_at(cell + ivec2(1, -1)));
-    n.r1 = vec3(height_at(cell + ivec2(-1, 0)), height_at(cell), height_at(cell + ivec2(1, 0)));
-    n.r2 = vec3(height_at(cell + ivec2(-1, 1)), height_at(cell + ivec2(0, 1)), height_at(cell + ivec2(1, 1)));
-    return n;
-}
-
-// The patch whose lower-left sample is `base` (cell - 1 or cell on each axis): its
-// corner heights (x0y0, x1y0, x0y1, x1y1).
-vec4 patch_corners(Neighbourhood n, ivec2 base) {
-    const ivec2 o = clamp(base - n.cell + 1, ivec2(0), ivec2(1));
-    const vec3 lo = o.y == 0 ? n.r0 : n.r1;
-    const vec3 hi = o.y == 0 ? n.r1 : n.r2;
-    return o.x == 0 ? vec4(lo.x, lo.y, hi.x, hi.y) : vec4(lo.y, lo.z, hi.y, hi.z);
-}
-
-// Bilinear interpolation at texel-space (X, Y) over the patch with lower-left sample
-// `base` and corners c (fixed over a sub-interval: exactly quadratic along the ray).
-float bilinear(vec2 q, ivec2 base, vec4 c) {
-    const vec2 f = q - 0.5 - vec2(base);
+// Bilinear interpolation at texel-space q over the patch of texel `cell` with corners c.
+float bilinear(vec2 q, ivec2 cell, vec4 c) {
+    const vec2 f = q - vec2(cell);
     return mix(mix(c.x, c.y, f.x), mix(c.z, c.w, f.x), f.y);
 }
+
+// The refined mode's surface height at texel-space q (the texel under it, clamped to the
+// texture).
+float surface_height(vec2 q) {
+    const ivec2 cell = clamp(ivec2(floor(q)), ivec2(0), ivec2(P.hf_w - 1u, P.hf_h - 1u));
+    return bilinear(q, cell, patch_corners(cell));
+}
+
 vec2 bilinear_gradient(vec2 q) {
     const ivec2 base = ivec2(floor(q - 0.5));
     const vec2 f = q - 0.5 - vec2(base);
@@ -153,57 +135,43 @@ ivec2 texel_ahead(vec2 q, ivec2 current, ivec2 heading) {
     return heading * max(heading * ivec2(floor(q)), heading * current);
 }
 
-// The first root of the ray against the bilinear surface over the texel `cell` within
-// [ta, tb], as a fraction-free t; returns -1 when there is none.
+// The first root of the ray against the bilinear patch over texel `cell` within
+// [ta, tb] past t_ignore, as a fraction-free t; returns -1 when there is none. Along the
+// ray the patch's height is quadratic in t, so the gap g(t) = ray z - patch z is the
+// quadratic through its values at ta, the middle and tb.
 float refine_in_texel(Walk w, ivec2 cell, float ta, float tb, float t_ignore) {
-    float cuts[4];
-    int n = 0;
-    cuts[n++] = ta;
-    // Split where the ray crosses the texel's centre lines (patch boundaries).
-    const vec2 mid = vec2(cell) + 0.5;
-    float sx = w.D.x != 0.0 ? (mid.x - w.O.x) / w.D.x : -1.0;
-    float sy = w.D.y != 0.0 ? (mid.y - w.O.y) / w.D.y : -1.0;
-    if (sx > sy) { const float tmp = sx; sx = sy; sy = tmp; }
-    if (sx > ta && sx < tb) cuts[n++] = sx;
-    if (sy > ta && sy < tb) cuts[n++] = sy;
-    cuts[n++] = tb;
-    const Neighbourhood nb = load_neighbourhood(cell);
-    for (int k = 0; k + 1 < n; ++k) {
-        const float a = cuts[k], b = cuts[k + 1];
-        if (b <= t_ignore) continue;
-        const vec2 qm = texel_pos(w, 0.5 * (a + b));
-        const ivec2 base = clamp(ivec2(floor(qm - 0.5)), cell - 1, cell);
-        const vec4 c = patch_corners(nb, base);
-        const float g0 = w.o.z + a * w.d.z - bilinear(texel_pos(w, a), base, c);
-        const float gm = w.o.z + 0.5 * (a + b) * w.d.z - bilinear(qm, base, c);
-        const float g1 = w.o.z + b * w.d.z - bilinear(texel_pos(w, b), base, c);
-        if (g0 <= 0.0 && a > t_ignore) return a; // already below: entered through an edge
-        // g(s) = qa s^2 + qb s + qc on s in [0, 1].
-        const float qa = 2.0 * (g0 - 2.0 * gm + g1);
-        const float qb = g1 - g0 - qa;
-        const float qc = g0;
-        float s = 2.0;
-        if (abs(qa) < 1e-12 * (abs(qb) + abs(qc) + 1e-30)) {
-            if (qb < 0.0) s = -qc / qb;
-        } else {
-            const float disc = qb * qb - 4.0 * qa * qc;
-            if (disc >= 0.0) {
-                const float root = sqrt(disc);
-                const float q = -0.5 * (qb + (qb >= 0.0 ? root : -root));
-                float s1 = q / qa;
-                float s2 = q != 0.0 ? qc / q : s1;
-                if (s1 > s2) { const float tmp = s1; s1 = s2; s2 = tmp; }
-                const float smin = t_ignore > a ? (t_ignore - a) / (b - a) : 0.0;
-                if (s1 >= smin && s1 <= 1.0) s = s1;
-                else if (s2 >= smin && s2 <= 1.0) s = s2;
-            }
+    if (tb <= t_ignore) return -1.0;
+    const vec4 c = patch_corners(cell);
+    const float a = ta, b = tb;
+    const float g0 = w.o.z + a * w.d.z - bilinear(texel_pos(w, a), cell, c);
+    const float gm = w.o.z + 0.5 * (a + b) * w.d.z - bilinear(texel_pos(w, 0.5 * (a + b)), cell, c);
+    const float g1 = w.o.z + b * w.d.z - bilinear(texel_pos(w, b), cell, c);
+    if (g0 <= 0.0 && a > t_ignore) return a; // already below: entered through an edge
+    // g(s) = qa s^2 + qb s + qc on s in [0, 1].
+    const float qa = 2.0 * (g0 - 2.0 * gm + g1);
+    const float qb = g1 - g0 - qa;
+    const float qc = g0;
+    float s = 2.0;
+    if (abs(qa) < 1e-12 * (abs(qb) + abs(qc) + 1e-30)) {
+        if (qb < 0.0) s = -qc / qb;
+    } else {
+        const float disc = qb * qb - 4.0 * qa * qc;
+        if (disc >= 0.0) {
+            const float root = sqrt(disc);
+            const float q = -0.5 * (qb + (qb >= 0.0 ? root : -root));
+            float s1 = q / qa;
+            float s2 = q != 0.0 ? qc / q : s1;
+            if (s1 > s2) { const float tmp = s1; s1 = s2; s2 = tmp; }
+            const float smin = t_ignore > a ? (t_ignore - a) / (b - a) : 0.0;
+            if (s1 >= smin && s1 <= 1.0) s = s1;
+            else if (s2 >= smin && s2 <= 1.0) s = s2;
         }
-        if (s <= 1.0) {
-            const float t = a + clamp(s, 0.0, 1.0) * (b - a);
-            // Accept only a crossing from above to below (not a graze upwards).
-            const float gs = w.o.z + t * w.d.z - bilinear(texel_pos(w, t), base, c);
-            if (g1 <= 0.0 || gs <= 1e-5) return t;
-        }
+    }
+    if (s <= 1.0) {
+        const float t = a + clamp(s, 0.0, 1.0) * (b - a);
+        // Accept only a crossing from above to below (not a graze upwards).
+        const float gs = w.o.z + t * w.d.z - bilinear(texel_pos(w, t), cell, c);
+        if (g1 <= 0.0 || gs <= 1e-5) return t;
     }
     return -1.0;
 }
@@ -232,7 +200,8 @@ int rqrm(Walk w, float t_start, ivec2 skip_texel, bool picked, out float t_hit,
     if (t01.x > t_start) {
         const float z = w.o.z + t * w.d.z;
         const bool top_face = abs(z - P.holder_max[2]) <= 1e-5 * (1.0 + abs(P.holder_max[2]));
-        if (!top_face && z < height_at(texel)) return kBlocked;
+        const float surface = kHitMode == kHitModePaper ? height_at(texel) : surface_height(texel_pos(w, t));
+        if (!top_face && z < surface) return kBlocked;
     }
 
     // A ray leaving the surface after a reflection lies under every node above its texel,
@@ -407,8 +376,8 @@ void main() {
     } else if (all(greaterThanEqual(w.O, vec2(0.0))) && all(lessThan(w.O, vec2(P.hf_w, P.hf_h))) &&
                w.o.z < (kHitMode == kHitModePaper ? height_at(ivec2(floor(w.O))) : surface_height(w.O))) {
         // The source is inside the reflector (against the surface the hit mode traces:
-        // a texel's column, or the bilinear surface, which a steep wall's texel-centre
-        // sample overshoots by up to half a texel's rise).
+        // a texel's column, or the bilinear surface, which a steep wall's column
+        // overshoots by up to half a texel's rise).
         below = true;
     }
     if (!below) {
