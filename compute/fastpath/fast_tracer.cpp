@@ -184,6 +184,13 @@ void FastTracer::set_reflector(const ReflectorDesc& reflector) {
     }
     if (reflector.family == Family::Mesh &&
         (!mesh_ || !reflector_ || reflector_->mesh != reflector.mesh)) {
+        // The corner heights are rasterized one texel larger than the height field.
+        const std::uint32_t image_max = ctx_->limits().max_image_dimension_2d;
+        if (std::max(params_.hf_w, params_.hf_h) + 1 > image_max)
+            throw std::invalid_argument(fmt::format(
+                "heightfield {} x {}: a mesh reflector is rasterized on {} x {} texel corners, "
+                "past this device's largest image ({}); use a smaller height field",
+                params_.hf_w, params_.hf_h, params_.hf_w + 1, params_.hf_h + 1, image_max));
         mesh_ = load_mesh(reflector.mesh.resolved_path, reflector.mesh.unit_mm);
         if (!mesh_rasterizer_) mesh_rasterizer_.emplace(*ctx_);
     }
