@@ -92,7 +92,7 @@ TEST_P(HitPoints, PaperModeWithinATexelRefinedModeFarCloser) {
     EXPECT_LT(double(refined.disagree), 0.005 * double(refined.both));
     // Paper mode: the texel's flat top; within a texel for 99 % of rays.
     EXPECT_LT(quantile(paper.error_texels, 0.99), 1.0) << "paper p99";
-    // Refined: the bilinear surface through the texel centres.
+    // Refined: the bilinear surface through the heights at the texel corners.
     EXPECT_LT(quantile(refined.error_texels, 0.5), 0.02) << "refined median";
     EXPECT_LT(quantile(refined.error_texels, 0.99), 0.2) << "refined p99";
     EXPECT_LT(quantile(refined.error_texels, 0.5), 0.25 * quantile(paper.error_texels, 0.5));
@@ -101,6 +101,19 @@ TEST_P(HitPoints, PaperModeWithinATexelRefinedModeFarCloser) {
 INSTANTIATE_TEST_SUITE_P(Scenes, HitPoints,
                          ::testing::Values("test/flat_mirror.toml", "model_a.toml", "model_b.toml",
                                            "model_c.toml", "test/mesh_dish.toml"));
+
+// The refined surface interpolates the heights at the texel corners bilinearly, which
+// reproduces a plane exactly (up to the border texels): a tilted plane's hits are the
+// exact surface's to float rounding, for every ray.
+TEST_F(VulkanTest, RefinedModeTracesATiltedPlaneExactly) {
+    const Scene s = scene("test/flat_mirror.toml");
+    ASSERT_NE(s.reflector.parameters.at("sx"), 0.0);
+    const auto refined = compare_hits(ctx(), s, HitMode::Refined, 20000);
+    ASSERT_GT(refined.both, 10000u);
+    EXPECT_EQ(refined.disagree, 0u);
+    std::printf("tilted plane: largest hit error %.2e texels\n", refined.error_texels.back());
+    EXPECT_LT(refined.error_texels.back(), 2e-3);
+}
 
 // l2(fast, reference) for independent runs of N and M rays is, from noise alone,
 // F sqrt(sum p (1 - p) (1/N + 1/M)); the fast path may add only a little bias.
