@@ -1,4 +1,4 @@
-// The random sampler: Philox4x32-10 with its first two uniforms stratified along a Morton
+// The stratified sampler: Philox4x32-10 with its first two uniforms stratified along a Morton
 // curve over a 2^b x 2^b grid (b = kStratumBits), so that consecutive rays fall in the same
 // or a neighbouring cell. A source whose direction depends on those two uniforms alone
 // (sphere, point) then emits its rayset already ordered by direction, as the trace wants

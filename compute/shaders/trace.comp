@@ -136,13 +136,12 @@ ivec2 texel_ahead(vec2 q, ivec2 current, ivec2 heading) {
 }
 
 // The first root of the ray against the bilinear patch over texel `cell` within
-// [ta, tb] past t_ignore, as a fraction-free t; returns -1 when there is none. Along the
+// [a, b] past t_ignore, as a fraction-free t; returns -1 when there is none. Along the
 // ray the patch's height is quadratic in t, so the gap g(t) = ray z - patch z is the
-// quadratic through its values at ta, the middle and tb.
-float refine_in_texel(Walk w, ivec2 cell, float ta, float tb, float t_ignore) {
-    if (tb <= t_ignore) return -1.0;
+// quadratic through its values at a, the middle and b.
+float refine_in_texel(Walk w, ivec2 cell, float a, float b, float t_ignore) {
+    if (b <= t_ignore) return -1.0;
     const vec4 c = patch_corners(cell);
-    const float a = ta, b = tb;
     const float g0 = w.o.z + a * w.d.z - bilinear(texel_pos(w, a), cell, c);
     const float gm = w.o.z + 0.5 * (a + b) * w.d.z - bilinear(texel_pos(w, 0.5 * (a + b)), cell, c);
     const float g1 = w.o.z + b * w.d.z - bilinear(texel_pos(w, b), cell, c);
