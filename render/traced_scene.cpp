@@ -44,6 +44,7 @@ TracedScene trace_for_views(const vk::Context& ctx, const Scene& input, const Tr
     v.source = s.source;
     v.quadtree = tracer.read_quadtree();
     v.heights = &tracer.heights_buffer();
+    v.heights_origin_z_mm = tracer.frame_origin().z;
     v.gradients = &tracer.gradients_buffer();
     v.width = tracer.heightfield_width();
     v.height = tracer.heightfield_height();

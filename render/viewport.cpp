@@ -227,13 +227,13 @@ void ViewportRenderer::record(VkCommandBuffer cb, const OffscreenTarget& target,
         vkCmdBindVertexBuffers(cb, 0, 2, vbs, offsets);
         vkCmdBindIndexBuffer(cb, indices_.get(), 0, VK_INDEX_TYPE_UINT32);
         const Holder& h = c.holder;
-        SurfacePush push{
-            .view_projection = vp,
-            .grid = {float(h.min_mm.x), float(h.min_mm.y),
-                     float((h.max_mm.x - h.min_mm.x) / c.width),
-                     float((h.max_mm.y - h.min_mm.y) / c.height)},
-            .shade = {float(c.z_lo_mm), float(c.z_hi_mm), o.height_colours ? 1.0f : 0.0f, 0},
-            .size = {c.width, c.height, 0, 0}};
+        SurfacePush push{.view_projection = vp,
+                         .grid = {float(h.min_mm.x), float(h.min_mm.y),
+                                  float((h.max_mm.x - h.min_mm.x) / c.width),
+                                  float((h.max_mm.y - h.min_mm.y) / c.height)},
+                         .shade = {float(c.z_lo_mm), float(c.z_hi_mm),
+                                   o.height_colours ? 1.0f : 0.0f, float(c.heights_origin_z_mm)},
+                         .size = {c.width, c.height, 0, 0}};
         vkCmdPushConstants(cb, surface_.layout.get(),
                            VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
                            sizeof(push), &push);

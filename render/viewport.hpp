@@ -28,6 +28,7 @@ struct ViewportContent {
     Holder holder;
     SourceDesc source;
     const vk::Buffer* heights = nullptr;   // FastTracer::heights_buffer()
+    double heights_origin_z_mm = 0;        // added to them: FastTracer::frame_origin().z
     const vk::Buffer* gradients = nullptr; // FastTracer::gradients_buffer()
     std::uint32_t width = 0, height = 0;   // of the height field
     double z_lo_mm = 0, z_hi_mm = 0;       // for the height colours

@@ -16,7 +16,9 @@ double FarField::total_lm() const {
 
 std::uint32_t farfield_cell(const glm::dvec3& d, std::uint32_t width, std::uint32_t height) {
     constexpr double pi = std::numbers::pi;
-    const double phi = std::atan2(d.y, d.x);
+    // Straight up or down the azimuth is undefined: such a ray takes the column of
+    // phi = 0, on both backends (atan2 of signed zeros would give +-pi, i.e. either edge).
+    const double phi = (d.x == 0.0 && d.y == 0.0) ? 0.0 : std::atan2(d.y, d.x);
     const double theta = std::asin(std::clamp(d.z, -1.0, 1.0));
     const auto col = std::clamp<std::int64_t>(
         std::int64_t(std::floor((phi + pi) / (2.0 * pi) * width)), 0, width - 1);

@@ -46,7 +46,7 @@ double ms_since(std::chrono::steady_clock::time_point t0) {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
 
-// trace.comp's bindings 0..kTraceBindWalkStart: uniform texel buffers at 4-6, storage else.
+// trace.comp's bindings 0..kTraceBindControl: uniform texel buffers at 4-6, storage else.
 // `variant` lists the specialization constants (FIRD_SPEC_RECORD_WALK, _PROFILE,
 // _DIAGNOSTICS) switched on over the scene's.
 vk::ComputePipeline trace_pipeline(const vk::Context& ctx,
@@ -56,7 +56,7 @@ vk::ComputePipeline trace_pipeline(const vk::Context& ctx,
         spec[std::size_t(id)] = 1;
     return vk::ComputePipeline(
         ctx, fird_spv_trace_comp,
-        {kSB, kSB, kSB, kSB, kTB, kTB, kTB, kSB, kSB, kSB, kSB, kSB, kSB, kSB},
+        {kSB, kSB, kSB, kSB, kTB, kTB, kTB, kSB, kSB, kSB, kSB, kSB, kSB, kSB, kSB},
         sizeof(gpu::TracePush), name, spec);
 }
 
@@ -69,8 +69,8 @@ std::uint64_t wide(const std::uint32_t* pair) {
 
 FastTracer::FastTracer(const vk::Context& ctx, const Scene& scene, std::uint64_t seed,
                        std::uint64_t max_batch_rays)
-    : ctx_(&ctx), scene_(scene), params_(scene_params(scene, seed)),
-      spec_(specialization(params_, scene.reflector.family)),
+    : ctx_(&ctx), scene_(scene), origin_(fird::frame_origin(scene.holder)),
+      params_(scene_params(scene, seed)), spec_(specialization(params_, scene.reflector.family)),
       rayset_pipeline_(ctx, fird_spv_rayset_comp, {kSB, kSB, kSB, kSB}, sizeof(gpu::RaysetPush),
                        "fird.rayset", spec_),
       heightfield_pipeline_(ctx, fird_spv_heightfield_comp, {kSB, kSB, kSB, kSB, kSB}, 0,
@@ -176,7 +176,7 @@ void FastTracer::set_reflector(const ReflectorDesc& reflector) {
     if (reflector_ && *reflector_ == reflector) return; // height field is current
     if (gpu_family(reflector.family) != spec_[FIRD_SPEC_FAMILY])
         throw std::invalid_argument("the fast path's pipelines were built for another family");
-    const std::vector<float> control = set_reflector_params(params_, reflector);
+    const std::vector<float> control = set_reflector_params(params_, reflector, origin_);
     if (!control.empty()) {
         control_ = vk::Buffer(*ctx_, control.size() * 4, vk::kStorageUsage, vk::MemoryUse::Device,
                               "fird.bspline.control");
@@ -206,7 +206,7 @@ void FastTracer::set_rayset_kept(bool kept) {
 
 void FastTracer::set_seed(std::uint64_t seed) {
     gpu::SceneParams p = scene_params(scene_, seed);
-    if (reflector_) (void)set_reflector_params(p, *reflector_); // B-spline controls unchanged
+    if (reflector_) (void)set_reflector_params(p, *reflector_, origin_); // controls unchanged
     params_ = p;
     upload_params();
     rayset_chunks_.clear(); // the next run generates (and keeps) the new seed's rays
@@ -240,8 +240,8 @@ void FastTracer::build_heightfield(FastRun& run) {
     // The paper's z-buffer step for meshes (its own submission: a render pass).
     double raster_ms = 0.0;
     if (mesh_) {
-        mesh_rasterizer_->rasterize(*mesh_, scene_.holder, params_.hf_w, params_.hf_h, paper_tree_,
-                                    gradients_);
+        mesh_rasterizer_->rasterize(*mesh_, origin_, scene_.holder, params_.hf_w, params_.hf_h,
+                                    paper_tree_, gradients_);
         // The texel corners are the centres of a grid one texel larger, half a texel out.
         const double half_x = (scene_.holder.max_mm.x - scene_.holder.min_mm.x) / params_.hf_w / 2;
         const double half_y = (scene_.holder.max_mm.y - scene_.holder.min_mm.y) / params_.hf_h / 2;
@@ -250,8 +250,8 @@ void FastTracer::build_heightfield(FastRun& run) {
         const vk::Buffer corner_gradients(
             *ctx_, std::uint64_t(params_.hf_w + 1) * (params_.hf_h + 1) * 8, vk::kStorageUsage,
             vk::MemoryUse::Device, "fird.mesh_raster.corner_gradients");
-        mesh_rasterizer_->rasterize(*mesh_, around, params_.hf_w + 1, params_.hf_h + 1, corners_,
-                                    corner_gradients);
+        mesh_rasterizer_->rasterize(*mesh_, origin_, around, params_.hf_w + 1, params_.hf_h + 1,
+                                    corners_, corner_gradients);
         raster_ms = ms_since(t0);
     }
     ctx_->submit_and_wait([&](VkCommandBuffer cb) {
@@ -303,7 +303,8 @@ void FastTracer::dispatch_trace(VkCommandBuffer cb, const vk::Buffer& in, const 
         vk::storage(texel_hits_),
         vk::storage(walk_),
         vk::storage(profile_),
-        vk::storage(walk_start_)};
+        vk::storage(walk_start_),
+        vk::storage(control_)};
     // The variant that does what the push constants ask and no more (the walk-recording
     // one also records hits; profile counts come from plain runs only).
     const bool diagnostics = push.record_hits != 0u || push.count_texel_hits != 0u;
@@ -481,7 +482,7 @@ FastRun FastTracer::run() {
     return run;
 }
 
-FastRun FastTracer::run_rays(const std::vector<Ray>& rays, std::vector<glm::vec4>* hits) {
+FastRun FastTracer::run_rays(const std::vector<Ray>& rays, std::vector<glm::dvec4>* hits) {
     if (!reflector_) throw std::logic_error("FastTracer::run_rays: no reflector set");
     if (rays.size() > batch_capacity_)
         throw std::invalid_argument("run_rays: more rays than one batch holds");
@@ -490,11 +491,11 @@ FastRun FastTracer::run_rays(const std::vector<Ray>& rays, std::vector<glm::vec4
     run.tally.by_reflections.assign(params_.max_bounces + 1, 0);
     run.energy_per_ray_lm = scene_.source.flux_lm / double(std::max<std::size_t>(rays.size(), 1));
     build_heightfield(run);
-    // Upload all rays (the caller chose them; none are discarded here).
+    // Upload all rays (the caller chose them; none are discarded here), in the frame.
     std::vector<float> packed(rays.size() * 8, 0.0f);
     for (std::size_t i = 0; i < rays.size(); ++i)
         for (int k = 0; k < 3; ++k) {
-            packed[i * 8 + k] = float(rays[i].origin[k]);
+            packed[i * 8 + k] = float(rays[i].origin[k] - origin_[k]);
             packed[i * 8 + 4 + k] = float(rays[i].direction[k]);
         }
     vk::Buffer uploaded(*ctx_, std::max<std::size_t>(rays.size(), 1) * kRayBytes, vk::kStorageUsage,
@@ -512,8 +513,10 @@ FastRun FastTracer::run_rays(const std::vector<Ray>& rays, std::vector<glm::vec4
     if (hits) {
         const auto both = hits_.download_as<glm::vec4>(*ctx_, 2 * rays.size());
         hits->resize(rays.size());
-        for (std::size_t i = 0; i < rays.size(); ++i)
-            (*hits)[i] = both[2 * i];
+        for (std::size_t i = 0; i < rays.size(); ++i) {
+            const glm::vec4 h = both[2 * i];
+            (*hits)[i] = h.w < 0.0f ? glm::dvec4(h) : glm::dvec4(glm::dvec3(h) + origin_, h.w);
+        }
         hits_ = vk::Buffer(*ctx_, 32, vk::kStorageUsage, vk::MemoryUse::Device, "fird.hits.unused");
     }
     return run;
@@ -570,7 +573,10 @@ std::vector<float> FastTracer::read_quadtree() {
     FastRun unused;
     build_heightfield(unused);
     const QuadtreeLayout q = quadtree_layout(params_.hf_w, params_.hf_h);
-    return paper_tree_.download_as<float>(*ctx_, q.total_floats);
+    std::vector<float> tree = paper_tree_.download_as<float>(*ctx_, q.total_floats);
+    for (float& h : tree)
+        h = float(double(h) + origin_.z); // out of the frame
+    return tree;
 }
 
 std::vector<glm::vec2> FastTracer::read_gradients() {
@@ -596,7 +602,7 @@ std::vector<RayPath> FastTracer::trace_paths(const std::vector<Ray>& rays, std::
     std::vector<Live> live;
     for (std::size_t i = 0; i < n; ++i) {
         paths[i].vertices.push_back(rays[i].origin);
-        live.push_back({i, glm::vec3(rays[i].origin), glm::vec3(rays[i].direction), 0});
+        live.push_back({i, glm::vec3(rays[i].origin - origin_), glm::vec3(rays[i].direction), 0});
     }
     // Scratch so that the run's far field and counters are left as they are.
     const std::size_t slots = std::max<std::size_t>(n, 1);
@@ -662,7 +668,7 @@ std::vector<RayPath> FastTracer::trace_paths(const std::vector<Ray>& rays, std::
             for (std::uint32_t k = 0; k < steps; ++k) {
                 const glm::vec4 a = w[1 + 2 * k], b = w[2 + 2 * k];
                 walk->push_back({bounce, std::uint32_t(a.x), std::uint32_t(a.y), std::uint32_t(a.z),
-                                 a.w, b.x, b.y});
+                                 float(double(a.w) + origin_.z), b.x, b.y});
             }
         }
         const auto hits = hits_.download_as<glm::vec4>(*ctx_, 2 * live.size());
@@ -674,7 +680,7 @@ std::vector<RayPath> FastTracer::trace_paths(const std::vector<Ray>& rays, std::
             const glm::vec3 r(hits[2 * k + 1]);
             std::uint32_t texel = 0;
             std::memcpy(&texel, &hits[2 * k + 1].w, 4);
-            path.vertices.push_back(glm::dvec3(p));
+            path.vertices.push_back(glm::dvec3(p) + origin_);
             ++path.reflections;
             next.push_back({live[k].path, p, r, texel});
         }
@@ -704,7 +710,7 @@ std::vector<Ray> FastTracer::rayset() const {
         const auto packed = chunk.rays.download_as<float>(*ctx_, chunk.effective * 8);
         for (std::size_t i = 0; i < chunk.effective; ++i) {
             const float* r = &packed[i * 8];
-            rays.push_back(Ray{{r[0], r[1], r[2]}, {r[4], r[5], r[6]}});
+            rays.push_back(Ray{glm::dvec3(r[0], r[1], r[2]) + origin_, {r[4], r[5], r[6]}});
         }
     }
     return rays;

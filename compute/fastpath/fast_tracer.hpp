@@ -94,8 +94,9 @@ class FastTracer {
     FastRun run();
 
     // Traces given rays (one batch) instead of the source's; hits receives, per input
-    // ray, its first hit point and t (t < 0: no hit). For comparisons with the reference.
-    FastRun run_rays(const std::vector<Ray>& rays, std::vector<glm::vec4>* hits);
+    // ray, its first hit point (in the scene, out of the device's frame) and t (t < 0: no
+    // hit). For comparisons with the reference.
+    FastRun run_rays(const std::vector<Ray>& rays, std::vector<glm::dvec4>* hits);
 
     // For measurement only (see FastPathSkips).
     void set_skips(const FastPathSkips& skips);
@@ -124,10 +125,12 @@ class FastTracer {
 
     const vk::Buffer& farfield_lm() const { return farfield_lm_; }
     // The device height field as the viewport draws it (no readback): the paper quadtree,
-    // whose first W x H floats are the texel heights, and the gradients (vec2 per texel).
-    // Current after a run (or a read_quadtree()).
+    // whose first W x H floats are the texel heights less frame_origin().z, and the
+    // gradients (vec2 per texel). Current after a run (or a read_quadtree()).
     const vk::Buffer& heights_buffer() const { return paper_tree_; }
     const vk::Buffer& gradients_buffer() const { return gradients_; }
+    // Where the device's frame sits in the scene (the holder's centre, scene_params.hpp).
+    const glm::dvec3& frame_origin() const { return origin_; }
     std::uint32_t heightfield_width() const { return params_.hf_w; }
     std::uint32_t heightfield_height() const { return params_.hf_h; }
     std::vector<double> read_farfield() const;
@@ -157,6 +160,7 @@ class FastTracer {
 
     const vk::Context* ctx_;
     Scene scene_;
+    glm::dvec3 origin_; // the device's frame (frame_origin): device positions are relative
     gpu::SceneParams params_{};
     std::optional<ReflectorDesc> reflector_;
     std::uint64_t batch_capacity_ = 0;

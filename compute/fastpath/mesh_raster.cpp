@@ -29,7 +29,7 @@ struct MeshVertex {
 
 // Every triangle that is not vertical, as three vertices carrying its plane's gradient
 // (a vertical triangle covers no texel centre of a height field).
-std::vector<MeshVertex> triangle_list(const TriangleMesh& mesh) {
+std::vector<MeshVertex> triangle_list(const TriangleMesh& mesh, const glm::dvec3& origin) {
     std::vector<MeshVertex> out;
     out.reserve(mesh.triangles.size() * 3);
     for (const auto& t : mesh.triangles) {
@@ -37,7 +37,7 @@ std::vector<MeshVertex> triangle_list(const TriangleMesh& mesh) {
         const glm::dvec3 n = glm::cross(b - a, c - a);
         if (std::abs(n.z) <= 1e-12 * glm::dot(n, n) || !std::isfinite(n.z)) continue;
         const float gx = float(-n.x / n.z), gy = float(-n.y / n.z);
-        for (const glm::dvec3& p : {a, b, c})
+        for (const glm::dvec3& p : {a - origin, b - origin, c - origin})
             out.push_back({{float(p.x), float(p.y), float(p.z)}, {gx, gy}});
     }
     return out;
@@ -92,11 +92,11 @@ MeshRasterizer::MeshRasterizer(const vk::Context& ctx) : ctx_(&ctx) {
               .name = "fird.mesh_raster"});
 }
 
-void MeshRasterizer::rasterize(const TriangleMesh& mesh, const Holder& holder, std::uint32_t width,
-                               std::uint32_t height, const vk::Buffer& heights,
-                               const vk::Buffer& gradients) const {
+void MeshRasterizer::rasterize(const TriangleMesh& mesh, const glm::dvec3& origin,
+                               const Holder& holder, std::uint32_t width, std::uint32_t height,
+                               const vk::Buffer& heights, const vk::Buffer& gradients) const {
     const vk::Context& ctx = *ctx_;
-    const std::vector<MeshVertex> vertices = triangle_list(mesh);
+    const std::vector<MeshVertex> vertices = triangle_list(mesh, origin);
     if (vertices.empty()) throw std::invalid_argument("the mesh has no non-vertical triangle");
     const VkDeviceSize vertex_bytes = vertices.size() * sizeof(MeshVertex);
     vk::Buffer vertex_buffer(ctx, vertex_bytes, VK_BUFFER_USAGE_VERTEX_BUFFER_BIT,
@@ -121,8 +121,8 @@ void MeshRasterizer::rasterize(const TriangleMesh& mesh, const Holder& holder, s
     const float pad = 0.01f * (z1 - z0) + 1e-3f;
     gpu::MeshRasterPush push{.depth_z0_mm = z0 - pad, .depth_z1_mm = z1 + pad};
     for (int k = 0; k < 3; ++k) {
-        push.holder_min[k] = float(holder.min_mm[k]);
-        push.holder_max[k] = float(holder.max_mm[k]);
+        push.holder_min[k] = float(holder.min_mm[k] - origin[k]);
+        push.holder_max[k] = float(holder.max_mm[k] - origin[k]);
     }
 
     ctx.submit_and_wait([&](VkCommandBuffer cb) {

@@ -19,9 +19,10 @@ class MeshRasterizer {
     // Draws `mesh` over the holder rectangle into a width x height texture (texel
     // centres sampled, highest surface kept) and copies the heights (mm, clamped to the
     // holder's z range) into the first width * height floats of `heights` and the face
-    // gradients (dz/dx, dz/dy) into `gradients`. Waits for the device.
-    void rasterize(const TriangleMesh& mesh, const Holder& holder, std::uint32_t width,
-                   std::uint32_t height, const vk::Buffer& heights,
+    // gradients (dz/dx, dz/dy) into `gradients`. Positions and heights are taken relative
+    // to `origin` (the fast path's frame, scene_params.hpp). Waits for the device.
+    void rasterize(const TriangleMesh& mesh, const glm::dvec3& origin, const Holder& holder,
+                   std::uint32_t width, std::uint32_t height, const vk::Buffer& heights,
                    const vk::Buffer& gradients) const;
 
   private:

@@ -1,6 +1,7 @@
 #include "scene_params.hpp"
 
 #include <algorithm>
+#include <limits>
 #include <stdexcept>
 
 #include "model/source_clearance.hpp"
@@ -31,17 +32,32 @@ QuadtreeLayout quadtree_layout(std::uint32_t width, std::uint32_t height) {
     return q;
 }
 
+glm::dvec3 frame_origin(const Holder& holder) {
+    return 0.5 * (holder.min_mm + holder.max_mm);
+}
+
 gpu::SceneParams scene_params(const Scene& s, std::uint64_t seed) {
     gpu::SceneParams p{};
     const SourceBox box = source_box(s.source);
+    const glm::dvec3 origin = frame_origin(s.holder);
+    double extent_mm = 0.0;
     for (int k = 0; k < 3; ++k) {
-        p.holder_min[k] = float(s.holder.min_mm[k]);
-        p.holder_max[k] = float(s.holder.max_mm[k]);
-        p.source_center[k] = float(s.source.center_mm[k]);
+        p.holder_min[k] = float(s.holder.min_mm[k] - origin[k]);
+        p.holder_max[k] = float(s.holder.max_mm[k] - origin[k]);
+        p.source_center[k] = float(s.source.center_mm[k] - origin[k]);
         p.source_axis[k] = float(s.source.axis[k]);
-        p.source_box_min[k] = float(box.lo[k]);
-        p.source_box_max[k] = float(box.hi[k]);
+        p.source_box_min[k] = float(box.lo[k] - origin[k]);
+        p.source_box_max[k] = float(box.hi[k] - origin[k]);
+        extent_mm = std::max(extent_mm, 0.5 * (s.holder.max_mm[k] - s.holder.min_mm[k]));
     }
+    // Self-intersection offset after a reflection (Algorithm 2 line 7's "small initial
+    // offset"), bounded by the float error of the hit point rather than fixed in mm: a
+    // hit point's coordinates (at most extent_mm in this frame) carry a few ulps of
+    // rounding from o + t d and from the patch root, i.e. ~4 eps extent; a reflected ray
+    // leaving at an angle alpha clears that error after 8 eps extent / alpha. 128 eps
+    // extent keeps every reflection steeper than ~0.06 rad clear of its own hit and skips
+    // no real second hit longer than 1.5e-5 of the scene's size.
+    p.offset_mm = float(128.0 * double(std::numeric_limits<float>::epsilon()) * extent_mm);
     p.source_length = float(s.source.length_mm);
     p.source_radius = float(s.source.radius_mm);
     switch (s.source.kind) {
@@ -118,8 +134,17 @@ std::array<std::uint32_t, FIRD_SPEC_COUNT> specialization(const gpu::SceneParams
     return spec;
 }
 
-std::vector<float> set_reflector_params(gpu::SceneParams& p, const ReflectorDesc& r) {
-    const auto get = [&](const char* name) { return float(r.parameters.at(name)); };
+std::vector<float> set_reflector_params(gpu::SceneParams& p, const ReflectorDesc& r,
+                                        const glm::dvec3& origin) {
+    // The families' centres and base heights move into the frame; the other parameters
+    // (focal lengths, slopes, exponents) do not depend on it.
+    const auto get = [&](const std::string& name) {
+        const double v = r.parameters.at(name);
+        if (name == "cx") return float(v - origin.x);
+        if (name == "cy") return float(v - origin.y);
+        if (name == "z0") return float(v - origin.z);
+        return float(v);
+    };
     std::fill(std::begin(p.params), std::end(p.params), 0.0f);
     const auto names = family_parameters(r.family);
     p.family = gpu_family(r.family);
@@ -128,10 +153,13 @@ std::vector<float> set_reflector_params(gpu::SceneParams& p, const ReflectorDesc
         p.bspline_nx = std::uint32_t(r.bspline.nx);
         p.bspline_ny = std::uint32_t(r.bspline.ny);
         const auto h = bspline_heights(r.bspline, r.parameters);
-        return {h.begin(), h.end()};
+        std::vector<float> control(h.size());
+        for (std::size_t k = 0; k < h.size(); ++k)
+            control[k] = float(h[k] - origin.z);
+        return control;
     }
     for (std::size_t k = 0; k < names.size(); ++k)
-        p.params[k] = get(names[k].c_str());
+        p.params[k] = get(names[k]);
     return {};
 }
 

@@ -1,4 +1,6 @@
 // The reflector families in GLSL (float), as model/surface.cpp: raw height and gradient.
+// heightfield.comp evaluates them at texel centres and corners; trace.comp at a hit point
+// (the refined mode reflects about the family's own gradient there).
 #ifndef FIRD_FAMILY_GLSL
 #define FIRD_FAMILY_GLSL
 #include "common.glsl"
@@ -40,6 +42,41 @@ vec3 family_height_gradient(float x, float y) {
     const float dz_drho = h * p * spow(rho, p - 1.0) + w * cos(8.0 * psi);
     const float dz_dpsi = -8.0 * w * rho * sin(8.0 * psi);
     return vec3(z, dz_drho * u / (r * a) - dz_dpsi * v / (r * r), dz_drho * v / (r * a) + dz_dpsi * u / (r * r));
+}
+
+// A B-spline's control height k (row-major, nx per row): each includer binds the buffer.
+float control_height(int k);
+
+// Uniform cubic B-spline basis at t in [0, 1] and its derivative.
+void bspline_basis(float t, out vec4 b, out vec4 db) {
+    const float s = 1.0 - t;
+    b = vec4(s * s * s, 3.0 * t * t * t - 6.0 * t * t + 4.0, -3.0 * t * t * t + 3.0 * t * t + 3.0 * t + 1.0, t * t * t) / 6.0;
+    db = vec4(-s * s / 2.0, (9.0 * t * t - 12.0 * t) / 6.0, (-9.0 * t * t + 6.0 * t + 3.0) / 6.0, t * t / 2.0);
+}
+
+// The B-spline over the holder rectangle, its control grid spanning it (clamped ends).
+vec3 bspline_height_gradient(float x, float y) {
+    const int nx = int(P.bspline_nx), ny = int(P.bspline_ny);
+    const vec3 lo = holder_min(), hi = holder_max();
+    const float dx = (hi.x - lo.x) / float(nx - 1), dy = (hi.y - lo.y) / float(ny - 1);
+    const float sx = clamp((x - lo.x) / dx, 0.0, float(nx - 1));
+    const float sy = clamp((y - lo.y) / dy, 0.0, float(ny - 1));
+    const int i = min(int(sx), nx - 2), j = min(int(sy), ny - 2);
+    vec4 bx, dbx, by, dby;
+    bspline_basis(sx - float(i), bx, dbx);
+    bspline_basis(sy - float(j), by, dby);
+    vec3 r = vec3(0.0);
+    for (int m = 0; m < 4; ++m)
+        for (int k = 0; k < 4; ++k) {
+            const float h = control_height(clamp(j - 1 + m, 0, ny - 1) * nx + clamp(i - 1 + k, 0, nx - 1));
+            r += h * vec3(by[m] * bx[k], by[m] * dbx[k] / dx, dby[m] * bx[k] / dy);
+        }
+    return r;
+}
+
+// The reflector's raw (unclamped) height and gradient at (x, y), any analytic family.
+vec3 reflector_height_gradient(vec2 xy) {
+    return kFamily == kFamilyBSpline ? bspline_height_gradient(xy.x, xy.y) : family_height_gradient(xy.x, xy.y);
 }
 
 #endif

@@ -133,6 +133,8 @@ FIRD_CONSTANT(uint, kTraceBindWalk, 11u);      // the picked ray's walk (FIRD_SP
 FIRD_CONSTANT(uint, kWalkCapacity, 8192u);
 FIRD_CONSTANT(uint, kTraceBindProfile, 12u);   // the walk's profile (FIRD_SPEC_PROFILE)
 FIRD_CONSTANT(uint, kTraceBindWalkStart, 13u); // uint: walk_start.comp's level
+// float[]: a B-spline's control heights (the refined mode reflects about its gradient).
+FIRD_CONSTANT(uint, kTraceBindControl, 14u);
 // The profile, per bounce, kProfileFields uints: 64-bit sums as (low, high) pairs of the
 // rays traced, their walk steps (quadtree nodes tested), the lane-steps the subgroups
 // paid (subgroup size x the steps it ran: a lane waiting for the others pays too), the
@@ -163,6 +165,7 @@ FIRD_CONSTANT(uint, kTallyCopies, 64u);
 
 // Everything a pass needs to know about the scene, in one storage buffer (std430;
 // only 4-byte scalars and arrays of them, so C++ and GLSL agree on the layout).
+// Positions are relative to the holder box's centre (fastpath/scene_params.hpp).
 struct SceneParams {
     float holder_min[4];
     float holder_max[4];
@@ -194,6 +197,7 @@ struct SceneParams {
     uint max_bounces;
     uint strict_policy;
     uint max_steps;         // traversal bound per ray and bounce
+    float offset_mm;        // a reflected ray's self-intersection offset (scene_params.cpp)
     uint sobol_scramble[5]; // Owen scramble seeds: 4 dimensions, then the index
     uint sobol_directions[4 * 32];
 };

@@ -14,34 +14,9 @@ layout(std430, binding = kHeightfieldBindGradients) writeonly buffer Gradients {
 layout(std430, binding = kHeightfieldBindControl) readonly buffer Control { float control[]; };
 layout(std430, binding = kHeightfieldBindCorners) writeonly buffer Corners { float corners[]; };
 
-void basis(float t, out vec4 b, out vec4 db) {
-    const float s = 1.0 - t;
-    b = vec4(s * s * s, 3.0 * t * t * t - 6.0 * t * t + 4.0, -3.0 * t * t * t + 3.0 * t * t + 3.0 * t + 1.0, t * t * t) / 6.0;
-    db = vec4(-s * s / 2.0, (9.0 * t * t - 12.0 * t) / 6.0, (-9.0 * t * t + 6.0 * t + 3.0) / 6.0, t * t / 2.0);
-}
+float control_height(int k) { return control[k]; }
 
-vec3 bspline(float x, float y) {
-    const int nx = int(P.bspline_nx), ny = int(P.bspline_ny);
-    const vec3 lo = holder_min(), hi = holder_max();
-    const float dx = (hi.x - lo.x) / float(nx - 1), dy = (hi.y - lo.y) / float(ny - 1);
-    const float sx = clamp((x - lo.x) / dx, 0.0, float(nx - 1));
-    const float sy = clamp((y - lo.y) / dy, 0.0, float(ny - 1));
-    const int i = min(int(sx), nx - 2), j = min(int(sy), ny - 2);
-    vec4 bx, dbx, by, dby;
-    basis(sx - float(i), bx, dbx);
-    basis(sy - float(j), by, dby);
-    vec3 r = vec3(0.0);
-    for (int m = 0; m < 4; ++m)
-        for (int k = 0; k < 4; ++k) {
-            const float h = control[clamp(j - 1 + m, 0, ny - 1) * nx + clamp(i - 1 + k, 0, nx - 1)];
-            r += h * vec3(by[m] * bx[k], by[m] * dbx[k] / dx, dby[m] * bx[k] / dy);
-        }
-    return r;
-}
-
-vec3 surface(vec2 xy) {
-    return kFamily == kFamilyBSpline ? bspline(xy.x, xy.y) : family_height_gradient(xy.x, xy.y);
-}
+vec3 surface(vec2 xy) { return reflector_height_gradient(xy); }
 
 // Invocation p evaluates texel p's centre (where there is one) and its low corner.
 void main() {

@@ -11,6 +11,7 @@
 #extension GL_KHR_shader_subgroup_arithmetic : require
 #include "common.glsl"
 #include "direction_bucket.glsl"
+#include "family.glsl"
 
 layout(local_size_x = FIRD_TRACE_WORKGROUP_SIZE) in;
 layout(std430, binding = kTraceBindRaysIn) readonly buffer RaysIn { Ray rays_in[]; };
@@ -28,6 +29,7 @@ layout(std430, binding = kTraceBindTexelHits) buffer TexelHits { uint texel_hits
 layout(std430, binding = kTraceBindWalk) buffer WalkSteps { vec4 walk[]; };
 layout(std430, binding = kTraceBindProfile) buffer Profile { uint profile[]; };
 layout(std430, binding = kTraceBindWalkStart) readonly buffer WalkStart { uint walk_start_level; };
+layout(std430, binding = kTraceBindControl) readonly buffer Control { float control[]; };
 layout(push_constant) uniform Push { TracePush pc; };
 
 // Only in the profiling pipeline (folded away elsewhere): this invocation's walk steps and
@@ -108,11 +110,24 @@ float surface_height(vec2 q) {
     return bilinear(q, cell, patch_corners(cell));
 }
 
-vec2 bilinear_gradient(vec2 q) {
-    const ivec2 base = ivec2(floor(q - 0.5));
-    const vec2 f = q - 0.5 - vec2(base);
-    return mix(mix(gradient_at(base), gradient_at(base + ivec2(1, 0)), f.x),
-               mix(gradient_at(base + ivec2(0, 1)), gradient_at(base + ivec2(1, 1)), f.x), f.y);
+// The gradient (dz/dx, dz/dy) of the bilinear patch of texel `cell` at texel-space q.
+vec2 patch_gradient(vec2 q, ivec2 cell, vec2 texel_mm) {
+    const vec4 c = patch_corners(cell);
+    const vec2 f = q - vec2(cell);
+    return vec2(mix(c.y - c.x, c.w - c.z, f.y), mix(c.z - c.x, c.w - c.y, f.x)) / texel_mm;
+}
+
+float control_height(int k) { return control[k]; }
+
+// The gradient the refined mode reflects about at hit point p (texel-space q, texel
+// `cell`): the surface actually hit. An analytic family's own gradient there (zero where
+// the holder clamps it, as model/surface.cpp's clamped surface); for a mesh, the face
+// gradient rasterized at the hit texel's centre (a facet's plane, never a blend of two).
+vec2 hit_gradient(vec3 p, ivec2 cell) {
+    if (kFamily == kFamilyTexture) return gradient_at(cell);
+    const vec3 zg = reflector_height_gradient(p.xy);
+    const vec3 lo = holder_min(), hi = holder_max();
+    return (zg.x <= lo.z || zg.x >= hi.z) ? vec2(0.0) : zg.yz;
 }
 
 struct Walk {
@@ -136,23 +151,33 @@ ivec2 texel_ahead(vec2 q, ivec2 current, ivec2 heading) {
 }
 
 // The first root of the ray against the bilinear patch over texel `cell` within
-// [a, b] past t_ignore, as a fraction-free t; returns -1 when there is none. Along the
-// ray the patch's height is quadratic in t, so the gap g(t) = ray z - patch z is the
-// quadratic through its values at a, the middle and b.
+// [a, b] past t_ignore where the ray crosses the patch from above to below, as a t;
+// returns -1 when there is none. Along the ray the patch's height is quadratic in t, so
+// the gap g(t) = ray z - patch z is the quadratic through its values at a, the middle
+// and b. A root where g rises (the ray leaving the solid: a reflected ray at its own
+// start, or a ray already below) is never a hit.
 float refine_in_texel(Walk w, ivec2 cell, float a, float b, float t_ignore) {
     if (b <= t_ignore) return -1.0;
     const vec4 c = patch_corners(cell);
     const float g0 = w.o.z + a * w.d.z - bilinear(texel_pos(w, a), cell, c);
     const float gm = w.o.z + 0.5 * (a + b) * w.d.z - bilinear(texel_pos(w, 0.5 * (a + b)), cell, c);
-    const float g1 = w.o.z + b * w.d.z - bilinear(texel_pos(w, b), cell, c);
-    if (g0 <= 0.0 && a > t_ignore) return a; // already below: entered through an edge
-    // g(s) = qa s^2 + qb s + qc on s in [0, 1].
+    float g1 = w.o.z + b * w.d.z - bilinear(texel_pos(w, b), cell, c);
+    // The holder's floor is solid (the surface is clamped to it, never below): a ray
+    // that reaches it in this texel has met the surface, whatever rounding says of the
+    // gap there (a plateau on the floor, such as the fluted cup's apex).
+    if (w.o.z + b * w.d.z <= P.holder_min[2] + P.offset_mm) g1 = min(g1, 0.0);
+    // Entering the texel below its patch: the crossing from above lay on the face just
+    // crossed (the patches share their edges, so only rounding hides it in the texel
+    // before); the hit is there. Not within the ignore window of a reflected ray's start.
+    if (g0 <= 0.0 && a > t_ignore) return a;
+    // g(s) = qa s^2 + qb s + qc on s in [0, 1]: the root past smin where g falls.
     const float qa = 2.0 * (g0 - 2.0 * gm + g1);
     const float qb = g1 - g0 - qa;
     const float qc = g0;
+    const float smin = t_ignore > a ? (t_ignore - a) / (b - a) : 0.0;
     float s = 2.0;
     if (abs(qa) < 1e-12 * (abs(qb) + abs(qc) + 1e-30)) {
-        if (qb < 0.0) s = -qc / qb;
+        if (qb < 0.0) s = -qc / qb; // linear, falling
     } else {
         const float disc = qb * qb - 4.0 * qa * qc;
         if (disc >= 0.0) {
@@ -161,18 +186,19 @@ float refine_in_texel(Walk w, ivec2 cell, float a, float b, float t_ignore) {
             float s1 = q / qa;
             float s2 = q != 0.0 ? qc / q : s1;
             if (s1 > s2) { const float tmp = s1; s1 = s2; s2 = tmp; }
-            const float smin = t_ignore > a ? (t_ignore - a) / (b - a) : 0.0;
-            if (s1 >= smin && s1 <= 1.0) s = s1;
-            else if (s2 >= smin && s2 <= 1.0) s = s2;
+            // g'(s1) = qa (s1 - s2) and g'(s2) = qa (s2 - s1): g falls through the
+            // smaller root when qa > 0 and through the larger one when qa < 0.
+            s = qa > 0.0 ? s1 : s2;
         }
     }
-    if (s <= 1.0) {
-        const float t = a + clamp(s, 0.0, 1.0) * (b - a);
-        // Accept only a crossing from above to below (not a graze upwards).
-        const float gs = w.o.z + t * w.d.z - bilinear(texel_pos(w, t), cell, c);
-        if (g1 <= 0.0 || gs <= 1e-5) return t;
+    if (s < smin || s > 1.0) {
+        // From above at a to at-or-below at b, there is a falling crossing in between
+        // even where rounding put the quadratic's root past b (or found none): a ray
+        // meeting a plateau that lies on the holder's floor ends its segment on it.
+        if (!(g0 > 0.0 && g1 <= 0.0 && smin <= 0.0)) return -1.0;
+        s = s <= 1.0 ? max(s, 0.0) : 1.0;
     }
-    return -1.0;
+    return a + clamp(s, 0.0, 1.0) * (b - a);
 }
 
 // RQRM: returns kHit with t_hit and the hit texel, kMiss, kAborted or kBlocked.
@@ -315,7 +341,9 @@ int rqrm(Walk w, float t_start, ivec2 skip_texel, bool picked, out float t_hit,
                 return kHit;
             }
         } else {
-            const float t_ignore = texel == skip_texel ? t_start + 1e-3 : -1.0;
+            // A reflected ray ignores roots within the offset of its start in every texel
+            // (a hit on a texel edge whose reflection heads into the neighbour too).
+            const float t_ignore = from_surface ? t_start : -1.0;
             const float th = refine_in_texel(w, texel, t, cand_t_exit, t_ignore);
             if (th >= 0.0) {
                 t_hit = th;
@@ -329,7 +357,9 @@ int rqrm(Walk w, float t_start, ivec2 skip_texel, bool picked, out float t_hit,
 }
 
 uint far_field_cell(vec3 d) {
-    const float phi = atan(d.y, d.x);
+    // atan(0, 0) is undefined in GLSL: a ray straight up or down takes the column of
+    // phi = 0, as DESIGN.md §2's atan2 (and farfield_cell on the CPU) gives.
+    const float phi = (d.x == 0.0 && d.y == 0.0) ? 0.0 : atan(d.y, d.x);
     // Not asin(d.z): Mesa lowers asin to a polynomial whose error (~1e-4 rad near the
     // poles) moved 0.75 % of a flat mirror's rays one row off the reference's; atan is
     // accurate to float rounding there (tests/app: BenchSameRaysErrorIsTheDiscretizationAlone).
@@ -371,7 +401,7 @@ void main() {
     float t_start = 0.0;
     if (pc.bounce > 0u) {
         skip = ivec2(floatBitsToInt(ray.origin.w), floatBitsToInt(ray.direction.w));
-        t_start = 1e-5; // Algorithm 2 line 7: a small initial offset after a reflection
+        t_start = P.offset_mm; // Algorithm 2 line 7: a small initial offset after a reflection
     } else if (all(greaterThanEqual(w.O, vec2(0.0))) && all(lessThan(w.O, vec2(P.hf_w, P.hf_h))) &&
                w.o.z < (kHitMode == kHitModePaper ? height_at(ivec2(floor(w.O))) : surface_height(w.O))) {
         // The source is inside the reflector (against the surface the hit mode traces:
@@ -395,9 +425,16 @@ void main() {
                 vec3 p = w.o + t_hit * w.d;
                 const vec3 p_hit = p; // where the ray meets the surface (before the paper lift)
                 const vec2 q = texel_pos(w, t_hit);
-                const vec2 g = kHitMode == kHitModePaper ? gradient_at(hit_texel) : bilinear_gradient(q);
+                const vec2 g = kHitMode == kHitModePaper ? gradient_at(hit_texel) : hit_gradient(p, hit_texel);
                 const vec3 n = normalize(vec3(-g, 1.0));
-                const vec3 r = normalize(w.d - 2.0 * dot(w.d, n) * n);
+                vec3 r = normalize(w.d - 2.0 * dot(w.d, n) * n);
+                if (kHitMode != kHitModePaper) {
+                    // Never into the surface traced: where the true normal and the patch
+                    // hit part (within a texel of a kink), reflect about the patch itself,
+                    // which the ray met from above (d . n_patch < 0, so r . n_patch > 0).
+                    const vec3 n_patch = normalize(vec3(-patch_gradient(q, hit_texel, texel_mm), 1.0));
+                    if (dot(r, n_patch) <= 0.0) r = normalize(w.d - 2.0 * dot(w.d, n_patch) * n_patch);
+                }
                 if (kHitMode == kHitModePaper) p.z = max(p.z, height_at(hit_texel)); // on the texel top
                 const uint texel = uint(hit_texel.y) * P.hf_w + uint(hit_texel.x);
                 if (kDiagnostics != 0u && pc.record_hits != 0u) {

@@ -7,7 +7,7 @@ layout(location = 1) in vec2 gradient;
 layout(push_constant) uniform Push {
     mat4 view_projection;
     vec4 grid;   // holder min x, min y, texel width, texel depth (mm)
-    vec4 shade;  // z low, z high, colour mode (0 metal, 1 height map), 0
+    vec4 shade;  // z low, z high, colour mode (0 metal, 1 height map), the heights' origin z
     uvec4 size;  // height field width, height
 } pc;
 layout(location = 0) out vec3 normal;
@@ -17,8 +17,8 @@ void main() {
     const uint i = uint(gl_VertexIndex) % pc.size.x;
     const uint j = uint(gl_VertexIndex) / pc.size.x;
     const vec3 p = vec3(pc.grid.x + (float(i) + 0.5) * pc.grid.z,
-                        pc.grid.y + (float(j) + 0.5) * pc.grid.w, height);
+                        pc.grid.y + (float(j) + 0.5) * pc.grid.w, height + pc.shade.w);
     normal = normalize(vec3(-gradient, 1.0));
-    height01 = clamp((height - pc.shade.x) / max(pc.shade.y - pc.shade.x, 1e-6), 0.0, 1.0);
+    height01 = clamp((p.z - pc.shade.x) / max(pc.shade.y - pc.shade.x, 1e-6), 0.0, 1.0);
     gl_Position = pc.view_projection * vec4(p, 1.0);
 }

@@ -45,7 +45,7 @@ HitAgreement compare_hits(const vk::Context& ctx, Scene s, HitMode mode, std::si
     const auto rays = effective_rays(s, count, 21);
     FastTracer fast(ctx, s, 1);
     fast.set_reflector(s.reflector);
-    std::vector<glm::vec4> hits;
+    std::vector<glm::dvec4> hits;
     (void)fast.run_rays(rays, &hits);
     const Surface surface = Surface::make(s.reflector, s.holder);
     const double texel = (s.holder.max_mm.x - s.holder.min_mm.x) / s.trace.heightfield_w;
@@ -504,7 +504,7 @@ heightfield = [40, 40]
         s.trace.hit_mode = mode;
         FastTracer t(ctx(), s, 1);
         t.set_reflector(s.reflector);
-        std::vector<glm::vec4> hits;
+        std::vector<glm::dvec4> hits;
         const FastRun r = t.run_rays(rays, &hits);
         EXPECT_EQ(r.aborted, 0u);
         EXPECT_EQ(r.tally.lost, 0u);
