@@ -19,6 +19,7 @@
 #include "optimize/search_report.hpp"
 #include "parse.hpp"
 #include "progress.hpp"
+#include "resume_record.hpp"
 #include "vk/context.hpp"
 
 namespace fird::app {
@@ -33,14 +34,26 @@ struct Args {
 };
 
 // The settings a search was started with, kept beside its history so that --resume
-// continues the very same search.
-nlohmann::json settings_json(const SearchSettings& s, const Scene& scene) {
-    return {
-        {"method", method_name(s.method)},      {"rays", s.rays}, {"threshold_lm", s.threshold_lm},
-        {"max_evaluations", s.max_evaluations}, {"seed", s.seed}, {"scene", scene_to_toml(scene)}};
+// continues the very same search, and what else its result depends on (resume_record.hpp).
+nlohmann::json settings_json(const SearchSettings& s, const Scene& scene,
+                             const vk::DeviceSummary& device) {
+    return {{"method", method_name(s.method)},
+            {"rays", s.rays},
+            {"threshold_lm", s.threshold_lm},
+            {"max_evaluations", s.max_evaluations},
+            {"seed", s.seed},
+            {"scene", scene_to_toml(scene)},
+            {"depends_on", depends_on_record(scene, device)}};
 }
 
-SearchSettings resumed_settings(const std::string& dir, const Scene& scene) {
+struct Resumed {
+    SearchSettings settings;
+    nlohmann::json depends_on; // checked against the device once it is open
+};
+
+// The recorded settings, once the scene's text, the files it names and the program are
+// found unchanged.
+Resumed resumed_settings(const std::string& dir, const Scene& scene) {
     const std::string path = (std::filesystem::path(dir) / "options.json").string();
     std::ifstream in(path);
     if (!in)
@@ -52,13 +65,15 @@ SearchSettings resumed_settings(const std::string& dir, const Scene& scene) {
         if (j.at("scene").get<std::string>() != scene_to_toml(scene))
             throw std::runtime_error(
                 fmt::format("--resume {}: {} has changed since the search began", dir, scene.path));
+        const nlohmann::json depends_on = j.value("depends_on", nlohmann::json());
+        check_program_and_files(dir, depends_on, scene);
         SearchSettings s;
         s.method = method_from_name(j.at("method").get<std::string>()).value();
         s.rays = j.at("rays").get<std::vector<std::uint64_t>>();
         s.threshold_lm = j.at("threshold_lm").get<double>();
         s.max_evaluations = j.at("max_evaluations").get<std::uint64_t>();
         s.seed = j.at("seed").get<std::uint64_t>();
-        return s;
+        return {s, depends_on};
     } catch (const nlohmann::json::exception& e) {
         throw std::runtime_error(fmt::format("{}: {}", path, e.what()));
     } catch (const std::bad_optional_access&) {
@@ -72,6 +87,7 @@ int run_optimize(const GlobalOptions& global, const Args& a, const CLI::App& cmd
     SearchSettings settings = search_settings(scene);
     std::string out = a.out;
     SearchRequest request;
+    nlohmann::json depends_on;
     if (!a.resume.empty()) {
         for (const char* o : {"--method", "--rays", "--max-evals", "--threshold", "--seed"})
             if (cmd.count(o))
@@ -82,7 +98,9 @@ int run_optimize(const GlobalOptions& global, const Args& a, const CLI::App& cmd
         if (!out.empty() && std::filesystem::path(out) != std::filesystem::path(a.resume))
             throw UsageError("--out must be the --resume directory (or left out)");
         out = a.resume;
-        settings = resumed_settings(a.resume, scene);
+        Resumed resumed = resumed_settings(a.resume, scene);
+        settings = resumed.settings;
+        depends_on = std::move(resumed.depends_on);
         request.replay = read_history((std::filesystem::path(out) / "history.csv").string(),
                                       parameter_space(scene).names);
     } else {
@@ -98,12 +116,15 @@ int run_optimize(const GlobalOptions& global, const Args& a, const CLI::App& cmd
             settings.rays = {settings.rays.back()};
     }
 
+    const auto ctx = vk::Context::create(context_options(global));
+    if (!a.resume.empty()) check_device(a.resume, depends_on, ctx.summary());
     std::unique_ptr<HistoryWriter> history;
     if (!out.empty()) {
         create_output_directory(out);
         const auto path = [&](const char* n) { return (std::filesystem::path(out) / n).string(); };
         if (a.resume.empty())
-            write_text_file(path("options.json"), settings_json(settings, scene).dump(2) + "\n");
+            write_text_file(path("options.json"),
+                            settings_json(settings, scene, ctx.summary()).dump(2) + "\n");
         history = std::make_unique<HistoryWriter>(path("history.csv"), parameter_space(scene).names,
                                                   !a.resume.empty());
     }
@@ -129,8 +150,6 @@ int run_optimize(const GlobalOptions& global, const Args& a, const CLI::App& cmd
     };
     SearchControl control;
     request.control = &control;
-    const auto ctx =
-        vk::Context::create(context_options(global));
     SearchOutcome outcome;
     {
         const InterruptScope interrupts(control);

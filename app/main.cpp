@@ -8,11 +8,14 @@
 
 #include "commands.hpp"
 #include "parse.hpp"
+#include "version.hpp"
 #include "vk/check.hpp"
 
 int main(int argc, char** argv) {
     CLI::App app{"FIRD: fast inverse reflector design workbench", "fird"};
     app.require_subcommand(1);
+    app.set_version_flag("--version", fird::app::program_version(),
+                         "Print the program's version (and the git commit built) and exit");
     fird::app::GlobalOptions global;
     app.add_option("--device", global.device_name,
                    "Vulkan device to use (case-insensitive substring of its name)");

@@ -10,6 +10,7 @@
 #include <fmt/format.h>
 
 #include "io/parse_number.hpp"
+#include "io/scene_file.hpp"
 
 namespace fird::ui {
 
@@ -68,6 +69,11 @@ Script parse_script_text(const std::string& text, const std::string& path) {
                             hi == 1 ? "" : "s"));
         ScriptAction a{kind, {w.begin() + 1, w.end()}, n};
         using K = ScriptAction::Kind;
+        // The scene a script opens is found beside the script, as a scene's mesh is beside
+        // the scene: the script runs the same from any working directory. Screenshots are
+        // outputs and land where fird runs (as every command's --out), so a script kept
+        // with its scenes need not be writable.
+        if (kind == K::Open) a.args[0] = resolve_beside(path, a.args[0]);
         if (kind == K::Set) (void)number(path, n, a.args[1]);
         if (kind == K::Wait && !(number(path, n, a.args[0]) >= 0))
             throw std::invalid_argument(

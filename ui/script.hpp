@@ -1,5 +1,6 @@
 // Scripted sessions (fird gui --script FILE): one action a line, '#' for comments. How
 // the windowed tests drive the workbench, and how users record a reproducible session.
+// An open's PATH is relative to the script's folder; a screenshot's to the working directory.
 //   open PATH | set NAME VALUE | trace | optimize [METHOD] | calibrate rays|semivariogram
 //   [NAME] | stop | wait FRAMES | wait-idle | pick-ray X Y | screenshot PATH | quit
 #pragma once

@@ -157,13 +157,6 @@ class TableReader {
     std::string name_;
 };
 
-std::string resolve(const std::string& scene_path, const std::string& file) {
-    namespace fs = std::filesystem;
-    const fs::path p(file);
-    if (p.is_absolute()) return p.string();
-    return (fs::path(scene_path).parent_path() / p).lexically_normal().string();
-}
-
 SourceDesc read_source(const TableReader& t) {
     SourceDesc s;
     const std::string type = t.choice("type", {"cylinder", "sphere", "point"}, "");
@@ -263,7 +256,7 @@ ReflectorDesc read_reflector(const TableReader& t, const std::string& scene_path
     } else if (r.family == Family::Mesh) {
         allowed.insert({"file", "unit_mm"});
         r.mesh.file = t.text("file");
-        r.mesh.resolved_path = resolve(scene_path, r.mesh.file);
+        r.mesh.resolved_path = resolve_beside(scene_path, r.mesh.file);
         r.mesh.unit_mm = t.has("unit_mm") ? t.positive("unit_mm") : 1.0;
     } else {
         for (const auto& p : params) {
@@ -318,7 +311,7 @@ TargetDesc read_target(const TableReader& t, const ReflectorDesc& reflector,
     if (t.has("file")) {
         d.kind = TargetDesc::Kind::Photometric;
         d.file = t.text("file");
-        d.resolved_path = resolve(scene_path, d.file);
+        d.resolved_path = resolve_beside(scene_path, d.file);
         d.absolute = t.boolean_or("absolute", false);
         if (t.has("seed")) t.fail(t.find("seed"), "seed", "only a target reflector has a seed");
         if (t.has("rays")) t.fail(t.find("rays"), "rays", "only a target reflector is traced");
@@ -526,6 +519,13 @@ std::string scene_to_toml(const Scene& s) {
     std::ostringstream out;
     out << root << "\n";
     return out.str();
+}
+
+std::string resolve_beside(const std::string& naming_file, const std::string& named) {
+    namespace fs = std::filesystem;
+    const fs::path p(named);
+    if (p.is_absolute()) return p.string();
+    return (fs::path(naming_file).parent_path() / p).lexically_normal().string();
 }
 
 } // namespace fird

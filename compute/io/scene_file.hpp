@@ -21,6 +21,11 @@ Scene parse_scene(const std::string& text, const std::string& path);
 // Writes the scene as TOML that parse_scene reads back to an equal Scene.
 std::string scene_to_toml(const Scene& scene);
 
+// A path that a file names (a scene its mesh, a workbench script its scene), as the
+// naming file's reader finds it: an absolute one as it is, a relative one from the naming
+// file's folder, wherever the program runs.
+std::string resolve_beside(const std::string& naming_file, const std::string& named);
+
 // Validates the whole scene (also called by the loaders); throws SceneError.
 void validate_scene(const Scene& scene);
 

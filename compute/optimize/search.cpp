@@ -1,6 +1,7 @@
 #include "search.hpp"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <numeric>
 #include <stdexcept>
@@ -10,6 +11,7 @@
 #include "model/surface_distance.hpp"
 #include "optimize/methods.hpp"
 #include "optimize/objective.hpp"
+#include "sampling/philox.hpp"
 
 namespace fird {
 
@@ -19,12 +21,9 @@ namespace {
 constexpr std::uint64_t kFinalStream = 1000;
 constexpr std::uint64_t kNoiseStream = 1001;
 
-std::uint64_t splitmix64(std::uint64_t x) {
-    x += 0x9E3779B97F4A7C15ull;
-    x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
-    x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
-    return x ^ (x >> 31);
-}
+// The counter word that keeps a search's stream seeds apart from the ray sampler's blocks
+// under the same key (words 2 of those counters are 0, kSampleStream and Sobol's 0x50B01).
+constexpr std::uint32_t kStreamSeedDomain = 0x5EED5u;
 
 nlopt::algorithm nlopt_algorithm(SearchMethod m) {
     switch (m) {
@@ -102,11 +101,22 @@ SearchSettings search_settings(const Scene& scene) {
     return s;
 }
 
+// Philox4x32-10 keyed by the seed, counting over the stream: the counter-based generator
+// the rays already use (Salmon et al. 2011), so stream k of seed s is the block at counter
+// (k, domain, draw) under key s. For one key the counter-to-block map is a bijection, so
+// streams of one seed never meet; under different keys the blocks are Philox's
+// independent streams, with no algebraic relation between (s, k) and (s', k'). XOR-ing a
+// hash of the seed with a hash of the stream instead (as before) is symmetric: seed
+// s = c + j at stream k gave what seed c + k gave at stream j. The target's seed is
+// stepped over by drawing the next block (draw 1, 2, ...), still a function of (s, k).
 std::uint64_t stream_seed(std::uint64_t seed, std::uint64_t stream, std::uint64_t avoid) {
-    std::uint64_t s = splitmix64(splitmix64(seed) ^ splitmix64(stream + 0x5EEDull));
-    while (s == avoid)
-        s = splitmix64(s);
-    return s;
+    const std::array<std::uint32_t, 2> key{std::uint32_t(seed), std::uint32_t(seed >> 32)};
+    for (std::uint32_t draw = 0;; ++draw) {
+        const Philox4 block = philox4x32_10(
+            {std::uint32_t(stream), std::uint32_t(stream >> 32), kStreamSeedDomain, draw}, key);
+        const std::uint64_t s = (std::uint64_t(block[1]) << 32) | block[0];
+        if (s != avoid) return s;
+    }
 }
 
 std::pair<std::uint32_t, std::uint32_t> stage_farfield(std::uint32_t w, std::uint32_t h,

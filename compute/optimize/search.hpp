@@ -32,8 +32,9 @@ SearchOutcome run_search(const vk::Context& ctx, const Scene& scene, const Searc
 // last, which is the scene's grid), the other methods one at the last count.
 std::vector<Fidelity> search_stages(const Scene& scene, const SearchSettings& settings);
 
-// The seed of stream `stream` of a search seeded `seed` (splitmix64 of both: independent
-// Philox keys), never equal to `avoid` (the target reflector's seed).
+// The seed of stream `stream` of a search seeded `seed`: a Philox4x32-10 block keyed by the
+// seed at a counter holding the stream (DESIGN.md §2: a counter-based generator, not XOR-ed
+// hashes), never equal to `avoid` (the target reflector's seed).
 std::uint64_t stream_seed(std::uint64_t seed, std::uint64_t stream, std::uint64_t avoid);
 
 // The coarsest grid whose cells are blocks of the scene's and that has no more cells than

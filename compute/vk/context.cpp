@@ -111,6 +111,7 @@ DeviceSummary summarize(VkPhysicalDevice pd, const std::vector<std::string>& ext
                     .type = type_name(props.properties.deviceType),
                     .driver_name = driver.driverName,
                     .driver_info = driver.driverInfo,
+                    .driver_version = props.properties.driverVersion,
                     .api_version = props.properties.apiVersion};
     if (props.properties.apiVersion < VK_API_VERSION_1_3) {
         s.unusable_reason = "Vulkan 1.3 is required";

@@ -62,6 +62,7 @@ struct DeviceSummary {
     std::string type; // "discrete", "integrated", "virtual", "cpu", "other"
     std::string driver_name;
     std::string driver_info;
+    std::uint32_t driver_version = 0; // driverVersion, in the vendor's own encoding
     std::uint32_t api_version = 0;
     bool usable = false; // Vulkan 1.3 with a graphics+compute queue and the extensions we need
     std::string unusable_reason;

@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <iterator>
 #include <sstream>
 #include <string>
@@ -440,6 +441,80 @@ TEST(CliOptimize, KilledSearchResumedEndsWhereAnUninterruptedOneDoes) {
         ++rows;
     }
     EXPECT_EQ(rows, 170u);
+}
+
+// A search's result depends on the files its scene names, the program and the device:
+// --resume refuses (exit 1, one line naming what changed) when one of them differs from
+// when the search began, and continues when all are as they were.
+TEST(CliOptimize, ResumeIsRefusedWhenANamedFileChanged) {
+    const std::string dir =
+        (std::filesystem::path(::testing::TempDir()) / "fird_resume_inputs").lexically_normal();
+    std::filesystem::remove_all(dir);
+    std::filesystem::create_directories(dir);
+    const auto read_text = [](const std::string& path) {
+        std::ifstream in(path, std::ios::binary);
+        return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    };
+    // The mirror search with Model A's luminaire file as its desired far field, both copied
+    // beside each other so the test may change the file.
+    std::string text = read_text(std::string(FIRD_SOURCE_DIR) + "/scenes/test/mirror_search.toml");
+    const std::size_t target = text.find("[target]"), after = text.find("[optimize]");
+    ASSERT_NE(target, std::string::npos);
+    ASSERT_NE(after, std::string::npos);
+    text.replace(target, after - target, "[target]\nfile = \"luminaire.ies\"\n\n");
+    const std::string scene = dir + "/scene.toml", ies = dir + "/luminaire.ies", out = dir + "/out";
+    std::ofstream(scene) << text;
+    const std::string luminaire =
+        read_text(std::string(FIRD_SOURCE_DIR) + "/scenes/targets/model_a_target.ies");
+    std::ofstream(ies, std::ios::binary) << luminaire;
+    const auto began =
+        run("optimize " + scene + " --method grid --rays 1e4 --max-evals 3 --out " + out);
+    ASSERT_EQ(began.code, 0) << began.out;
+
+    // The luminaire file gains one trailing newline: its contents changed.
+    std::ofstream(ies, std::ios::binary) << luminaire << "\n";
+    auto r = run("optimize " + scene + " --resume " + out);
+    EXPECT_EQ(r.code, 1) << r.out;
+    EXPECT_NE(
+        r.out.find("--resume " + out + ": target " + ies + " has changed since the search began"),
+        std::string::npos)
+        << r.out;
+    EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << r.out;
+    std::filesystem::remove(ies);
+    r = run("optimize " + scene + " --resume " + out);
+    EXPECT_EQ(r.code, 1) << r.out;
+    EXPECT_NE(r.out.find(ies + " has changed"), std::string::npos) << r.out;
+
+    // As it was: the resume goes ahead (and replays the three rows).
+    std::ofstream(ies, std::ios::binary) << luminaire;
+    r = run("optimize " + scene + " --resume " + out);
+    EXPECT_EQ(r.code, 0) << r.out;
+
+    // The program and the device, as options.json records them, changed one at a time.
+    const std::string options = out + "/options.json";
+    const nlohmann::json recorded = nlohmann::json::parse(read_text(options));
+    ASSERT_EQ(recorded["depends_on"]["files"].size(), 1u);
+    EXPECT_EQ(recorded["depends_on"]["files"][0]["file"], "luminaire.ies");
+    const auto refused = [&](const std::function<void(nlohmann::json&)>& change,
+                             const std::string& what) {
+        nlohmann::json j = recorded;
+        change(j);
+        std::ofstream(options) << j.dump(2);
+        const auto c = run("optimize " + scene + " --resume " + out);
+        EXPECT_EQ(c.code, 1) << what << ": " << c.out;
+        EXPECT_NE(c.out.find("--resume " + out + ": " + what), std::string::npos) << c.out;
+        EXPECT_EQ(std::count(c.out.begin(), c.out.end(), '\n'), 1) << c.out;
+    };
+    refused([](nlohmann::json& j) { j["depends_on"]["program"] = "0.0.1 (0123456789ab)"; },
+            "fird has changed since the search began (0.0.1 (0123456789ab) then");
+    refused([](nlohmann::json& j) { j["depends_on"]["device"]["name"] = "another device"; },
+            "the device has changed since the search began (another device");
+    refused([](nlohmann::json& j) { j["depends_on"]["device"]["driver_info"] = "older"; },
+            "the device's driver has changed since the search began");
+    refused([](nlohmann::json& j) { j["depends_on"]["device"]["driver_version"] = 0xFFFFFF; },
+            "the device's driver has changed since the search began");
+    refused([](nlohmann::json& j) { j.erase("depends_on"); },
+            "options.json does not record the program");
 }
 
 TEST(CliCalibrate, RaysJsonHasTheContractKeysAndOutHasTheTable) {

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <set>
 #include <sstream>
 
@@ -224,6 +225,55 @@ TEST_F(SearchRules, ADarkReflectorDoesNotMatchARelativePhotometricTarget) {
     dark_eval.set_desired(photometric_target(s, d.farfield_lm));
     EXPECT_LT(dark_eval.compare(), 0.25 * dark.l2_lm);
     EXPECT_LT(dark_eval.compare(), lit.l2_lm);
+}
+
+// DESIGN.md §2: streams of different seeds are independent, so no (seed, stream) pair may
+// replay another's rays. The grid holds the seeds users pick (0..63), each with the stages'
+// and calibration's streams (0..63) and the final and noise runs (1000, 1001), and seeds
+// c + j near c = 0x5EED: XOR-ing hash(seed) with hash(stream + c), as the seeds were once
+// derived, is symmetric, so seed c + j at stream k met seed c + k at stream j. A Philox
+// block keyed by the seed has no such relation: every seed of the grid is distinct.
+TEST(SearchSeeds, NoTwoSeedsAndStreamsShareARayStream) {
+    std::vector<std::uint64_t> seeds, streams{1000, 1001};
+    for (std::uint64_t j = 0; j < 64; ++j) {
+        seeds.push_back(j);
+        seeds.push_back(0x5EEDu + j);
+        streams.push_back(j);
+    }
+    std::map<std::uint64_t, std::pair<std::uint64_t, std::uint64_t>> seen;
+    for (std::uint64_t s : seeds)
+        for (std::uint64_t k : streams) {
+            const auto [it, fresh] = seen.emplace(stream_seed(s, k, ~0ull), std::pair{s, k});
+            EXPECT_TRUE(fresh) << "seed " << s << " stream " << k << " replays seed "
+                               << it->second.first << " stream " << it->second.second;
+        }
+    EXPECT_EQ(seen.size(), seeds.size() * streams.size());
+}
+
+// The target reflector's seed is never a stream's seed (the search would trace the very
+// rays of its own desired far field): told to avoid what it would give, stream_seed gives
+// another seed, the same every time, and one no other stream of the grid gives; a search
+// whose target happens to hold its first stage's seed traces that stage with another.
+TEST(SearchSeeds, TheAvoidedSeedIsNeverReturned) {
+    std::set<std::uint64_t> grid;
+    for (std::uint64_t s = 0; s < 16; ++s)
+        for (std::uint64_t k = 0; k < 16; ++k)
+            grid.insert(stream_seed(s, k, ~0ull));
+    for (std::uint64_t s = 0; s < 16; ++s)
+        for (std::uint64_t k = 0; k < 16; ++k) {
+            const std::uint64_t taken = stream_seed(s, k, ~0ull);
+            const std::uint64_t other = stream_seed(s, k, taken);
+            EXPECT_NE(other, taken) << s << " " << k;
+            EXPECT_EQ(other, stream_seed(s, k, taken));
+            EXPECT_EQ(grid.count(other), 0u) << s << " " << k;
+        }
+    Scene mirror = scene("mirror_search.toml");
+    const SearchSettings settings = search_settings(mirror);
+    const std::uint64_t first = stream_seed(settings.seed, 0, ~0ull);
+    ASSERT_EQ(search_stages(mirror, settings).front().seed, first); // stage 0: stream 0
+    mirror.target.seed = first;
+    for (const Fidelity& f : search_stages(mirror, settings))
+        EXPECT_NE(f.seed, first);
 }
 
 TEST(SearchModel, LatticeCountsPointsAndSnapping) {
