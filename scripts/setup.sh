@@ -11,7 +11,7 @@ packages=(
   libvulkan-dev mesa-vulkan-drivers vulkan-validationlayers vulkan-tools
   glslang-tools spirv-tools
   libglfw3-dev libglm-dev libimgui-dev libcairo2-dev fonts-dejavu-core
-  libtomlplusplus-dev libcli11-dev nlohmann-json3-dev libfmt-dev libnlopt-cxx-dev
+  libtomlplusplus-dev libcli11-dev nlohmann-json3-dev libfmt-dev libnlopt-cxx-dev nettle-dev
   libvtk9-dev
   libgtest-dev libgmock-dev libbenchmark-dev libeigen3-dev
   xvfb xauth
