@@ -92,8 +92,9 @@ ResolutionProbe resolution_probe(const VariogramFit& fit, double lag,
 // Finds the resolvable step by probing lags: from first_lag down by factors of 4 while
 // resolved (or up by 2 while not, up to max_lag), then narrowing the bracket [failed,
 // resolved] by interpolating log(signal / (z sd)) linearly in log h (the signal ~ h and
-// sd ~ h^(1/2) at small lags: a straight line there) until it spans under 1.3x. Returns the
-// interpolated lag where signal = z sd. A floor of first_lag / 4^8 bounds the descent.
+// sd grows more slowly at small lags: near a straight line there) until it spans under
+// 1.3x. The step is the interpolated lag where signal = z sd (where an end decided on ties,
+// the finest resolved lag). A floor of first_lag / 4^8 bounds the descent.
 Resolution resolvable_step(const VariogramFit& fit, const CommonRandomDifferences& differences,
                            double first_lag, double max_lag);
 
