@@ -50,15 +50,15 @@ VariogramFit best_fit(const std::vector<VariogramFit>& fits);
 // mean is the signal: between two points of the series a step h apart its mean square is
 // 2 (gamma(h) - nugget) (the series is traced with fresh rays per point, so the fitted
 // nugget is the fresh-ray noise, and what rises above it is the l2 surface itself). D's
-// spread about that mean is the noise of the comparison: with the same rays it is far
-// below the fresh-ray noise 2 sigma^2 (it vanishes as h -> 0, where both traces send
-// nearly every ray to the same cell) and must be measured: sd(h), from replicate rayset
-// pairs. With D ~ Normal(signal, sd^2) the pair is ordered correctly (D has the sign of its
-// mean) with probability Phi(signal / sd), so the step is resolved at the confidence c
-// where signal(h) >= z_c sd(h), z_c = Phi^-1(c) (1.645 for 95 %: not one standard
-// deviation, which orders a pair correctly 84 % of the time). A difference that comes out
-// exactly 0 (no ray changed cell) orders nothing: a lag where more than 1 - c of them do is
-// not resolved, whatever the spread.
+// spread about that mean is the noise of the comparison: with the same rays it is below
+// the fresh-ray difference's (2 sigma^2), and falls toward 0 as h -> 0, where both traces
+// send more and more rays to the same cell; neither the nugget nor sigma, it must be
+// measured: sd(h), from replicate raysets. With D ~ Normal(signal, sd^2) the pair is
+// ordered correctly (D has the sign of its mean) with probability Phi(signal / sd), so the
+// step is resolved at the confidence c where signal(h) >= z_c sd(h), z_c = Phi^-1(c) (1.645
+// for 95 %: not one standard deviation, which orders a pair correctly 84 % of the time). A
+// difference that comes out exactly 0 (no ray changed cell) orders nothing: a lag where
+// more than 1 - c of them do is not resolved, whatever the spread.
 constexpr double kOrderingConfidence = 0.95;
 constexpr double kOrderingZ = 1.6448536269514722; // Phi^-1(0.95)
 
