@@ -27,7 +27,7 @@ struct RaysArgs {
 
 struct SemivariogramArgs {
     std::string scene, parameter = "all", rays = "1e6", out, write_steps;
-    StepRule step_rule = StepRule::Range;
+    StepRule step_rule = StepRule::Resolvable;
     std::uint32_t points = 101;
     std::uint64_t seed = 1;
     bool json = false;
@@ -80,8 +80,10 @@ int run_rays(const GlobalOptions& global, const RaysArgs& a) {
 }
 
 int run_semivariogram(const GlobalOptions& global, const SemivariogramArgs& a) {
-    SemivariogramOptions o{
-        .points = a.points, .rays = parse_count("--rays", a.rays, 4e9), .seed = a.seed};
+    SemivariogramOptions o{.points = a.points,
+                           .rays = parse_count("--rays", a.rays, 4e9),
+                           .seed = a.seed,
+                           .step_rule = a.step_rule};
     if (a.points < 3)
         throw UsageError(fmt::format("--points {}: a semivariogram needs at least 3", a.points));
     if (a.parameter != "all") o.parameters = split_list(a.parameter);
@@ -111,7 +113,7 @@ int run_semivariogram(const GlobalOptions& global, const SemivariogramArgs& a) {
                         fmt::format("# {} with the steps of fird calibrate semivariogram ({:.0e} "
                                     "rays, {} points)\n",
                                     scene.name, double(o.rays), o.points) +
-                            scene_to_toml(scene_with_steps(scene, result, a.step_rule)));
+                            scene_to_toml(scene_with_steps(scene, result)));
     if (a.json) {
         std::printf("%s\n", semivariogram_json(result).dump(2).c_str());
     } else {
@@ -124,12 +126,13 @@ int run_semivariogram(const GlobalOptions& global, const SemivariogramArgs& a) {
                         .c_str());
         for (const ParameterSemivariogram& p : result.parameters)
             std::printf("%s: %s model, nugget %.4g, sill %.4g, range %.4g; recommended step "
-                        "%.4g, resolvable step %s; calibrated step %.4g\n",
+                        "%.4g, resolvable step (95 %% ordered, same rays) %s; calibrated step "
+                        "(%s) %.4g\n",
                         p.parameter.c_str(), variogram_model_name(p.model.model), p.model.nugget,
                         p.model.sill, p.model.range, p.recommended_step,
                         p.resolvable_step ? fmt::format("{:.4g}", *p.resolvable_step).c_str()
                                           : "none",
-                        calibrated_step(p, a.step_rule));
+                        step_rule_name(a.step_rule), calibrated_step(p, a.step_rule));
     }
     return 0;
 }
@@ -167,13 +170,15 @@ void register_calibrate(CLI::App& app, const GlobalOptions& global, std::functio
     sv->add_option("--seed", s->seed, "Seed of the calibration's rays")
         ->check(CLI::NonNegativeNumber);
     sv->add_flag("--json", s->json, "Print one JSON object");
-    sv->add_option("--out", s->out,
-                   "Write series.csv, semivariogram.csv, semivariogram_NAME.png here");
+    sv->add_option(
+        "--out", s->out,
+        "Write series.csv, semivariogram.csv, resolution.csv, semivariogram_NAME.png here");
     sv->add_option("--write-steps", s->write_steps,
                    "Write the scene with the calibrated [reflector.optimize] steps to this file");
     sv->add_option("--step-rule", s->step_rule,
-                   "Steps --write-steps writes: range (the paper's lower bound, never below "
-                   "the resolvable step) or resolvable (the smallest above the noise)")
+                   "Steps --write-steps writes: resolvable (default: the smallest step whose two "
+                   "points a search orders correctly 95 % of the time on the same rays) or "
+                   "range (the paper's lower bound, never below the resolvable step)")
         ->transform(CLI::CheckedTransformer(std::map<std::string, StepRule>{
             {"range", StepRule::Range}, {"resolvable", StepRule::Resolvable}}));
     sv->callback(

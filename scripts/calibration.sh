@@ -2,7 +2,8 @@
 # The paper's calibration (§5.1) for Models A, B and C: Table 1 (100 runs per ray count)
 # and the semivariogram of every parameter (at 1e6 rays), with the cost of each;
 # docs/calibration.md shows the results (scripts/calibration_markdown.py OUT_DIR prints its
-# tables). About 11 min on a 2-core machine with lavapipe at the defaults; COUNTS=1e3,...,1e7
+# tables). About 11 min on a quiet 2-core machine with lavapipe at the defaults, plus 2-3x
+# for the semivariograms since their resolvable-step probes (2026-12-02); COUNTS=1e3,...,1e7
 # adds the paper's last row (~17 min more). Usage:
 #   [COUNTS=1e3,1e4,1e5,1e6] [POINTS=41] scripts/calibration.sh [OUT_DIR] [MODELS...]
 set -euo pipefail

@@ -12,10 +12,18 @@
 #include "evaluation/evaluator.hpp"
 #include "io/atomic_file.hpp"
 #include "io/scene_file.hpp"
+#include "optimize/search.hpp"
 #include "plot/chart.hpp"
 #include "reference/reference_tracer.hpp"
 
 namespace fird {
+
+namespace {
+
+// The seed stream of a row's replicate trace (stream_seed of the scene's seed).
+constexpr std::uint64_t kReplicateStream = 9000;
+
+} // namespace
 
 double median_ms(std::vector<double> timings) {
     std::sort(timings.begin(), timings.end());
@@ -27,7 +35,8 @@ std::vector<BenchRow> run_bench(const vk::Context& ctx, const BenchOptions& o,
     std::vector<BenchRow> rows;
     for (const std::string& path : o.scenes) {
         const Scene base = load_scene(path);
-        // One reference per scene: its far field and the cell probabilities for the noise.
+        // One reference per scene (independent rays): its far field and the cell
+        // probabilities of the multinomial noise.
         const auto ref = trace_reference(base.source, Surface::make(base.reflector, base.holder),
                                          {.rays = o.reference_rays,
                                           .seed = base.trace.seed + 1000,
@@ -36,11 +45,8 @@ std::vector<BenchRow> run_bench(const vk::Context& ctx, const BenchOptions& o,
                                           .bounce_policy = base.trace.bounce_policy,
                                           .farfield_w = base.trace.farfield_w,
                                           .farfield_h = base.trace.farfield_h});
-        double sum_p = 0.0;
-        for (double v : ref.farfield.lm) {
-            const double p = v / base.source.flux_lm;
-            sum_p += p * (1.0 - p);
-        }
+        const double multinomial =
+            multinomial_noise_lm2_times_rays(ref.farfield, base.source.flux_lm);
         // The reference traced with the fast path's own rays (same seed and sampler), once
         // per ray count: the l2 to it has no Monte Carlo noise, only the discretization
         // of the surface (and rays that float rounding sends another way).
@@ -89,9 +95,23 @@ std::vector<BenchRow> run_bench(const vk::Context& ctx, const BenchOptions& o,
                         evaluator.set_desired(same_rays_reference(n));
                         r.l2_same_rays_lm = evaluator.compare();
                     }
-                    r.noise_lm =
-                        base.source.flux_lm *
-                        std::sqrt(sum_p * (1.0 / double(n) + 1.0 / double(o.reference_rays)));
+                    // The noise of the sampler this row runs: the multinomial formula for
+                    // independent rays; for any other (the stratified default is quieter)
+                    // measured: a replicate trace with another seed, half of whose squared
+                    // l2 to this row's far field is the row's noise variance (one pair is
+                    // enough: the l2 over ~1e6 cells scatters by under 1 %). The reference's
+                    // own noise is multinomial (it runs the random sampler).
+                    double row_noise_lm2 = multinomial / double(n);
+                    if (s.trace.sampler != SamplerKind::Random) {
+                        const FarField first = evaluator.farfield();
+                        evaluator.set_seed(stream_seed(s.trace.seed, kReplicateStream, ~0ull));
+                        (void)evaluator.evaluate(s.reflector);
+                        const double d = l2_distance(first, evaluator.farfield());
+                        row_noise_lm2 = 0.5 * d * d;
+                    }
+                    r.noise_from =
+                        s.trace.sampler == SamplerKind::Random ? "multinomial" : "replicate";
+                    r.noise_lm = std::sqrt(row_noise_lm2 + multinomial / double(o.reference_rays));
                     r.rays_per_s = r.trace_ms > 0 ? double(r.effective) / (r.trace_ms * 1e-3) : 0.0;
                     rows.push_back(r);
                     if (progress) progress(r);
@@ -104,29 +124,32 @@ std::string bench_markdown(const std::vector<BenchRow>& rows, const std::string&
     std::string s = fmt::format("Device: {}\n\n", device);
     s += "| scene | height field | rays | mode | rayset ms | height field ms | trace ms | "
          "histogram ms | compare ms | M rays/s | l2 lm | noise lm | l2/noise | "
-         "l2 same rays lm | aborted |\n";
-    s += "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+         "l2 same rays lm | aborted | noise from |\n";
+    s += "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     for (const BenchRow& r : rows)
         s += fmt::format(
             "| {} | {}x{} | {:.0e} | {} | {:.1f} | {:.1f} | {:.1f} | {:.1f} | {:.1f} | "
-            "{:.2f} | {:.4f} | {:.4f} | {:.2f} | {} | {} |\n",
+            "{:.2f} | {:.4f} | {:.4f} | {:.2f} | {} | {} | {} |\n",
             r.scene, r.hf_w, r.hf_h, double(r.rays), r.mode, r.rayset_ms, r.heightfield_ms,
             r.trace_ms, r.histogram_ms, r.compare_ms, r.rays_per_s * 1e-6, r.l2_lm, r.noise_lm,
             r.noise_lm > 0 ? r.l2_lm / r.noise_lm : 0.0,
-            r.l2_same_rays_lm >= 0 ? fmt::format("{:.4f}", r.l2_same_rays_lm) : "-", r.aborted);
+            r.l2_same_rays_lm >= 0 ? fmt::format("{:.4f}", r.l2_same_rays_lm) : "-", r.aborted,
+            r.noise_from);
     return s;
 }
 
 void write_bench_csv(const std::string& path, const std::vector<BenchRow>& rows) {
     std::string text =
         "scene,heightfield_w,heightfield_h,rays,effective,mode,rayset_ms,heightfield_ms,"
-        "trace_ms,histogram_ms,compare_ms,rays_per_s,l2_lm,noise_lm,l2_same_rays_lm,aborted\n";
+        "trace_ms,histogram_ms,compare_ms,rays_per_s,l2_lm,noise_lm,l2_same_rays_lm,aborted,"
+        "noise_from\n";
     for (const BenchRow& r : rows)
         text += fmt::format(
-            "{},{},{},{},{},{},{:.3f},{:.3f},{:.3f},{:.3f},{:.3f},{:.1f},{:.6g},{:.6g},{},{}\n",
+            "{},{},{},{},{},{},{:.3f},{:.3f},{:.3f},{:.3f},{:.3f},{:.1f},{:.6g},{:.6g},{},{},{}\n",
             r.scene, r.hf_w, r.hf_h, r.rays, r.effective, r.mode, r.rayset_ms, r.heightfield_ms,
             r.trace_ms, r.histogram_ms, r.compare_ms, r.rays_per_s, r.l2_lm, r.noise_lm,
-            r.l2_same_rays_lm >= 0 ? fmt::format("{:.6g}", r.l2_same_rays_lm) : "", r.aborted);
+            r.l2_same_rays_lm >= 0 ? fmt::format("{:.6g}", r.l2_same_rays_lm) : "", r.aborted,
+            r.noise_from);
     write_text_file(path, text);
 }
 

@@ -30,9 +30,13 @@ struct BenchRow {
     std::uint64_t rays = 0, effective = 0, aborted = 0;
     std::string mode;
     double rayset_ms = 0, heightfield_ms = 0, trace_ms = 0, histogram_ms = 0, compare_ms = 0;
-    double rays_per_s = 0;       // effective rays per second of trace stage
-    double l2_lm = 0;            // to the reference far field
-    double noise_lm = 0;         // the l2 expected from Monte Carlo noise alone
+    double rays_per_s = 0; // effective rays per second of trace stage
+    double l2_lm = 0;      // to the reference far field
+    // The l2 expected from Monte Carlo noise alone with the row's sampler: the multinomial
+    // formula for independent rays ("multinomial"), measured from a replicate trace for any
+    // other ("replicate"); the reference's own noise (independent rays) added.
+    double noise_lm = 0;
+    std::string noise_from;
     double l2_same_rays_lm = -1; // to the reference of the same rays (-1: not traced)
 };
 

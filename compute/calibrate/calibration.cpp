@@ -35,22 +35,65 @@ void check_stop(const SearchControl* control) {
         throw std::runtime_error("calibration stopped before it finished");
 }
 
-// The desired far field on the scene's grid: the desired reflector traced once at
-// `rays` with its own stream, or the photometric target scaled to that trace's flux.
+// The desired far field on the scene's grid: the desired reflector traced once at `rays`
+// with its own stream, or the photometric target scaled to that trace's flux. With
+// `noise_lm2` the desired reflector is traced a second time (the next stream) and half the
+// squared l2 between the two traces is the desired's own noise, measured (0 for a
+// photometric target, which has none).
 DesiredFarField calibration_desired(const vk::Context& ctx, const Scene& scene, std::uint64_t rays,
-                                    std::uint64_t seed) {
+                                    std::uint64_t seed, double* noise_lm2 = nullptr) {
     Fidelity f = scene_fidelity(scene);
     f.rays = rays;
     f.seed = stream_seed(seed, kDesiredStream, avoid_seed(scene));
     Evaluator desired(ctx, scene, f);
     const CandidateResult r = desired.evaluate(desired_reflector(scene));
-    if (scene.target.kind == TargetDesc::Kind::Photometric)
+    if (scene.target.kind == TargetDesc::Kind::Photometric) {
+        if (noise_lm2) *noise_lm2 = 0.0;
         return desired_farfield(ctx, scene, r.farfield_lm);
-    return {.farfield = desired.farfield(),
-            .description = fmt::format("the desired reflector traced with {} rays", rays)};
+    }
+    DesiredFarField d{.farfield = desired.farfield(),
+                      .description =
+                          fmt::format("the desired reflector traced with {} rays", rays)};
+    if (noise_lm2) {
+        desired.set_seed(stream_seed(seed, kDesiredStream + 1, avoid_seed(scene)));
+        (void)desired.evaluate(desired_reflector(scene));
+        const double l2 = l2_distance(d.farfield, desired.farfield());
+        *noise_lm2 = 0.5 * l2 * l2;
+    }
+    return d;
+}
+
+double least_squares_slope(const std::vector<RaysRow>& rows) {
+    double sx = 0, sy = 0, sxx = 0, sxy = 0;
+    const double n = double(rows.size());
+    for (const RaysRow& r : rows) {
+        const double x = std::log(double(r.rays)), y = std::log(std::max(r.mean_l2, 1e-300));
+        sx += x, sy += y, sxx += x * x, sxy += x * y;
+    }
+    return (n * sxy - sx * sy) / (n * sxx - sx * sx);
 }
 
 } // namespace
+
+const char* noise_prediction_name(NoisePrediction p) {
+    return p == NoisePrediction::Multinomial ? "multinomial" : "replicate";
+}
+
+NoisePrediction noise_prediction_for(SamplerKind sampler) {
+    return sampler == SamplerKind::Random ? NoisePrediction::Multinomial
+                                          : NoisePrediction::Replicate;
+}
+
+std::string noise_prediction_label(SamplerKind sampler) {
+    return noise_prediction_for(sampler) == NoisePrediction::Multinomial
+               ? "noise alone, independent rays (random sampler): multinomial formula"
+               : fmt::format("noise alone, {} sampler: measured from replicate traces",
+                             sampler_name(sampler));
+}
+
+const char* step_rule_name(StepRule rule) {
+    return rule == StepRule::Resolvable ? "resolvable" : "range";
+}
 
 ReflectorDesc desired_reflector(const Scene& scene) {
     return scene.target.kind == TargetDesc::Kind::Reflector ? target_reflector(scene)
@@ -64,21 +107,19 @@ RaysTable calibrate_rays(const vk::Context& ctx, const Scene& scene, const RaysT
         throw std::invalid_argument("calibrate rays: needs counts and at least one run");
     for (std::uint64_t n : o.counts)
         if (n == 0) throw std::invalid_argument("calibrate rays: a ray count of 0");
-    RaysTable table;
+    RaysTable table{.sampler = scene.trace.sampler,
+                    .prediction = noise_prediction_for(scene.trace.sampler)};
     const bool photometric = scene.target.kind == TargetDesc::Kind::Photometric;
     const std::uint64_t largest = *std::max_element(o.counts.begin(), o.counts.end());
     table.desired_rays = o.desired_rays ? o.desired_rays : 10 * largest;
-    const DesiredFarField desired = calibration_desired(ctx, scene, table.desired_rays, o.seed);
+    double desired_noise_lm2 = 0.0; // V_N, measured
+    const DesiredFarField desired =
+        calibration_desired(ctx, scene, table.desired_rays, o.seed, &desired_noise_lm2);
     table.desired = desired.description;
     if (photometric) table.desired_rays = 0;
-    // The noise a histogram of n rays has about its mean (multinomial cells):
-    // E[l2^2] = flux^2 sum p_i (1 - p_i) (1/n + 1/N_desired), p_i from the desired.
-    const double flux = scene.source.flux_lm;
-    double sum_p = 0.0;
-    for (double v : desired.farfield.lm) {
-        const double p = v / flux;
-        sum_p += p * (1.0 - p);
-    }
+    // Independent rays: E[l2^2] = flux^2 sum p (1 - p) (1/n + 1/N), p from the desired.
+    const double multinomial =
+        multinomial_noise_lm2_times_rays(desired.farfield, scene.source.flux_lm);
     const ReflectorDesc reflector = desired_reflector(scene);
     for (std::size_t c = 0; c < o.counts.size(); ++c) {
         const auto tc = std::chrono::steady_clock::now();
@@ -86,54 +127,98 @@ RaysTable calibrate_rays(const vk::Context& ctx, const Scene& scene, const RaysT
         f.rays = o.counts[c];
         Evaluator evaluator(ctx, scene, f); // pipelines and buffers once per count
         evaluator.set_desired(desired.farfield);
-        double sum = 0.0, sum2 = 0.0;
+        double sum = 0.0, sum2 = 0.0, pair_sum2 = 0.0;
+        RaysRow row{.rays = o.counts[c], .runs = o.runs};
+        FarField first; // of the pair the next run completes
         for (std::uint32_t run = 0; run < o.runs; ++run) {
             check_stop(control);
             evaluator.set_seed(stream_seed(o.seed, kRunStreams * (c + 1) + run, avoid_seed(scene)));
             const double l2 = *evaluator.evaluate(reflector).l2_lm;
             sum += l2;
             sum2 += l2 * l2;
+            // Runs 2k and 2k + 1 are independent traces of one reflector: half their squared
+            // l2 estimates V_n without a trace more (the far fields are read back only here).
+            if (run % 2 == 0 && run + 1 < o.runs) {
+                first = evaluator.farfield();
+            } else if (run % 2 == 1) {
+                const double d = l2_distance(first, evaluator.farfield());
+                pair_sum2 += d * d;
+                ++row.replicate_pairs;
+            }
             if (on_run) on_run(c, run, l2);
         }
-        RaysRow row{.rays = o.counts[c], .runs = o.runs};
         row.mean_l2 = sum / o.runs;
         row.var_l2 = o.runs > 1 ? std::max(0.0, (sum2 - sum * row.mean_l2) / (o.runs - 1)) : 0.0;
         const double inv_desired = photometric ? 0.0 : 1.0 / double(table.desired_rays);
-        row.predicted_l2 = flux * std::sqrt(sum_p * (1.0 / double(o.counts[c]) + inv_desired));
+        row.multinomial_l2 = std::sqrt(multinomial * (1.0 / double(o.counts[c]) + inv_desired));
+        row.replicate_l2 =
+            row.replicate_pairs > 0
+                ? std::sqrt(0.5 * pair_sum2 / row.replicate_pairs + desired_noise_lm2)
+                : std::nan("");
+        row.predicted_l2 = table.prediction == NoisePrediction::Multinomial ? row.multinomial_l2
+                                                                            : row.replicate_l2;
         row.time_s = seconds_since(tc);
         table.rows.push_back(row);
     }
-    // Least squares of log mean against log rays.
-    if (table.rows.size() >= 2) {
-        double sx = 0, sy = 0, sxx = 0, sxy = 0;
-        const double n = double(table.rows.size());
-        for (const RaysRow& r : table.rows) {
-            const double x = std::log(double(r.rays)), y = std::log(std::max(r.mean_l2, 1e-300));
-            sx += x, sy += y, sxx += x * x, sxy += x * y;
-        }
-        table.slope = (n * sxy - sx * sy) / (n * sxx - sx * sx);
-    }
+    if (table.rows.size() >= 2) table.slope = least_squares_slope(table.rows);
     table.time_s = seconds_since(t0);
     return table;
 }
 
 namespace {
 
-// The sample variance of l2 over independent traces of the centre reflector (fresh rays
-// each, the same stream numbering as the series so no seed is reused).
-double noise_variance(Evaluator& evaluator, const Scene& scene, const ReflectorDesc& centre,
-                      const SemivariogramOptions& o, std::uint64_t& stream,
-                      const SearchControl* control) {
-    if (o.noise_runs < 2 || !candidate_feasibility(scene, centre).feasible) return 0.0;
+// The replicate raysets of the noise: the desired reflector's l2 with each (fresh rays each,
+// the same stream numbering as the series so no seed is reused).
+struct NoiseReplicates {
+    std::vector<std::uint64_t> seeds;
+    std::vector<double> centre_l2;
+    double variance_l2 = 0.0; // their sample variance: the fresh-ray noise of a point
+};
+
+NoiseReplicates noise_replicates(Evaluator& evaluator, const Scene& scene,
+                                 const ReflectorDesc& centre, const SemivariogramOptions& o,
+                                 std::uint64_t& stream, const SearchControl* control) {
+    NoiseReplicates n;
+    if (o.noise_runs < 2 || !candidate_feasibility(scene, centre).feasible) return n;
     double sum = 0.0, sum2 = 0.0;
     for (std::uint32_t r = 0; r < o.noise_runs; ++r) {
         check_stop(control);
-        evaluator.set_seed(stream_seed(o.seed, ++stream, avoid_seed(scene)));
+        n.seeds.push_back(stream_seed(o.seed, ++stream, avoid_seed(scene)));
+        evaluator.set_seed(n.seeds.back());
         const double l2 = *evaluator.evaluate(centre).l2_lm;
+        n.centre_l2.push_back(l2);
         sum += l2, sum2 += l2 * l2;
     }
-    const double n = o.noise_runs;
-    return std::max(0.0, (sum2 - sum * sum / n) / (n - 1.0));
+    const double runs = o.noise_runs;
+    n.variance_l2 = std::max(0.0, (sum2 - sum * sum / runs) / (runs - 1.0));
+    return n;
+}
+
+// The differences a search compares at lag h along parameter k: for each replicate rayset,
+// l2(centre +- h) - l2(centre) traced with the same rays (a side outside the bounds or
+// infeasible is left out).
+std::vector<std::vector<double>>
+common_random_differences(Evaluator& evaluator, const Scene& scene, const ParameterSpace& space,
+                          std::size_t k, const ReflectorDesc& centre, const NoiseReplicates& n,
+                          double lag, const SearchControl* control) {
+    const std::string& name = space.names[k];
+    const double x = centre.parameters.at(name);
+    std::vector<ReflectorDesc> sides;
+    for (double side : {x + lag, x - lag}) {
+        ReflectorDesc r = centre;
+        r.parameters[name] = side;
+        if (side >= space.lo[k] && side <= space.hi[k] && candidate_feasibility(scene, r).feasible)
+            sides.push_back(r);
+    }
+    std::vector<std::vector<double>> groups(sides.size());
+    for (std::size_t r = 0; r < n.seeds.size(); ++r) {
+        evaluator.set_seed(n.seeds[r]); // the rays the centre's l2 was traced with
+        for (std::size_t s = 0; s < sides.size(); ++s) {
+            check_stop(control);
+            groups[s].push_back(*evaluator.evaluate(sides[s]).l2_lm - n.centre_l2[r]);
+        }
+    }
+    return groups;
 }
 
 } // namespace
@@ -154,7 +239,8 @@ SemivariogramResult calibrate_semivariogram(const vk::Context& ctx, const Scene&
             throw std::invalid_argument(
                 fmt::format("--parameter {}: not in {}'s [reflector.optimize] ({})", n, scene.path,
                             fmt::join(space.names, ", ")));
-    SemivariogramResult result{.rays = o.rays, .points = o.points};
+    SemivariogramResult result{
+        .rays = o.rays, .points = o.points, .noise_runs = o.noise_runs, .step_rule = o.step_rule};
     Fidelity f = scene_fidelity(scene);
     f.rays = o.rays;
     const DesiredFarField desired =
@@ -164,7 +250,8 @@ SemivariogramResult calibrate_semivariogram(const vk::Context& ctx, const Scene&
     evaluator.set_desired(desired.farfield); // the height field change between points
     const ReflectorDesc centre = desired_reflector(scene);
     std::uint64_t stream = kRunStreams * 64;
-    result.noise_variance_l2 = noise_variance(evaluator, scene, centre, o, stream, control);
+    const NoiseReplicates noise = noise_replicates(evaluator, scene, centre, o, stream, control);
+    result.noise_variance_l2 = noise.variance_l2;
     for (std::size_t p = 0; p < names.size(); ++p) {
         const auto tp = std::chrono::steady_clock::now();
         const auto k = std::size_t(std::find(space.names.begin(), space.names.end(), names[p]) -
@@ -191,7 +278,19 @@ SemivariogramResult calibrate_semivariogram(const vk::Context& ctx, const Scene&
         s.fits = fit_variograms(s.empirical);
         s.model = best_fit(s.fits);
         s.recommended_step = s.model.range;
-        s.resolvable_step = resolvable_step(s.model, result.noise_variance_l2);
+        if (!noise.seeds.empty()) {
+            // Probed around the desired reflector, from the series' spacing; never past half
+            // the span (the semivariogram's own reach).
+            const Resolution res = resolvable_step(
+                s.model,
+                [&](double lag) {
+                    return common_random_differences(evaluator, scene, space, k, centre, noise, lag,
+                                                     control);
+                },
+                spacing, 0.5 * (space.hi[k] - space.lo[k]));
+            s.resolvable_step = res.step;
+            s.resolution = res.probes;
+        }
         s.time_s = seconds_since(tp);
         result.parameters.push_back(std::move(s));
     }
@@ -208,10 +307,10 @@ double calibrated_step(const ParameterSemivariogram& p, StepRule rule) {
     return std::ceil(step / mag - 1e-9) * mag;
 }
 
-Scene scene_with_steps(const Scene& scene, const SemivariogramResult& result, StepRule rule) {
+Scene scene_with_steps(const Scene& scene, const SemivariogramResult& result) {
     Scene s = scene;
     for (const ParameterSemivariogram& p : result.parameters) {
-        const double step = calibrated_step(p, rule);
+        const double step = calibrated_step(p, result.step_rule);
         if (step > 0.0) s.reflector.optimize.at(p.parameter).step = step;
     }
     return s;

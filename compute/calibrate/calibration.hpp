@@ -1,6 +1,8 @@
 // Calibration before a search (the paper's §5.1): how many rays are enough (Table 1: the
 // l2 of independent simulations of the desired reflector against rays), and the
-// smallest step worth taking per parameter (the semivariogram of l2 along it, Figure 8).
+// smallest step worth taking per parameter (the semivariogram of l2 along it, Figure 8, and
+// the step a search resolves on common random numbers). Every prediction is that of the
+// scene's sampler: the multinomial formula for independent rays, measured otherwise.
 // Both evaluate through the seam (Evaluator): pipelines and buffers are made once per
 // ray count, each run or point draws fresh rays.
 #pragma once
@@ -29,17 +31,40 @@ struct RaysRow {
     std::uint64_t rays = 0;
     std::uint32_t runs = 0;
     double mean_l2 = 0.0, var_l2 = 0.0;
-    double predicted_l2 = 0.0; // Monte Carlo noise alone, from the desired histogram
-    double time_s = 0.0;       // all runs at this count
+    // The l2 Monte Carlo noise alone gives with the scene's sampler: multinomial_l2 for
+    // the `random` sampler, replicate_l2 for any other (RaysTable::prediction says which).
+    double predicted_l2 = 0.0;
+    // Independent rays (multinomial cells, from the desired histogram):
+    // flux sqrt(sum p (1 - p) (1/n + 1/N)). An upper bound for a stratified sampler.
+    double multinomial_l2 = 0.0;
+    // Measured: sqrt(V_n + V_N), V the mean squared l2 of a far field to its expectation,
+    // each half the mean squared l2 between two independent traces of the same reflector
+    // (the runs taken in pairs at n, two traces of the desired at N); NaN with one run.
+    double replicate_l2 = 0.0;
+    std::uint32_t replicate_pairs = 0; // pairs of runs behind replicate_l2
+    double time_s = 0.0;               // all runs at this count
 };
+
+// Which prediction Table 1 shows: derived for independent rays, measured for the others.
+enum class NoisePrediction { Multinomial, Replicate };
+const char* noise_prediction_name(NoisePrediction p);
 
 struct RaysTable {
     std::vector<RaysRow> rows;
-    std::uint64_t desired_rays = 0; // 0: a photometric target (no noise of its own)
-    std::string desired;            // what the desired far field is
-    double slope = 0.0;             // of log mean l2 against log rays (-0.5: noise only)
+    std::uint64_t desired_rays = 0;                // 0: a photometric target (no noise of its own)
+    std::string desired;                           // what the desired far field is
+    SamplerKind sampler = SamplerKind::Stratified; // the scene's: every trace uses it
+    NoisePrediction prediction = NoisePrediction::Replicate; // behind predicted_l2
+    double slope = 0.0; // of log mean l2 against log rays (-0.5: noise only)
     double time_s = 0.0;
 };
+
+// The prediction that fits a sampler: the multinomial formula holds for independent rays
+// only; a stratified (or Sobol) sampler's noise is measured.
+NoisePrediction noise_prediction_for(SamplerKind sampler);
+// Its description in the outputs, e.g. "noise alone, stratified sampler: measured from
+// replicate traces".
+std::string noise_prediction_label(SamplerKind sampler);
 
 // Called after each run: (count index, run index, its l2).
 using RunCallback = std::function<void(std::size_t, std::uint32_t, double)>;
@@ -48,12 +73,22 @@ RaysTable calibrate_rays(const vk::Context& ctx, const Scene& scene,
                          const RaysTableOptions& options, const SearchControl* control = nullptr,
                          const RunCallback& on_run = {});
 
+// Which step is written back: the smallest step a search resolves (two points a step
+// apart ordered correctly 95 % of the time on common random numbers; the default, since
+// on the paper's models the range is the width of the error's basin rather than the reach
+// of its noise: docs/calibration.md), or the paper's lower bound (the range).
+enum class StepRule { Resolvable, Range };
+const char* step_rule_name(StepRule rule);
+
 struct SemivariogramOptions {
     std::vector<std::string> parameters; // empty: every parameter of [reflector.optimize]
     std::uint32_t points = 101;          // K regularly spaced values across the bounds
     std::uint64_t rays = 1000000;
     std::uint64_t seed = 1;
-    std::uint32_t noise_runs = 8; // independent traces of the desired reflector: the noise
+    // Raysets of the noise: the desired reflector traced with each (the fresh-ray noise),
+    // and the resolvable step's common-random-number differences measured on each.
+    std::uint32_t noise_runs = 8;
+    StepRule step_rule = StepRule::Resolvable; // the step the result writes back
 };
 
 struct ParameterSemivariogram {
@@ -64,6 +99,9 @@ struct ParameterSemivariogram {
     VariogramFit model;             // the best of them
     double recommended_step = 0.0;  // the paper's lower bound: the range
     std::optional<double> resolvable_step;
+    // How the resolvable step was found: the lags probed around the desired reflector, each
+    // with its signal and the spread of its common-random-number differences.
+    std::vector<ResolutionProbe> resolution;
     double time_s = 0.0;
 };
 
@@ -73,8 +111,10 @@ struct SemivariogramResult {
     std::uint32_t points = 0;
     std::string desired;
     // Variance of l2 over noise_runs independent traces of the desired reflector at `rays`:
-    // the noise a step's difference must stand above, measured rather than fitted.
+    // the fresh-ray noise of each point of the series, measured rather than fitted.
     double noise_variance_l2 = 0.0;
+    std::uint32_t noise_runs = 0;
+    StepRule step_rule = StepRule::Resolvable;
     double time_s = 0.0;
 };
 
@@ -90,18 +130,12 @@ SemivariogramResult calibrate_semivariogram(const vk::Context& ctx, const Scene&
 // target the scene's own.
 ReflectorDesc desired_reflector(const Scene& scene);
 
-// Which step is written back: the paper's lower bound (the range), or the smallest step
-// that stands above the noise (where the range measures the width of the error's basin
-// rather than the reach of its noise, as in docs/calibration.md).
-enum class StepRule { Range, Resolvable };
+// The step written back for a parameter: the resolvable step, or the range (never below
+// the resolvable step); rounded up to two significant digits; 0 where there is none.
+double calibrated_step(const ParameterSemivariogram& p, StepRule rule = StepRule::Resolvable);
 
-// The step written back for a parameter: the range (never below the resolvable step), or
-// the resolvable step; rounded up to two significant digits; 0 where there is none.
-double calibrated_step(const ParameterSemivariogram& p, StepRule rule = StepRule::Range);
-
-// The scene with [reflector.optimize] steps set to the calibrated ones (scene_to_toml); a
-// parameter without one keeps its step.
-Scene scene_with_steps(const Scene& scene, const SemivariogramResult& result,
-                       StepRule rule = StepRule::Range);
+// The scene with [reflector.optimize] steps set to the calibrated ones under the result's
+// rule (scene_to_toml); a parameter without one keeps its step.
+Scene scene_with_steps(const Scene& scene, const SemivariogramResult& result);
 
 } // namespace fird

@@ -23,7 +23,8 @@ void write_rays_table(const std::string& directory, const RaysTable& table,
                       const std::string& scene_name);
 
 nlohmann::json semivariogram_json(const SemivariogramResult& result);
-// series.csv, semivariogram.csv, semivariogram_NAME.png and calibration.json.
+// series.csv, semivariogram.csv, resolution.csv (the resolvable step's probes),
+// semivariogram_NAME.png and calibration.json.
 void write_semivariograms(const std::string& directory, const SemivariogramResult& result,
                           const std::string& scene_name);
 

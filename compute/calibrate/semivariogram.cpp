@@ -120,23 +120,95 @@ VariogramFit best_fit(const std::vector<VariogramFit>& fits) {
                              [](const auto& a, const auto& b) { return a.residual < b.residual; });
 }
 
-std::optional<double> resolvable_step(const VariogramFit& f, double noise_variance) {
-    // The noise a difference must stand above: the fitted nugget, or the measured variance
-    // of l2 where the fit put the nugget below it (a series whose first lag is far above the
-    // noise leaves the nugget unidentified: the fit then sets it to zero).
-    const double noise = std::max(f.nugget, noise_variance);
-    // gamma rises monotonically from the nugget to the sill: bisect gamma(h) - nugget = noise.
-    const double target = f.nugget + noise;
-    if (f.sill <= target) return std::nullopt;
-    if (noise <= 0.0) return 0.0;
-    double lo = 0.0, hi = f.range;
-    while (variogram(f, hi) <= target)
-        hi *= 2.0;
-    for (int i = 0; i < 200; ++i) {
-        const double mid = 0.5 * (lo + hi);
-        (variogram(f, mid) > target ? hi : lo) = mid;
+double variogram_signal_lm(const VariogramFit& f, double h) {
+    return std::sqrt(2.0 * std::max(0.0, variogram(f, h) - f.nugget));
+}
+
+ResolutionProbe resolution_probe(const VariogramFit& f, double lag,
+                                 const std::vector<std::vector<double>>& groups) {
+    ResolutionProbe p{.lag = lag, .signal_lm = variogram_signal_lm(f, lag)};
+    double squares = 0.0;
+    std::size_t dof = 0;
+    for (const std::vector<double>& g : groups) {
+        if (g.empty()) continue;
+        double mean = 0.0;
+        for (double d : g)
+            mean += d / double(g.size());
+        for (double d : g) {
+            squares += (d - mean) * (d - mean);
+            p.ties += d == 0.0 ? 1 : 0;
+        }
+        p.differences += g.size();
+        dof += g.size() - 1;
     }
-    return hi;
+    p.noise_sd_lm = dof > 0 ? std::sqrt(squares / double(dof)) : std::nan("");
+    const bool few_ties = double(p.ties) <= (1.0 - kOrderingConfidence) * double(p.differences);
+    p.resolved =
+        dof > 0 && few_ties && p.signal_lm > 0.0 && p.signal_lm >= kOrderingZ * p.noise_sd_lm;
+    return p;
+}
+
+namespace {
+
+// log(signal / (z sd)): 0 where the step is just resolved; NaN where a probe decided on
+// ties or had no spread to compare.
+double log_margin(const ResolutionProbe& p) {
+    if (!(p.signal_lm > 0.0) || !(p.noise_sd_lm > 0.0)) return std::nan("");
+    return std::log(p.signal_lm / (kOrderingZ * p.noise_sd_lm));
+}
+
+} // namespace
+
+Resolution resolvable_step(const VariogramFit& f, const CommonRandomDifferences& differences,
+                           double first_lag, double max_lag) {
+    Resolution r;
+    const auto probe = [&](double lag) -> const ResolutionProbe& {
+        r.probes.push_back(resolution_probe(f, lag, differences(lag)));
+        return r.probes.back();
+    };
+    if (!(first_lag > 0.0)) return r;
+    std::optional<ResolutionProbe> failed, resolved;
+    if (probe(first_lag).resolved) {
+        resolved = r.probes.back();
+        const double floor = first_lag / 65536.0; // 4^8
+        for (double lag = first_lag / 4.0; lag >= floor; lag /= 4.0) {
+            const ResolutionProbe& p = probe(lag);
+            (p.resolved ? resolved : failed) = p;
+            if (!p.resolved) break;
+        }
+        if (!failed) { // resolved down to the floor: at most that fine
+            r.step = resolved->lag;
+            return r;
+        }
+    } else {
+        failed = r.probes.back();
+        for (double lag = 2.0 * first_lag; lag <= max_lag; lag *= 2.0) {
+            const ResolutionProbe& p = probe(lag);
+            (p.resolved ? resolved : failed) = p;
+            if (p.resolved) break;
+        }
+        if (!resolved) return r;
+    }
+    // Narrow the bracket where the margin is a line in log h; bisect (geometrically) where
+    // an end has no margin to interpolate (it decided on ties).
+    const auto interpolated = [&]() -> std::optional<double> {
+        const double a = log_margin(*failed), b = log_margin(*resolved);
+        if (!std::isfinite(a) || !std::isfinite(b) || !(b > a)) return std::nullopt;
+        const double la = std::log(failed->lag), lb = std::log(resolved->lag);
+        return la + (lb - la) * (-a) / (b - a);
+    };
+    for (int i = 0; i < 4 && resolved->lag > 1.3 * failed->lag; ++i) {
+        // Inside the bracket, away from its ends (a lopsided interpolation narrows slowly).
+        const double la = std::log(failed->lag), lb = std::log(resolved->lag);
+        const double x = std::clamp(interpolated().value_or(0.5 * (la + lb)), la + 0.1 * (lb - la),
+                                    lb - 0.1 * (lb - la));
+        const ResolutionProbe& p = probe(std::exp(x));
+        (p.resolved ? resolved : failed) = p;
+    }
+    // Without a line to interpolate, the finest lag measured to be resolved.
+    const std::optional<double> root = interpolated();
+    r.step = root ? std::exp(*root) : resolved->lag;
+    return r;
 }
 
 } // namespace fird

@@ -46,6 +46,15 @@ double l2_distance(const FarField& a, const FarField& b) {
     return std::sqrt(s);
 }
 
+double multinomial_noise_lm2_times_rays(const FarField& expected, double flux_lm) {
+    double sum = 0.0;
+    for (double v : expected.lm) {
+        const double p = v / flux_lm;
+        sum += p * (1.0 - p);
+    }
+    return flux_lm * flux_lm * sum;
+}
+
 FarField coarsen_farfield(const FarField& f, std::uint32_t width, std::uint32_t height) {
     if (width == 0 || height == 0 || f.width % width != 0 || f.height % height != 0)
         throw std::invalid_argument("a coarser far-field grid must divide the finer one");

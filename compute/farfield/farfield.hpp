@@ -26,6 +26,13 @@ FarField farfield_from_counts(const std::vector<std::uint64_t>& counts, std::uin
 // sqrt(sum (a_i - b_i)^2) in lumens; throws std::invalid_argument when grids differ.
 double l2_distance(const FarField& a, const FarField& b);
 
+// The Monte Carlo noise of independent rays (the `random` sampler), per ray: a far field
+// binned from n independent rays of equal energy is multinomial over its cells, so its
+// squared l2 to its own expectation has the mean flux^2 sum_i p_i (1 - p_i) / n, p_i the
+// share of the flux in cell i (taken from `expected`). Returns flux^2 sum p (1 - p) in lm^2:
+// divide by the rays. A stratified sampler is quieter (its noise must be measured).
+double multinomial_noise_lm2_times_rays(const FarField& expected, double flux_lm);
+
 // The same light on a coarser grid whose cells are blocks of the finer one's: width and
 // height must divide the far field's (binning is additive, so this equals binning the
 // rays on the coarse grid). Throws std::invalid_argument otherwise.

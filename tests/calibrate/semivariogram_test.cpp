@@ -91,25 +91,113 @@ INSTANTIATE_TEST_SUITE_P(Models, ModelFit,
                                            VariogramModel::Gaussian),
                          [](const auto& p) { return std::string(variogram_model_name(p.param)); });
 
-TEST(Semivariogram, ResolvableStepIsWhereTheSignalDoublesTheNugget) {
-    // Exponential: n + c (1 - e^(-3h/a)) = 2n at h = -a/3 ln(1 - n/c).
+// The signal of a step is the part of gamma the nugget does not explain, as a difference:
+// sqrt(2 (gamma(h) - nugget)); the probe pools each side's spread about its own mean.
+TEST(Resolution, SignalAndPooledSpreadMatchTheirDefinitionsByHand) {
     const VariogramFit f{VariogramModel::Exponential, 0.2, 1.2, 3.0};
-    const auto h = resolvable_step(f);
-    ASSERT_TRUE(h);
-    EXPECT_NEAR(*h, -3.0 / 3.0 * std::log(1.0 - 0.2 / 1.0), 1e-9);
-    EXPECT_FALSE(resolvable_step({VariogramModel::Spherical, 0.5, 0.9, 1.0})); // never
-    // A fit with no nugget stands above the measured noise instead: Gaussian with nugget 0,
-    // c (1 - e^(-3 (h/a)^2)) = v at h = a sqrt(-ln(1 - v/c) / 3).
-    const VariogramFit g{VariogramModel::Gaussian, 0.0, 2.0, 4.0};
-    EXPECT_DOUBLE_EQ(*resolvable_step(g), 0.0);
-    const auto hg = resolvable_step(g, 0.01);
-    ASSERT_TRUE(hg);
-    EXPECT_NEAR(*hg, 4.0 * std::sqrt(-std::log(1.0 - 0.01 / 2.0) / 3.0), 1e-9);
-    EXPECT_NEAR(*resolvable_step(f, 0.01), *h, 1e-12); // a nugget above the noise rules
+    // gamma(1.5) - nugget = 1 - e^-1.5.
+    EXPECT_NEAR(variogram_signal_lm(f, 1.5), std::sqrt(2.0 * (1.0 - std::exp(-1.5))), 1e-12);
+    EXPECT_DOUBLE_EQ(variogram_signal_lm(f, 0.0), 0.0);
+    // Means 2 and 11; squares (1 + 0 + 1) + (1 + 1) = 4 over 2 + 1 degrees of freedom.
+    const ResolutionProbe p = resolution_probe(f, 1.5, {{1.0, 2.0, 3.0}, {10.0, 12.0}});
+    EXPECT_EQ(p.differences, 5u);
+    EXPECT_EQ(p.ties, 0u);
+    EXPECT_NEAR(p.noise_sd_lm, std::sqrt(4.0 / 3.0), 1e-12);
+    EXPECT_EQ(p.resolved, p.signal_lm >= 1.6448536269514722 * std::sqrt(4.0 / 3.0));
+    EXPECT_FALSE(resolution_probe(f, 1.5, {}).resolved); // no side: nothing to order
+    // Phi(z) = 0.95: the stated confidence is the one-sided normal quantile.
+    EXPECT_NEAR(0.5 * std::erfc(-kOrderingZ / std::sqrt(2.0)), kOrderingConfidence, 1e-12);
+}
+
+// A known noise model: l2 along a parameter whose semivariogram is Gaussian (nugget 0,
+// sill 1, range 2), compared on common random numbers whose differences at lag h spread
+// with sd(h) = 0.02 sqrt(h) (the rays that change cell grow with h) about side means of
+// their own. The step found must order a pair whose true difference is the signal
+// correctly 95 % of the time: checked by drawing such pairs, and against the step solved
+// by hand from the model.
+TEST(Resolution, StepOrdersPairsCorrectlyNinetyFivePercentOfTheTimeUnderAKnownNoiseModel) {
+    const VariogramFit f{VariogramModel::Gaussian, 0.0, 1.0, 2.0};
+    const auto signal = [](double h) { // by hand: sqrt(2 (1 - exp(-3 (h / 2)^2)))
+        return std::sqrt(2.0 * (1.0 - std::exp(-3.0 * (h / 2.0) * (h / 2.0))));
+    };
+    const auto sd = [](double h) { return 0.02 * std::sqrt(h); };
+    std::mt19937_64 rng(20261202);
+    std::normal_distribution<double> normal;
+    constexpr int kReplicates = 400; // per side: the pooled sd to 2.5 % (798 dof)
+    const auto differences = [&](double h) {
+        std::vector<std::vector<double>> groups(2);
+        for (int r = 0; r < kReplicates; ++r) {
+            groups[0].push_back(0.8 * signal(h) + sd(h) * normal(rng));
+            groups[1].push_back(-0.3 * signal(h) + sd(h) * normal(rng));
+        }
+        return groups;
+    };
+    const Resolution res = resolvable_step(f, differences, 0.05, 2.5);
+    ASSERT_TRUE(res.step);
+    const double h = *res.step;
+    // The model's own answer: signal(h) = z sd(h), bisected here on the formulas above.
+    double lo = 1e-9, hi = 0.05;
+    for (int i = 0; i < 200; ++i) {
+        const double mid = std::sqrt(lo * hi);
+        (signal(mid) >= 1.6448536269514722 * sd(mid) ? hi : lo) = mid;
+    }
+    // The pooled sd is known to 2.5 % (one standard error), so the step (~ sd^2 at small
+    // lags, where signal ~ h and sd ~ h^1/2) to ~5 %; 15 % is three standard errors.
+    EXPECT_NEAR(h / hi, 1.0, 0.15) << h << " against " << hi;
+    // Draw pairs a step apart whose true difference is the signal: the fraction ordered
+    // correctly is Phi(signal / sd) = 0.95 up to the step's error (3 standard errors:
+    // +-0.015) and the draw's (2e5 pairs: +-0.0015 at three standard errors).
+    int correct = 0;
+    constexpr int kPairs = 200000;
+    for (int i = 0; i < kPairs; ++i)
+        correct += signal(h) + sd(h) * normal(rng) > 0.0 ? 1 : 0;
+    EXPECT_NEAR(double(correct) / kPairs, 0.95, 0.017);
+    // One standard deviation of the fresh-ray difference, the old rule, orders 84 %: the
+    // step at 95 % is coarser than where the signal first equals the spread.
+    double one_sd = 1e-9, top = 0.05;
+    for (int i = 0; i < 200; ++i) {
+        const double mid = std::sqrt(one_sd * top);
+        (signal(mid) >= sd(mid) ? top : one_sd) = mid;
+    }
+    EXPECT_GT(h, 2.0 * top);
+    // Every probe's verdict is the rule at its lag.
+    for (const ResolutionProbe& p : res.probes)
+        EXPECT_EQ(p.resolved, p.signal_lm >= kOrderingZ * p.noise_sd_lm) << p.lag;
+}
+
+// Differences that come out exactly 0 (no ray changed cell) order nothing: below the lag
+// where rays start to move, the step is not resolved however small the spread.
+TEST(Resolution, TiedDifferencesAreNotOrders) {
+    const VariogramFit f{VariogramModel::Gaussian, 0.0, 1.0, 2.0};
+    const double moves = 0.01; // below this lag every difference is 0
+    const auto differences = [&](double h) {
+        std::vector<std::vector<double>> g(1);
+        for (int r = 0; r < 16; ++r)
+            g[0].push_back(h < moves ? 0.0 : 1e-9 * (r % 2 ? 1.0 : -1.0) + h);
+        return g;
+    };
+    const Resolution res = resolvable_step(f, differences, 0.05, 2.5);
+    ASSERT_TRUE(res.step);
+    EXPECT_GE(*res.step, moves * 0.999);
+    EXPECT_LT(*res.step, 1.3 * moves); // the resolved end of a bracket under 1.3x
+    bool tied = false;
+    for (const ResolutionProbe& p : res.probes)
+        if (p.lag < moves) tied = tied || (p.ties == 16 && !p.resolved);
+    EXPECT_TRUE(tied);
+    // Noise that never falls below the signal: no step, and no probe past the largest lag.
+    const auto loud = [](double) { return std::vector<std::vector<double>>{{-10.0, 0.0, 10.0}}; };
+    const Resolution none = resolvable_step(f, loud, 0.05, 2.5);
+    EXPECT_FALSE(none.step);
+    for (const ResolutionProbe& p : none.probes)
+        EXPECT_LE(p.lag, 2.5);
+}
+
+TEST(Semivariogram, CalibratedStepFollowsTheRuleAndRoundsUp) {
     ParameterSemivariogram p{.recommended_step = 0.1234, .resolvable_step = 0.05};
-    EXPECT_DOUBLE_EQ(calibrated_step(p), 0.13); // up to two significant digits
+    EXPECT_DOUBLE_EQ(calibrated_step(p, StepRule::Range), 0.13); // up to two digits
+    EXPECT_DOUBLE_EQ(calibrated_step(p), 0.05); // the default rule: the resolvable step
     p.resolvable_step = 0.3;
-    EXPECT_DOUBLE_EQ(calibrated_step(p), 0.3); // never below the resolvable step
+    EXPECT_DOUBLE_EQ(calibrated_step(p, StepRule::Range), 0.3); // never below the resolvable
     p.resolvable_step = 0.01234;
     EXPECT_DOUBLE_EQ(calibrated_step(p, StepRule::Resolvable), 0.013);
     p.resolvable_step.reset(); // never above the noise: no step to write

@@ -115,14 +115,19 @@ TEST_F(VulkanTest, RefinedModeTracesATiltedPlaneExactly) {
     EXPECT_LT(refined.error_texels.back(), 2e-3);
 }
 
-// l2(fast, reference) for independent runs of N and M rays is, from noise alone,
-// F sqrt(sum p (1 - p) (1/N + 1/M)); the fast path may add only a little bias.
+// l2(fast, reference) for independent runs of N and M independent rays (both tracers on
+// the `random` sampler, whose cells are multinomial: the scenes' stratified sampler is
+// quieter, and the formula would then only bound the noise from above, hiding a bias of its
+// size) is, from noise alone, F sqrt(sum p (1 - p) (1/N + 1/M)). The l2 over 360 x 180
+// cells scatters by under 1 % about that (docs/calibration.md's Table 1), so 1.25 x bounds
+// the fast path's own error (added in quadrature) at 0.75 x the noise.
 class FarFieldAccuracy : public VulkanTest, public ::testing::WithParamInterface<std::string> {};
 
 TEST_P(FarFieldAccuracy, L2ToAFourTimesLargerReferenceIsWithinTheMonteCarloNoise) {
     Scene s = scene(GetParam());
     constexpr std::uint64_t kN = 200000, kM = 800000;
     s.trace.rays = kN;
+    s.trace.sampler = SamplerKind::Random;
     s.trace.farfield_w = 360;
     s.trace.farfield_h = 180;
     FastTracer fast(ctx(), s, 5);
@@ -133,6 +138,7 @@ TEST_P(FarFieldAccuracy, L2ToAFourTimesLargerReferenceIsWithinTheMonteCarloNoise
     const auto ref = trace_reference(s.source, Surface::make(s.reflector, s.holder),
                                      {.rays = kM,
                                       .seed = 6,
+                                      .sampler = SamplerKind::Random,
                                       .max_bounces = s.trace.max_bounces,
                                       .bounce_policy = s.trace.bounce_policy,
                                       .farfield_w = 360,
