@@ -229,6 +229,10 @@ SearchOutcome run_search(const vk::Context& ctx, const Scene& scene, const Searc
     r.names = space.names;
     r.flat_directions = flat_directions(scene.reflector, space.names);
     r.grid_size = space.lattice_size();
+    if (settings.refine && settings.method != SearchMethod::Auto &&
+        settings.method != SearchMethod::Grid)
+        throw std::invalid_argument(fmt::format(
+            "refining below the step follows a lattice method (auto or grid), not {}", r.method));
 
     // The start at the scene's fidelity, with rays of its own stream (the same stream
     // re-evaluates the best at the end): its l2, and the flux a relative photometric
@@ -259,10 +263,6 @@ SearchOutcome run_search(const vk::Context& ctx, const Scene& scene, const Searc
     final_eval.set_desired(out.desired.farfield);
     if (start_feasible) r.start_l2_lm = final_eval.compare();
 
-    if (settings.refine && settings.method != SearchMethod::Auto &&
-        settings.method != SearchMethod::Grid)
-        throw std::invalid_argument(fmt::format(
-            "refining below the step follows a lattice method (auto or grid), not {}", r.method));
     Objective f(ctx, scene, space, out.desired.farfield, settings, req.control, req.replay,
                 req.on_candidate);
     const std::vector<Fidelity> stages = search_stages(scene, settings);
