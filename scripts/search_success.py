@@ -75,7 +75,8 @@ def table(rows):
     for r in rows:
         groups.setdefault((r["model"], r["target"], r["refine"]), []).append(r)
     out = ["| model | target | refine | seeds | l2 / noise ≤ 1.1 | median ratio | worst ratio | "
-           "median RMS (mm) | worst RMS (mm) | whole neighbourhood polled | median time (s) |",
+           "median RMS (mm) | worst RMS (mm) | ends: all neighbours polled, none lower / "
+           "at the noise (pairs skipped) / other | median time (s) |",
            "|---|---|---|---|---|---|---|---|---|---|---|"]
     for (model, target, refine), rs in sorted(groups.items()):
         ok = [r for r in rs if "error" not in r and r["ratio"] is not None]
@@ -83,12 +84,13 @@ def table(rows):
         rms = [r["surface_rms_mm"] for r in ok if r["surface_rms_mm"] is not None]
         wins = sum(1 for x in ratios if x <= SUCCESS_RATIO)
         complete = sum(1 for r in ok if r["lattice_complete"])
+        at_noise = sum(1 for r in ok if "what noise alone leaves" in (r["lattice_verdict"] or ""))
         fmt = lambda v, d=3: f"{v:.{d}f}" if v is not None else "–"
         out.append(
             f"| {model} | {target} | {'yes' if refine else 'no'} | {len(rs)} | {wins} / {len(rs)} | "
             f"{fmt(statistics.median(ratios) if ratios else None)} | {fmt(max(ratios) if ratios else None)} | "
             f"{fmt(statistics.median(rms) if rms else None)} | {fmt(max(rms) if rms else None)} | "
-            f"{complete} / {len(ok)} | {fmt(statistics.median(r['time_s'] for r in ok) if ok else None, 0)} |")
+            f"{complete} / {at_noise} / {len(ok) - complete - at_noise} | {fmt(statistics.median(r['time_s'] for r in ok) if ok else None, 0)} |")
     return "\n".join(out)
 
 
