@@ -30,7 +30,7 @@ struct Args {
     std::string scene, method, rays, out, resume;
     std::uint64_t max_evals = 0, seed = 0;
     double threshold = -1.0;
-    bool json = false;
+    bool json = false, refine = false;
 };
 
 // The settings a search was started with, kept beside its history so that --resume
@@ -42,6 +42,7 @@ nlohmann::json settings_json(const SearchSettings& s, const Scene& scene,
             {"threshold_lm", s.threshold_lm},
             {"max_evaluations", s.max_evaluations},
             {"seed", s.seed},
+            {"refine", s.refine},
             {"scene", scene_to_toml(scene)},
             {"depends_on", depends_on_record(scene, device)}};
 }
@@ -73,6 +74,7 @@ Resumed resumed_settings(const std::string& dir, const Scene& scene) {
         s.threshold_lm = j.at("threshold_lm").get<double>();
         s.max_evaluations = j.at("max_evaluations").get<std::uint64_t>();
         s.seed = j.at("seed").get<std::uint64_t>();
+        s.refine = j.value("refine", false); // absent: recorded before --refine existed
         return {s, depends_on};
     } catch (const nlohmann::json::exception& e) {
         throw std::runtime_error(fmt::format("{}: {}", path, e.what()));
@@ -89,7 +91,8 @@ int run_optimize(const GlobalOptions& global, const Args& a, const CLI::App& cmd
     SearchRequest request;
     nlohmann::json depends_on;
     if (!a.resume.empty()) {
-        for (const char* o : {"--method", "--rays", "--max-evals", "--threshold", "--seed"})
+        for (const char* o :
+             {"--method", "--rays", "--max-evals", "--threshold", "--seed", "--refine"})
             if (cmd.count(o))
                 throw UsageError(fmt::format(
                     "{} cannot be given with --resume: the search continues with the settings "
@@ -109,6 +112,10 @@ int run_optimize(const GlobalOptions& global, const Args& a, const CLI::App& cmd
         if (cmd.count("--max-evals")) settings.max_evaluations = a.max_evals;
         if (cmd.count("--threshold")) settings.threshold_lm = a.threshold;
         if (cmd.count("--seed")) settings.seed = a.seed;
+        settings.refine = a.refine;
+        if (settings.refine && settings.method != SearchMethod::Auto &&
+            settings.method != SearchMethod::Grid)
+            throw UsageError("--refine follows a lattice method: --method auto or grid");
         if (settings.max_evaluations == 0) throw UsageError("--max-evals must be at least 1");
         if (!(settings.threshold_lm >= 0.0))
             throw UsageError("--threshold must be >= 0 lm (0: never stop early)");
@@ -179,6 +186,7 @@ int run_optimize(const GlobalOptions& global, const Args& a, const CLI::App& cmd
             std::printf("best:%s (l2 %.6g lm at evaluation %llu)\n", params.c_str(), r.best_l2_lm,
                         static_cast<unsigned long long>(*r.best));
         }
+        if (r.lattice) std::printf("lattice: %s\n", r.lattice->verdict.c_str());
         if (r.final_l2_lm && r.noise_floor_l2_lm)
             std::printf("final l2 %.6g lm with fresh rays; noise floor %.6g lm (ratio %.3f)\n",
                         *r.final_l2_lm, *r.noise_floor_l2_lm,
@@ -205,6 +213,8 @@ void register_optimize(CLI::App& app, const GlobalOptions& global, std::function
         ->check(CLI::Range(1.0, 1e8));
     cmd->add_option("--threshold", a->threshold, "Stop once l2 falls below this (lm)");
     cmd->add_option("--seed", a->seed, "Seed of the search's rays")->check(CLI::NonNegativeNumber);
+    cmd->add_flag("--refine", a->refine,
+                  "After the lattice (auto, grid), BOBYQA within one step of its best point");
     cmd->add_flag("--json", a->json, "Print one JSON object");
     cmd->add_option("--out", a->out,
                     "Write history.csv, progress.png, best.toml and the best far field here");

@@ -10,8 +10,9 @@
 //                               parameter, then a compass search on the lattice (pairs
 //                               of parameters stepped together where single steps fail);
 //   confirm  (last: the scene's rays and grid) the compass search again, from there, with
-//                               pairs of steps as well where its l2 came out far above the
-//                               lattice stage's (the coarse grid hid the structure).
+//                               pairs of steps as well unless its l2 is what noise alone
+//                               leaves at this fidelity (measured: two traces of its best
+//                               with independent rays).
 // The continuous stages hold each flat direction's parameter fixed; the lattice stages
 // move every parameter (a strict descent cannot wander along a flat direction).
 #include <algorithm>
@@ -19,15 +20,43 @@
 
 #include "methods.hpp"
 #include "optimize/flat_directions.hpp"
+#include "optimize/search.hpp"
 
 namespace fird {
 
 namespace {
 
-// How much worse the scene's fidelity may find the lattice stage's best before the confirm
-// stage also polls pairs of steps: the l2 of noise falls with more rays, so a confirmed l2
-// above twice the coarser stage's is structure the coarse grid did not show.
-constexpr double kCoarseMissedFactor = 2.0;
+// The confirm stage's second stream of rays (search.cpp's streams: stages from 0, the
+// final and noise runs at 1000 and 1001).
+constexpr std::uint64_t kConfirmNoiseStream = 1002;
+
+// Standard deviations of noise the confirmed l2 may lie above the measured noise l2 and
+// still be called noise: one-sided, 2 leaves a 2.3 % chance of polling pairs needlessly
+// (costing candidates, never accuracy).
+constexpr double kNoiseSigmas = 2.0;
+
+// The noise in the confirm stage's l2: `a` and `b` are one reflector traced with two
+// independent streams, so their per-cell differences d are noise alone. l2 = sqrt(S),
+// S = sum d^2. With cells independent and d_i ~ N(0, v_i): var S = 2 sum v_i^2 and
+// E d^4 = 3 v^2, so sd(S) ~ sqrt(2/3 sum d^4) and sd(l2) ~ sd(S) / (2 S) * l2. The
+// confirmed l2 (candidate against the desired) carries noise of its own, independent of
+// this pair's: the limit allows kNoiseSigmas of the difference of two such l2 (sqrt 2 sd).
+// At the optimum the candidate's l2 to a desired traced with at least the stage's rays is
+// at most this pair's in expectation (a noise-free desired gives 1/sqrt 2 of it), so the
+// limit errs towards polling pairs.
+ConfirmNoise confirm_noise(double l2_lm, const FarField& a, const FarField& b) {
+    double s2 = 0.0, s4 = 0.0;
+    for (std::size_t i = 0; i < a.lm.size(); ++i) {
+        const double d2 = (double(a.lm[i]) - double(b.lm[i])) * (double(a.lm[i]) - double(b.lm[i]));
+        s2 += d2;
+        s4 += d2 * d2;
+    }
+    const double noise = std::sqrt(s2);
+    const double relative_sd = s2 > 0.0 ? std::sqrt(2.0 / 3.0 * s4) / (2.0 * s2) : 0.0;
+    return {.l2_lm = l2_lm,
+            .noise_l2_lm = noise,
+            .limit_lm = noise * (1.0 + kNoiseSigmas * std::sqrt(2.0) * relative_sd)};
+}
 
 std::vector<double> best_x(const Objective& f, const std::vector<double>& fallback) {
     const Candidate* b = f.stage_best();
@@ -68,7 +97,8 @@ std::vector<std::vector<double>> lattice_entries(const Objective& f, const std::
 
 } // namespace
 
-StopReason run_auto(Objective& f, const std::vector<Fidelity>& stages) {
+StopReason run_auto(Objective& f, const std::vector<Fidelity>& stages,
+                    std::optional<ConfirmNoise>& confirm) {
     const ParameterSpace& space = f.space();
     const std::size_t n = space.size();
     const auto flat = flat_directions(f.scene().reflector, space.names);
@@ -93,7 +123,6 @@ StopReason run_auto(Objective& f, const std::vector<Fidelity>& stages) {
         (void)run_nlopt(f, run);
         x = best_x(f, x);
     }
-    double lattice_l2 = HUGE_VAL;
     if (stages.size() >= 2) {
         f.begin_stage("lattice", stages[stages.size() - 2]);
         std::vector<double> entry = space.snap(x);
@@ -104,17 +133,24 @@ StopReason run_auto(Objective& f, const std::vector<Fidelity>& stages) {
         }
         (void)run_lattice_descent(f, entry, all, true);
         x = best_x(f, entry);
-        if (const Candidate* b = f.stage_best()) lattice_l2 = b->l2_lm;
     }
     f.begin_stage("confirm", stages.back());
     const StopReason single = run_lattice_descent(f, x, all, false);
     // The scene's far field can tell apart what the lattice stage's coarser one could not
-    // (a beam a step off focus lands in the same coarse cells): when the confirmed l2 is
-    // more than twice the lattice stage's, its neighbourhood is polled again with pairs of
-    // steps too (x and the single steps are answered from the stage's memo).
+    // (a beam a step off focus lands in the same coarse cells): unless the confirmed l2 is
+    // what noise alone leaves, its neighbourhood is polled again with pairs of steps too
+    // (x and the single steps are answered from the stage's memo).
     const Candidate* confirmed = f.stage_best();
-    if (!confirmed || confirmed->l2_lm <= kCoarseMissedFactor * lattice_l2) return single;
-    return run_lattice_descent(f, confirmed->x, all, true);
+    if (!confirmed) return single;
+    const std::vector<double> best = confirmed->x;
+    const double best_l2 = confirmed->l2_lm;
+    const std::uint64_t avoid =
+        f.scene().target.kind == TargetDesc::Kind::Reflector ? f.scene().target.seed : ~0ull;
+    const auto [a, b] =
+        f.noise_pair(best, stream_seed(f.settings().seed, kConfirmNoiseStream, avoid));
+    confirm = confirm_noise(best_l2, a, b);
+    if (best_l2 <= confirm->limit_lm) return single;
+    return run_lattice_descent(f, best, all, true);
 }
 
 } // namespace fird

@@ -51,12 +51,12 @@ StopReason run_nlopt(Objective& objective, const NloptRun& run) {
     w.opt = &opt;
     std::vector<double> lo, hi, x, step, xtol;
     for (std::size_t i : w.free) {
-        lo.push_back(space.lo[i]);
-        hi.push_back(space.hi[i]);
-        x.push_back(std::clamp(run.x0[i], space.lo[i], space.hi[i]));
+        lo.push_back(run.lo.empty() ? space.lo[i] : run.lo[i]);
+        hi.push_back(run.hi.empty() ? space.hi[i] : run.hi[i]);
+        x.push_back(std::clamp(run.x0[i], lo.back(), hi.back()));
         // BOBYQA's first trust region must fit the box twice over (NLopt refuses a larger
         // one): a coarse calibrated step on narrow bounds starts at half the span instead.
-        step.push_back(std::min(run.initial_step[i], 0.49 * (space.hi[i] - space.lo[i])));
+        step.push_back(std::min(run.initial_step[i], 0.49 * (hi.back() - lo.back())));
         xtol.push_back(run.xtol[i]);
     }
     opt.set_lower_bounds(lo);

@@ -3,10 +3,12 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include <nlopt.hpp>
 
+#include "optimize/flat_directions.hpp"
 #include "optimize/objective.hpp"
 
 namespace fird {
@@ -22,10 +24,18 @@ struct NloptRun {
     std::vector<bool> free;            // which ones the method moves
     std::vector<double> initial_step;  // per parameter (local methods)
     std::vector<double> xtol;          // per parameter
+    std::vector<double> lo, hi;        // per parameter; empty: the space's box
     std::uint64_t max_evaluations = 0; // this run's budget (0: as many as remain)
     std::uint64_t seed = 1;            // the stochastic methods' (CRS2) generator
 };
 StopReason run_nlopt(Objective& objective, const NloptRun& run);
+
+// The lattice points one step from `centre` inside the box: each free parameter's two
+// neighbours, then (with `diagonal`) every pair of free parameters stepped together, in
+// the order the compass search polls them.
+std::vector<std::vector<double>> lattice_neighbours(const ParameterSpace& space,
+                                                    const std::vector<double>& centre,
+                                                    const std::vector<bool>& free, bool diagonal);
 
 // Compass search on the step lattice from x0 (snapped): poll every free parameter's two
 // neighbours one step away (and, with `diagonal`, where none improves, every pair of
@@ -33,8 +43,23 @@ StopReason run_nlopt(Objective& objective, const NloptRun& run);
 StopReason run_lattice_descent(Objective& objective, const std::vector<double>& x0,
                                const std::vector<bool>& free, bool diagonal);
 
+// The confirm stage's noise (auto): its best's l2, the l2 between two traces of that best
+// with independent rays at the stage's fidelity, and the most l2 noise alone explains.
+struct ConfirmNoise {
+    double l2_lm = 0.0;
+    double noise_l2_lm = 0.0;
+    double limit_lm = 0.0;
+};
+
 // The multi-fidelity default (docs/optimization.md): few rays on a coarse far field for
 // the early, coarse candidates, more as the search narrows, then the step lattice.
-StopReason run_auto(Objective& objective, const std::vector<Fidelity>& stages);
+// `confirm` receives the confirm stage's noise once measured.
+StopReason run_auto(Objective& objective, const std::vector<Fidelity>& stages,
+                    std::optional<ConfirmNoise>& confirm);
+
+// Below the step (--refine): BOBYQA within one step of the lattice point `centre` at the
+// current stage's fidelity, the flat directions' parameters held.
+StopReason run_sub_step(Objective& objective, const std::vector<double>& centre,
+                        const std::vector<FlatDirection>& flat);
 
 } // namespace fird

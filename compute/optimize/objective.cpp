@@ -89,11 +89,7 @@ double Objective::trace(const std::vector<double>& x) {
         c.ms = r.ms;
         c.replayed = true;
     } else if (c.feasible) {
-        if (!evaluator_) {
-            evaluator_ = std::make_unique<Evaluator>(*ctx_, scene_, stage().fidelity);
-            evaluator_->set_desired(desired_);
-        }
-        const CandidateResult result = evaluator_->evaluate(reflector);
+        const CandidateResult result = stage_evaluator().evaluate(reflector);
         c.l2_lm = *result.l2_lm;
         if (!std::isfinite(c.l2_lm))
             throw std::runtime_error(fmt::format(
@@ -103,6 +99,26 @@ double Objective::trace(const std::vector<double>& x) {
     }
     const Candidate& stored = record(std::move(c));
     return stored.feasible ? stored.l2_lm : penalty(f);
+}
+
+Evaluator& Objective::stage_evaluator() {
+    if (!evaluator_) {
+        evaluator_ = std::make_unique<Evaluator>(*ctx_, scene_, stage().fidelity);
+        evaluator_->set_desired(desired_);
+    }
+    return *evaluator_;
+}
+
+std::pair<FarField, FarField> Objective::noise_pair(const std::vector<double>& x,
+                                                    std::uint64_t seed) {
+    if (stages_.empty()) throw std::logic_error("Objective: no stage begun");
+    const ReflectorDesc reflector = space_.reflector(scene_.reflector, x);
+    (void)stage_evaluator().evaluate(reflector);
+    Fidelity other = stage().fidelity;
+    other.seed = seed;
+    Evaluator fresh(*ctx_, scene_, other);
+    (void)fresh.evaluate(reflector);
+    return {evaluator_->farfield(), fresh.farfield()};
 }
 
 const Candidate& Objective::record(Candidate c) {

@@ -10,6 +10,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "evaluation/evaluator.hpp"
@@ -53,8 +54,14 @@ class Objective {
     // methods are pushed back to the feasible side.
     double penalty(const Feasibility& feasibility) const;
 
+    // Two far fields of x at the current stage's fidelity: with the stage's rays (as its
+    // candidates are traced) and with the rays of `seed` instead. A measurement of the
+    // stage's noise, not a candidate: nothing is recorded or counted.
+    std::pair<FarField, FarField> noise_pair(const std::vector<double>& x, std::uint64_t seed);
+
   private:
     double trace(const std::vector<double>& x);
+    Evaluator& stage_evaluator();
     const Candidate& record(Candidate c);
 
     const vk::Context* ctx_;

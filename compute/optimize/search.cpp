@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <chrono>
+#include <map>
 #include <numeric>
 #include <stdexcept>
 
@@ -63,6 +64,83 @@ StopReason run_single(Objective& f, SearchMethod method, const std::vector<FlatD
 
 double ms_since(std::chrono::steady_clock::time_point t0) {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+std::string point_text(const ParameterSpace& space, const std::vector<double>& x) {
+    std::string t;
+    for (std::size_t k = 0; k < x.size(); ++k)
+        t += fmt::format("{}{}={:.6g}", k ? " " : "", space.names[k], x[k]);
+    return t;
+}
+
+// Whether the lattice method's last stage ended on the best point of its neighbourhood, from
+// that stage's own candidates (same rays: their order is free of noise between them).
+LatticeCheck lattice_check(const Objective& f, const std::optional<ConfirmNoise>& confirm,
+                           StopReason stopped) {
+    LatticeCheck c;
+    const StageSummary& stage = f.stage();
+    c.stage = stage.name;
+    if (confirm) {
+        c.confirm_l2_lm = confirm->l2_lm;
+        c.confirm_noise_l2_lm = confirm->noise_l2_lm;
+        c.confirm_noise_limit_lm = confirm->limit_lm;
+    }
+    const Candidate* best = f.stage_best();
+    if (stage.name != "confirm" && stage.name != "grid") {
+        c.verdict = fmt::format("the search stopped ({}) in its {} stage, before the lattice",
+                                stop_reason_name(stopped), stage.name);
+        return c;
+    }
+    if (!best) {
+        c.verdict = fmt::format("the {} stage traced no feasible candidate (stopped: {})",
+                                stage.name, stop_reason_name(stopped));
+        return c;
+    }
+    const ParameterSpace& space = f.space();
+    c.x = best->x;
+    const std::uint32_t index = std::uint32_t(f.stages().size() - 1);
+    std::map<std::vector<double>, const Candidate*> traced;
+    for (const Candidate& h : f.history())
+        if (h.stage == index) traced[h.x] = &h;
+    const auto neighbours =
+        lattice_neighbours(space, c.x, std::vector<bool>(space.size(), true), true);
+    c.neighbours = neighbours.size();
+    std::uint64_t singles_missed = 0;
+    const std::size_t singles =
+        lattice_neighbours(space, c.x, std::vector<bool>(space.size(), true), false).size();
+    for (std::size_t i = 0; i < neighbours.size(); ++i) {
+        const auto it = traced.find(neighbours[i]);
+        if (it == traced.end()) {
+            c.not_polled.push_back(neighbours[i]);
+            singles_missed += i < singles ? 1 : 0;
+            continue;
+        }
+        ++c.polled;
+        // An infeasible neighbour is no better: it is never traced (DESIGN.md §2).
+        if (it->second->feasible && it->second->l2_lm < best->l2_lm) ++c.better;
+    }
+    if (c.better > 0)
+        c.verdict =
+            fmt::format("{} of the {} neighbours one step away are lower than {} "
+                        "(the search stopped before moving on: {})",
+                        c.better, c.neighbours, point_text(space, c.x), stop_reason_name(stopped));
+    else if (c.not_polled.empty())
+        c.verdict = fmt::format("the best lattice point of its neighbourhood: all {} points one "
+                                "step away (alone or two parameters at once) traced in the {} "
+                                "stage, none lower",
+                                c.neighbours, stage.name);
+    else if (confirm && singles_missed == 0 && confirm->l2_lm <= confirm->limit_lm)
+        c.verdict = fmt::format(
+            "its l2 {:.6g} lm is what noise alone leaves at this fidelity (two independent "
+            "traces of it differ by {:.6g} lm; limit {:.6g} lm), so the {} pairs of steps were "
+            "not polled; none of the {} single steps is lower",
+            confirm->l2_lm, confirm->noise_l2_lm, confirm->limit_lm, c.not_polled.size(), c.polled);
+    else
+        c.verdict =
+            fmt::format("{} of the {} neighbours one step away were not polled "
+                        "(stopped: {}); none of the {} polled is lower",
+                        c.not_polled.size(), c.neighbours, stop_reason_name(stopped), c.polled);
+    return c;
 }
 
 } // namespace
@@ -148,7 +226,7 @@ std::vector<Fidelity> search_stages(const Scene& scene, const SearchSettings& se
 
 SearchOutcome run_search(const vk::Context& ctx, const Scene& scene, const SearchRequest& req) {
     const auto t0 = std::chrono::steady_clock::now();
-    if (scene.target.kind == TargetDesc::Kind::None)
+    if (scene.target.kind == TargetDesc::Kind::None && !req.desired)
         throw std::invalid_argument(
             fmt::format("{}: [target] is missing: a search needs a desired far field (a target "
                         "reflector or an IES / LDT file)",
@@ -161,6 +239,10 @@ SearchOutcome run_search(const vk::Context& ctx, const Scene& scene, const Searc
     r.names = space.names;
     r.flat_directions = flat_directions(scene.reflector, space.names);
     r.grid_size = space.lattice_size();
+    if (settings.refine && settings.method != SearchMethod::Auto &&
+        settings.method != SearchMethod::Grid)
+        throw std::invalid_argument(fmt::format(
+            "refining below the step follows a lattice method (auto or grid), not {}", r.method));
 
     // The start at the scene's fidelity, with rays of its own stream (the same stream
     // re-evaluates the best at the end): its l2, and the flux a relative photometric
@@ -173,36 +255,56 @@ SearchOutcome run_search(const vk::Context& ctx, const Scene& scene, const Searc
     const ReflectorDesc start = space.reflector(scene.reflector, space.start);
     const bool start_feasible = candidate_feasibility(scene, start).feasible;
     const double start_flux = start_feasible ? final_eval.evaluate(start).farfield_lm : 0.0;
-    if (scene.target.kind == TargetDesc::Kind::Photometric && !scene.target.absolute &&
-        !(start_flux > 0.0))
+    if (!req.desired && scene.target.kind == TargetDesc::Kind::Photometric &&
+        !scene.target.absolute && !(start_flux > 0.0))
         throw std::invalid_argument(fmt::format(
             "{}: the start reflector sends no light to the far field, so a relative "
             "photometric target has nothing to be scaled to (set [target] absolute = true or "
             "start from another reflector)",
             scene.path));
-    out.desired = desired_farfield(ctx, scene, start_flux);
+    out.desired = req.desired ? *req.desired : desired_farfield(ctx, scene, start_flux);
+    if (out.desired.farfield.width != final_fidelity.farfield_w ||
+        out.desired.farfield.height != final_fidelity.farfield_h)
+        throw std::invalid_argument(fmt::format(
+            "{}: the desired far field is {} x {}, the scene's [trace] farfield {} x {}",
+            scene.path, out.desired.farfield.width, out.desired.farfield.height,
+            final_fidelity.farfield_w, final_fidelity.farfield_h));
     r.desired = out.desired.description;
     final_eval.set_desired(out.desired.farfield);
     if (start_feasible) r.start_l2_lm = final_eval.compare();
 
     Objective f(ctx, scene, space, out.desired.farfield, settings, req.control, req.replay,
                 req.on_candidate);
+    const std::vector<Fidelity> stages = search_stages(scene, settings);
+    std::optional<ConfirmNoise> confirm;
+    const auto judge_lattice = [&] {
+        if (settings.method == SearchMethod::Auto || settings.method == SearchMethod::Grid)
+            r.lattice = lattice_check(f, confirm, r.stopped);
+    };
     try {
         switch (settings.method) {
         case SearchMethod::Grid:
-            f.begin_stage("grid", search_stages(scene, settings)[0]);
+            f.begin_stage("grid", stages[0]);
             r.stopped = run_grid(f);
             break;
         case SearchMethod::Auto:
-            r.stopped = run_auto(f, search_stages(scene, settings));
+            r.stopped = run_auto(f, stages, confirm);
             break;
         default:
-            f.begin_stage(r.method, search_stages(scene, settings)[0]);
+            f.begin_stage(r.method, stages[0]);
             r.stopped = run_single(f, settings.method, r.flat_directions);
             break;
         }
+        judge_lattice();
+        if (settings.refine && r.lattice && !r.lattice->x.empty()) {
+            r.refined_from = r.lattice->x;
+            f.begin_stage("sub-step", stages.back());
+            // Its own budget used up is no stop of the search's: the lattice's reason stays.
+            (void)run_sub_step(f, r.lattice->x, r.flat_directions);
+        }
     } catch (const SearchStopped& s) {
         r.stopped = s.reason;
+        if (!r.lattice) judge_lattice();
     }
     r.history = f.history();
     r.stages = f.stages();

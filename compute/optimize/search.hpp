@@ -18,6 +18,12 @@ struct SearchRequest {
     SearchControl* control = nullptr; // may be null
     std::vector<Candidate> replay;    // a resumed search's recorded candidates
     CandidateCallback on_candidate;   // may be empty
+    // A desired far field given directly, on the scene's far-field grid, instead of the
+    // scene's [target]: one computed by another tracer (the CPU reference) or from an
+    // analytic answer, so that a search can be judged by something other than the fast
+    // path that traces its candidates. The scene then needs no [target] (a target reflector
+    // there still gives surface_rms_mm).
+    std::optional<DesiredFarField> desired;
 };
 
 struct SearchOutcome {

@@ -44,6 +44,30 @@ nlohmann::json search_json(const SearchResult& r) {
                         {"invariant", d.invariant},
                         {"held", d.held},
                         {"message", describe(d)}});
+    nlohmann::json lattice = nullptr;
+    if (r.lattice) {
+        const LatticeCheck& c = *r.lattice;
+        const auto named = [&](const std::vector<double>& x) {
+            nlohmann::json p = nlohmann::json::object();
+            for (std::size_t k = 0; k < x.size() && k < r.names.size(); ++k)
+                p[r.names[k]] = x[k];
+            return p;
+        };
+        nlohmann::json not_polled = nlohmann::json::array();
+        for (const auto& x : c.not_polled)
+            not_polled.push_back(named(x));
+        lattice = {{"point", c.x.empty() ? nlohmann::json(nullptr) : named(c.x)},
+                   {"stage", c.stage},
+                   {"neighbours", c.neighbours},
+                   {"polled", c.polled},
+                   {"lower", c.better},
+                   {"not_polled", not_polled},
+                   {"confirm_l2", optional_number(c.confirm_l2_lm)},
+                   {"confirm_noise_l2", optional_number(c.confirm_noise_l2_lm)},
+                   {"confirm_noise_limit", optional_number(c.confirm_noise_limit_lm)},
+                   {"verdict", c.verdict}};
+        if (r.refined_from) lattice["refined_from"] = named(*r.refined_from);
+    }
     nlohmann::json best = nlohmann::json::object();
     for (const auto& [k, v] : r.best_parameters)
         best[k] = v;
@@ -60,6 +84,7 @@ nlohmann::json search_json(const SearchResult& r) {
             {"rays_per_evaluation", stages},
             {"grid_size", r.grid_size},
             {"flat_directions", flat},
+            {"lattice", lattice},
             {"desired", r.desired},
             {"time_s", r.time_s},
             {"stopped", stop_reason_name(r.stopped)}};

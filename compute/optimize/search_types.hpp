@@ -26,6 +26,9 @@ struct SearchSettings {
     double threshold_lm = 0.0;
     std::uint64_t max_evaluations = 100000;
     std::uint64_t seed = 1; // the search's rays derive from it (one stream per stage)
+    // Below the step: after a lattice method (auto, grid), BOBYQA within one step of the
+    // best lattice point at the last stage's fidelity (fird optimize --refine).
+    bool refine = false;
 };
 
 // The scene's [optimize] resolved against its [trace] (the defaults filled in).
@@ -58,6 +61,24 @@ struct StageSummary {
     std::uint64_t traced = 0;
 };
 
+// Whether the search ended on the best lattice point of its neighbourhood: the lattice
+// points one step away from the lattice stage's best, alone or two parameters at once
+// (inside the box), looked up among that stage's candidates (same rays, so compared
+// without noise between them).
+struct LatticeCheck {
+    std::vector<double> x;        // the lattice stage's best
+    std::string stage;            // the stage it was judged in
+    std::uint64_t neighbours = 0; // inside the box
+    std::uint64_t polled = 0;     // traced in that stage
+    std::uint64_t better = 0;     // polled and lower l2 than x (a search that moved on)
+    std::vector<std::vector<double>> not_polled;
+    // `auto`'s confirm stage: its best's l2, the l2 between two independent traces of it at
+    // that stage's fidelity, and the largest l2 that noise alone explains (pairs of steps are
+    // skipped only at or below it).
+    std::optional<double> confirm_l2_lm, confirm_noise_l2_lm, confirm_noise_limit_lm;
+    std::string verdict; // one line: the best lattice point, or why it cannot be said
+};
+
 struct SearchResult {
     std::string method;
     std::vector<std::string> names; // the optimized parameters
@@ -72,7 +93,9 @@ struct SearchResult {
     std::optional<double> noise_floor_l2_lm; // two independent traces of the best
     std::optional<double> surface_rms_mm;    // best against a target reflector, over the holder
     std::vector<FlatDirection> flat_directions;
-    std::string desired; // what the desired far field is
+    std::optional<LatticeCheck> lattice;             // lattice methods (auto, grid)
+    std::optional<std::vector<double>> refined_from; // --refine: the lattice point it began at
+    std::string desired;                             // what the desired far field is
     StopReason stopped = StopReason::None;
     double time_s = 0.0;
     std::uint64_t grid_size = 0; // the lattice's size (the grid method's work)

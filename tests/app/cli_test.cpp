@@ -412,6 +412,29 @@ TEST(CliOptimize, BadOptionsAreUsageErrorsAndAMissingBoxIsRefused) {
     EXPECT_NE(no_dir.out.find("options.json"), std::string::npos) << no_dir.out;
     const auto both = run("optimize " + scene + " --resume /tmp --method grid");
     EXPECT_EQ(both.code, 2) << both.out;
+    // Refining below the step follows a lattice: after a continuous method it means nothing.
+    const auto refine = run("optimize " + scene + " --method bobyqa --refine");
+    EXPECT_EQ(refine.code, 2) << refine.out;
+    EXPECT_NE(refine.out.find("--refine"), std::string::npos) << refine.out;
+}
+
+// --refine: the lattice's verdict in the JSON, then a sub-step stage that starts from the
+// lattice's best point (BOBYQA's first candidate is its start) and ends no worse than it
+// (the same rays score the start as the lattice stage did).
+TEST(CliOptimize, RefineReportsTheLatticeAndGoesBelowTheStep) {
+    const auto r = run("optimize " + std::string(FIRD_SOURCE_DIR) +
+                       "/scenes/test/mirror_search.toml --json --refine");
+    ASSERT_EQ(r.code, 0) << r.out;
+    const auto j = nlohmann::json::parse(r.out.substr(r.out.find('{')));
+    ASSERT_TRUE(j["lattice"].is_object()) << j.dump();
+    const auto& lattice = j["lattice"];
+    EXPECT_EQ(lattice["stage"], "confirm");
+    EXPECT_FALSE(lattice["verdict"].get<std::string>().empty());
+    EXPECT_EQ(lattice["refined_from"], lattice["point"]);
+    const auto& stages = j["rays_per_evaluation"];
+    EXPECT_EQ(stages.back()["stage"], "sub-step");
+    EXPECT_LE(stages.back()["best_l2"].get<double>(),
+              stages[stages.size() - 2]["best_l2"].get<double>());
 }
 
 // A search killed with SIGKILL mid-way and resumed gives what an uninterrupted one gives.
