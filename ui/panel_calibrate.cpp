@@ -26,7 +26,7 @@ void start_calibration(Frame& f, bool rays_table, const std::string& parameter) 
 
 void calibrate_panel(Frame& f) {
     WorkbenchState& s = f.state;
-    ImGui::Begin("Calibration");
+    begin_panel(f, PanelId::Calibrate);
     const char* kinds[] = {"rays (Table 1)", "semivariogram"};
     ImGui::SetNextItemWidth(160);
     ImGui::Combo("kind", &s.calibration_kind, kinds, 2);

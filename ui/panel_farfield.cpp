@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include <imgui.h>
+#include <imgui_internal.h> // SetItemUsingMouseWheel: the wheel zooms, not scrolls
 
 #include "panels.hpp"
 #include "view_textures.hpp"
@@ -12,7 +13,7 @@ namespace fird::ui {
 
 void farfield_panel(Frame& f) {
     WorkbenchState& s = f.state;
-    ImGui::Begin("Far field");
+    begin_panel(f, PanelId::FarField);
     ImGui::Checkbox("log scale", &s.farfield.log_scale);
     ImGui::SameLine();
     ImGui::SetNextItemWidth(160);
@@ -34,9 +35,17 @@ void farfield_panel(Frame& f) {
                h = std::uint32_t(std::max(200.0f, avail.y - 20));
     update_farfield_image(f.ctx, s, *f.snapshot, w, h);
     const ImVec2 origin = ImGui::GetCursorScreenPos();
-    ImGui::Image(static_cast<ImTextureID>(s.farfield_image.texture.get()),
-                 ImVec2(float(w), float(h)));
+    // The maps own their mouse (an invisible button over the image): the wheel zooms the
+    // band, a double click shows it whole, and nothing drags the window.
+    ImGui::InvisibleButton("##maps", ImVec2(float(w), float(h)));
+    ImGui::SetItemUsingMouseWheel();
+    ImGui::GetWindowDrawList()->AddImage(static_cast<ImTextureID>(s.farfield_image.texture.get()),
+                                         origin, ImVec2(origin.x + float(w), origin.y + float(h)));
     if (ImGui::IsItemHovered()) {
+        const float wheel = ImGui::GetIO().MouseWheel;
+        if (wheel != 0.0f)
+            s.farfield.zoom = std::clamp(s.farfield.zoom * std::pow(1.25f, wheel), 1.0f, 8.0f);
+        if (ImGui::IsMouseDoubleClicked(ImGuiMouseButton_Left)) s.farfield.zoom = 1.0f;
         // The obtained map's box (draw_farfield's layout: the middle of the stack of
         // maps, 62 % of the width, margins of 70 left and 40 / 56 top and bottom).
         const double maps = ff.desired ? 3.0 : 1.0;

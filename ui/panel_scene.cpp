@@ -27,7 +27,7 @@ void request_trace(Frame& f) {
 
 void scene_panel(Frame& f) {
     WorkbenchState& s = f.state;
-    ImGui::Begin("Scene");
+    begin_panel(f, PanelId::Scene);
     ImGui::InputText("##path", &s.editor.path);
     ImGui::SameLine();
     if (ImGui::Button("Open")) open_scene(s, s.editor.path);

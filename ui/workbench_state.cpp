@@ -25,6 +25,7 @@ bool open_scene(WorkbenchState& s, const std::string& path) {
         s.editor.error.clear();
         s.editor.dirty = true;
         s.viewport.camera_set = false;
+        s.viewport.stale_generation = s.viewport.shown_generation;
         s.viewport.picked_path.reset();
         std::erase(s.recent, path);
         s.recent.insert(s.recent.begin(), path);
