@@ -16,7 +16,8 @@ void start_calibration(Frame& f, bool rays_table, const std::string& parameter) 
         return add_log(s, "error: calibration needs a scene with a [target]");
     if (!parameter.empty() && !s.editor.scene->reflector.optimize.count(parameter))
         return add_log(s, "error: " + parameter + " is not in [reflector.optimize]");
-    const std::string out = (std::filesystem::path("workbench_out") / "calibrate").string();
+    const std::string out = new_run_folder(s, "calibrate");
+    if (out.empty()) return; // the error is in the log
     f.worker.submit(CalibrateJob{.scene = edited_scene(s),
                                  .rays_table = rays_table,
                                  .parameter = parameter,

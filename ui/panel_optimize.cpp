@@ -6,6 +6,7 @@
 
 #include <fmt/format.h>
 #include <imgui.h>
+#include <imgui_stdlib.h>
 
 #include "panels.hpp"
 #include "view_textures.hpp"
@@ -18,7 +19,8 @@ void start_search(Frame& f, SearchMethod method) {
     if (s.editor.scene->reflector.optimize.empty() ||
         s.editor.scene->target.kind == TargetDesc::Kind::None)
         return add_log(s, "error: the scene needs [reflector.optimize] and a [target] to optimize");
-    const std::string out = (std::filesystem::path("workbench_out") / "optimize").string();
+    const std::string out = new_run_folder(s, "optimize");
+    if (out.empty()) return; // the error is in the log
     f.worker.submit(SearchJob{.scene = edited_scene(s), .method = method, .out_dir = out});
     s.search = {.start = s.editor.parameters,
                 .running = true,
@@ -135,6 +137,10 @@ void optimize_panel(Frame& f) {
             for (const auto& [name, value] : p.result->best_parameters)
                 s.editor.parameters[name] = value;
     }
+    ImGui::SetNextItemWidth(-FLT_MIN);
+    ImGui::InputTextWithHint("##runs", "runs go under this folder", &s.runs_dir);
+    if (ImGui::IsItemHovered())
+        ImGui::SetTooltip("each search writes a new folder under this one (never overwriting)");
     search_status(s, p);
     if (!p.history.empty() || p.result) {
         ImGui::BeginDisabled(!best_candidate(p));

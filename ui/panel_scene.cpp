@@ -28,23 +28,28 @@ void request_trace(Frame& f) {
 void scene_panel(Frame& f) {
     WorkbenchState& s = f.state;
     begin_panel(f, PanelId::Scene);
-    ImGui::InputText("##path", &s.editor.path);
+    ImGui::InputTextWithHint("##path", "a scene (.toml) or a target (.ies, .ldt)", &s.editor.path);
     ImGui::SameLine();
-    if (ImGui::Button("Open")) open_scene(s, s.editor.path);
+    if (ImGui::Button("Open")) open_file(s, s.editor.path);
     if (!s.recent.empty() && ImGui::BeginCombo("recent", "recent scenes")) {
         for (const std::string& r : std::vector<std::string>(s.recent))
-            if (ImGui::Selectable(r.c_str())) open_scene(s, r);
+            if (ImGui::Selectable(r.c_str())) open_file(s, r);
         ImGui::EndCombo();
     }
-    if (!s.editor.error.empty())
-        ImGui::TextColored(ImVec4(0.9f, 0.2f, 0.2f, 1.0f), "%s", s.editor.error.c_str());
+    if (!s.editor.error.empty()) {
+        // Wrapped, not cut: an error names its file and line.
+        ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(0.9f, 0.2f, 0.2f, 1.0f));
+        ImGui::TextWrapped("%s", s.editor.error.c_str());
+        ImGui::PopStyleColor();
+    }
     if (!s.editor.scene) {
         ImGui::TextWrapped("Open a scene file (or drop one on the window).");
         ImGui::End();
         return;
     }
     const Scene& scene = *s.editor.scene;
-    ImGui::Text("%s: %s reflector", scene.name.c_str(), family_name(scene.reflector.family));
+    ImGui::TextWrapped("%s: %s reflector", scene.name.c_str(), family_name(scene.reflector.family));
+    ImGui::TextWrapped("target: %s", target_description(scene).c_str());
     ImGui::Separator();
     bool changed = false;
     for (auto& [name, value] : s.editor.parameters) {

@@ -21,7 +21,8 @@ struct Frame {
 // Asks the worker for a progressive trace of the edited scene (preview, then full).
 void request_trace(Frame& f);
 
-// Starts the Optimization panel's method on the edited scene (files in workbench_out/).
+// Starts the Optimization panel's method on the edited scene (files in a new folder under the
+// state's runs_dir).
 void start_search(Frame& f, SearchMethod method);
 // Starts a calibration: Table 1, or the semivariogram of a parameter (empty: all).
 void start_calibration(Frame& f, bool rays_table, const std::string& parameter);

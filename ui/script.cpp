@@ -166,7 +166,7 @@ bool ScriptRunner::step(Frame& f, const ScriptHost& host) {
             if (++idle_frames_ < 2) return true;
             break;
         case K::Open:
-            if (!open_scene(s, a.args[0])) fail(a, "open: " + s.editor.error);
+            if (!open_file(s, a.args[0])) fail(a, "open: " + s.editor.error);
             break;
         case K::Set: {
             if (!s.editor.scene) fail(a, "set: no scene is open");

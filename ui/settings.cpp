@@ -37,7 +37,13 @@ Settings load_settings() {
             if (key == "layout_row") s.layout.row = std::stod(value);
         } catch (const std::exception&) {
         } // a damaged line keeps its default
-        if (key == "recent" && !value.empty() && s.recent.size() < 10) s.recent.push_back(value);
+        // Only absolute paths that still exist: a relative one depended on the folder the
+        // workbench ran from, a dead one would fail when picked.
+        std::error_code ec;
+        if (key == "recent" && s.recent.size() < 10 && std::filesystem::path(value).is_absolute() &&
+            std::filesystem::is_regular_file(value, ec))
+            s.recent.push_back(value);
+        if (key == "runs_dir") s.runs_dir = value;
     }
     s.layout = clamped(s.layout);
     return s;
@@ -52,6 +58,7 @@ void save_settings(const Settings& s) {
                            "\nwindow_h=" + std::to_string(s.window_h) + "\n";
         text += fmt::format("layout_left={}\nlayout_right={}\nlayout_row={}\n", s.layout.left,
                             s.layout.right, s.layout.row);
+        if (!s.runs_dir.empty()) text += "runs_dir=" + s.runs_dir + "\n";
         for (const std::string& r : s.recent)
             text += "recent=" + r + "\n";
         write_text_file((std::filesystem::path(dir) / "settings.txt").string(), text);

@@ -20,6 +20,7 @@
 #include "imgui_renderer.hpp"
 #include "offscreen_target.hpp"
 #include "panels.hpp"
+#include "run_directory.hpp"
 #include "script.hpp"
 #include "settings.hpp"
 #include "views.hpp"
@@ -229,25 +230,22 @@ int run_workbench(const WorkbenchOptions& options) {
     std::uint64_t rays = 0, evaluations = 0;
     // At exit, for --stats: each panel's rectangle and the window in window pixels, the
     // viewport's camera (how a layout or a drag is checked from outside).
-    nlohmann::json panels = nlohmann::json::object(), window_size, camera;
+    // The sliders' values: where a search's end left them.
+    nlohmann::json panels = nlohmann::json::object(), window_size, camera, sliders;
     {
         ImGuiRenderer renderer(ctx, wd.ImageCount);
         Session session(ctx);
         session.state.recent = settings.recent;
         session.state.layout = settings.layout;
-        if (!options.scene.empty()) open_scene(session.state, options.scene);
+        session.state.runs_dir = settings.runs_dir.empty() ? runs_directory() : settings.runs_dir;
+        if (!options.scene.empty()) open_file(session.state, options.scene);
         bool rebuild = false;
         for (std::uint32_t n = 0; !glfwWindowShouldClose(window) && !session.state.quit; ++n) {
             if (options.max_frames && n >= options.max_frames) break;
             const auto t0 = std::chrono::steady_clock::now();
             glfwPollEvents();
-            for (const std::string& path : std::exchange(dropped, {})) {
-                const std::string ext = std::filesystem::path(path).extension().string();
-                if (ext == ".ies" || ext == ".IES" || ext == ".ldt" || ext == ".LDT")
-                    set_photometric_target(session.state, path);
-                else
-                    open_scene(session.state, path);
-            }
+            for (const std::string& path : std::exchange(dropped, {}))
+                open_file(session.state, path);
             glfwGetFramebufferSize(window, &width, &height);
             if (width != wd.Width || height != wd.Height) rebuild = true; // resized
             if (rebuild) {
@@ -306,12 +304,14 @@ int run_workbench(const WorkbenchOptions& options) {
         rays = session.worker.rays_traced();
         evaluations = session.worker.evaluations();
         settings.recent = session.state.recent;
+        settings.runs_dir = session.state.runs_dir;
         settings.layout = session.state.layout;
         for (const PanelId id : kPanels) {
             const PanelRect& r = session.state.drawn[std::size_t(id)];
             panels[panel_key(id)] = {r.x, r.y, r.w, r.h};
         }
         window_size = {session.state.display_w, session.state.display_h};
+        sliders = session.state.editor.parameters;
         const render::OrbitCamera& c = session.state.viewport.camera;
         camera = {{"azimuth_deg", c.azimuth_deg},
                   {"elevation_deg", c.elevation_deg},
@@ -338,7 +338,8 @@ int run_workbench(const WorkbenchOptions& options) {
                                            {"evaluations", evaluations},
                                            {"window", window_size},
                                            {"panels", panels},
-                                           {"camera", camera}}
+                                           {"camera", camera},
+                                           {"parameters", sliders}}
                                 .dump(2)
                                 .c_str());
     if (ctx.validation_errors() > 0) {

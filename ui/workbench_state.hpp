@@ -78,6 +78,7 @@ struct WorkbenchState {
     int calibration_parameter = 0;
     std::deque<std::string> log;
     std::vector<std::string> recent;             // recently opened scenes, newest first
+    std::string runs_dir;                        // a search's or calibration's folders go under it
     Layout layout;                               // the splits, kept between runs
     std::array<PanelRect, kPanelCount> panels{}; // where the layout puts each panel
     std::array<PanelRect, kPanelCount> drawn{};  // where Dear ImGui drew it (--stats)
@@ -98,6 +99,14 @@ void add_log(WorkbenchState& state, std::string line);
 bool open_scene(WorkbenchState& state, const std::string& path);
 // A dropped IES / LDT file becomes the open scene's photometric target.
 bool set_photometric_target(WorkbenchState& state, const std::string& path);
+// Any route (path field, recent list, drop, command line): an IES / LDT file becomes the
+// target, anything else is opened as a scene.
+bool open_file(WorkbenchState& state, const std::string& path);
+// What the open scene's desired far field is, in words ("none" without a target).
+std::string target_description(const Scene& scene);
+// A new folder under runs_dir for a job ("optimize", "calibrate") on the open scene;
+// empty (and the error logged) when it cannot be created.
+std::string new_run_folder(WorkbenchState& state, const std::string& job);
 // The scene with the sliders' values.
 Scene edited_scene(const WorkbenchState& state);
 

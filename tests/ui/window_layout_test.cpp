@@ -78,5 +78,25 @@ TEST(WindowLayout, ADragInTheViewportOrbitsTheCameraAndMovesNoPanel) {
     EXPECT_EQ(c1.at("target_mm"), c0.at("target_mm"));     // nor pans
 }
 
+// tests/ui/search_to_the_end.fird: the mirror scene's search, run to its end in the
+// window, leaves its best on the sliders: the parameters the search wrote to its run
+// folder (the first under the test's data directory), which are the scene's analytic
+// optimum (sx 0.15, sy -0.1, on the step lattice) within one step (0.05): the scene's own
+// promise for every method.
+TEST(WindowSearch, ASearchRunToTheEndPutsItsBestOnTheSliders) {
+    const auto stats = read_stats("search_stats.json");
+    std::ifstream in(FIRD_UI_DATA_DIR "/fird/runs/mirror_search-optimize-1/search.json");
+    ASSERT_TRUE(in);
+    const auto search = nlohmann::json::parse(in);
+    const auto& best = search.at("best_parameters");
+    const auto& sliders = stats.at("parameters");
+    ASSERT_FALSE(best.empty());
+    for (const auto& [name, value] : best.items())
+        EXPECT_EQ(sliders.at(name).get<double>(), value.get<double>()) << name;
+    EXPECT_NEAR(sliders.at("sx").get<double>(), 0.15, 0.05);
+    EXPECT_NEAR(sliders.at("sy").get<double>(), -0.1, 0.05);
+    EXPECT_NE(search.at("stopped").get<std::string>(), "interrupted");
+}
+
 } // namespace
 } // namespace fird::test
