@@ -9,6 +9,7 @@
 #include <imgui_stdlib.h>
 
 #include "panels.hpp"
+#include "run_directory.hpp"
 #include "view_textures.hpp"
 
 namespace fird::ui {
@@ -137,8 +138,10 @@ void optimize_panel(Frame& f) {
             for (const auto& [name, value] : p.result->best_parameters)
                 s.editor.parameters[name] = value;
     }
+    ImGui::TextUnformatted("runs under");
+    ImGui::SameLine();
     ImGui::SetNextItemWidth(-FLT_MIN);
-    ImGui::InputTextWithHint("##runs", "runs go under this folder", &s.runs_dir);
+    ImGui::InputTextWithHint("##runs", runs_directory().c_str(), &s.runs_dir);
     if (ImGui::IsItemHovered())
         ImGui::SetTooltip("each search writes a new folder under this one (never overwriting)");
     search_status(s, p);
