@@ -2,6 +2,8 @@
 // splitters the user drags between them, and the keyboard shortcuts. Panels are windows
 // placed and sized every frame (Dear ImGui 1.86 has no docking): none can be moved by its
 // title bar, and none can overlap another or leave the window.
+#include <algorithm>
+
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
 #include <imgui.h>
