@@ -129,8 +129,12 @@ bool ScriptRunner::drag(const ScriptAction& a, WorkbenchState& s) {
     // the start is in viewport pixels (as pick-ray's), the moves add up to (DX, DY).
     const std::uint64_t k = waited_++;
     ScriptedMouse& m = s.scripted_mouse;
-    const float x = s.viewport_x + float(std::stod(a.args[0])),
-                y = s.viewport_y + float(std::stod(a.args[1]));
+    // The start is fixed when the drag begins: what it drags (a splitter) may move the
+    // viewport under it.
+    if (k == 0)
+        drag_from_ = {s.viewport_x + float(std::stod(a.args[0])),
+                      s.viewport_y + float(std::stod(a.args[1]))};
+    const auto [x, y] = drag_from_;
     const float dx = float(std::stod(a.args[2])), dy = float(std::stod(a.args[3]));
     const bool right = a.args.size() == 5 && a.args[4] == "right";
     if (k > kDragMoves + 2) {

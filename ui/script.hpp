@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <functional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "panels.hpp"
@@ -65,6 +66,7 @@ class ScriptRunner {
     // Plays the drag action's mouse, one frame at a time; true while it goes on.
     bool drag(const ScriptAction& a, WorkbenchState& s);
     std::uint64_t idle_frames_ = 0, waited_ = 0;
+    std::pair<float, float> drag_from_{0.0f, 0.0f}; // window pixels
     bool quit_ = false;
 };
 

@@ -78,6 +78,30 @@ TEST(WindowLayout, ADragInTheViewportOrbitsTheCameraAndMovesNoPanel) {
     EXPECT_EQ(c1.at("target_mm"), c0.at("target_mm"));     // nor pans
 }
 
+// tests/ui/drag_splitter.fird: a drag on the gap between the scene and viewport columns
+// moves that split by the drag's 100 px and nothing else (the row, the far-field column,
+// the camera).
+TEST(WindowLayout, ADragOnASplitterMovesOnlyThePanelsItSeparates) {
+    const auto still = read_stats("layout_restored.json");
+    const auto moved = read_stats("layout_splitter.json");
+    expect_tiled(moved, 1600, 1000);
+    const auto rect = [](const nlohmann::json& stats, const char* panel) {
+        return stats.at("panels").at(panel).get<std::vector<double>>();
+    };
+    // Whole pixels: the split is rounded to a pixel after the move.
+    for (const char* left : {"scene", "log"}) {
+        EXPECT_NEAR(rect(moved, left)[2], rect(still, left)[2] + 100.0, 1.0) << left;
+        EXPECT_EQ(rect(moved, left)[3], rect(still, left)[3]) << left;
+    }
+    for (const char* middle : {"viewport", "optimize"}) {
+        EXPECT_NEAR(rect(moved, middle)[0], rect(still, middle)[0] + 100.0, 1.0) << middle;
+        EXPECT_NEAR(rect(moved, middle)[2], rect(still, middle)[2] - 100.0, 1.0) << middle;
+    }
+    for (const char* right : {"far_field", "calibrate"})
+        EXPECT_EQ(rect(moved, right), rect(still, right)) << right;
+    EXPECT_EQ(moved.at("camera"), still.at("camera"));
+}
+
 // tests/ui/search_to_the_end.fird: the mirror scene's search, run to its end in the
 // window, leaves its best on the sliders: the parameters the search wrote to its run
 // folder (the first under the test's data directory), which are the scene's analytic
