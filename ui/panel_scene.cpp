@@ -77,11 +77,11 @@ void scene_panel(Frame& f) {
     if (f.snapshot) {
         const auto& t = f.snapshot->traced;
         ImGui::Separator();
-        ImGui::Text("%s%llu rays: %llu effective, %llu reflected",
-                    f.snapshot->preview ? "preview, " : "",
-                    static_cast<unsigned long long>(t.tally.emitted),
-                    static_cast<unsigned long long>(t.tally.emitted - t.tally.discarded),
-                    static_cast<unsigned long long>(t.tally.farfield));
+        ImGui::TextWrapped("%s%llu rays: %llu effective, %llu reflected",
+                           f.snapshot->preview ? "preview, " : "",
+                           static_cast<unsigned long long>(t.tally.emitted),
+                           static_cast<unsigned long long>(t.tally.emitted - t.tally.discarded),
+                           static_cast<unsigned long long>(t.tally.farfield));
         ImGui::Text("far field %.2f lm of %.2f lm", t.farfield.obtained.total_lm(),
                     scene.source.flux_lm);
         if (t.farfield.l2_lm) ImGui::Text("l2 to the target %.5g lm", *t.farfield.l2_lm);

@@ -51,6 +51,22 @@ bool pick_at(Frame& f, float px, float py) {
     return true;
 }
 
+// What the ray colours mean: each segment of a path is coloured by the reflections
+// before it (render::bounce_colour; later reflections in further colours), a picked ray
+// in black.
+static void ray_legend() {
+    const char* labels[] = {"from the source", "after 1 reflection", "2", "3"};
+    for (std::uint32_t b = 0; b < 4; ++b) {
+        const auto c = render::bounce_colour(b);
+        ImGui::SameLine();
+        ImGui::ColorButton(labels[b], ImVec4(c[0], c[1], c[2], 1.0f),
+                           ImGuiColorEditFlags_NoTooltip | ImGuiColorEditFlags_NoDragDrop,
+                           ImVec2(ImGui::GetTextLineHeight(), ImGui::GetTextLineHeight()));
+        ImGui::SameLine(0.0f, 4.0f);
+        ImGui::TextUnformatted(labels[b]);
+    }
+}
+
 // The holder fills the view, seen from the camera's direction.
 static render::OrbitCamera framed_all(const render::OrbitCamera& camera, const Holder& holder) {
     render::OrbitCamera c = render::frame_holder(holder);
@@ -139,7 +155,11 @@ void viewport_panel(Frame& f) {
     ImGui::SameLine();
     if (ImGui::SmallButton("reset view")) v.camera = render::frame_holder(content.holder);
     ImGui::SameLine();
-    ImGui::TextDisabled("left drag orbits, right drag pans, wheel zooms, double click frames all");
+    ImGui::TextDisabled("(?)");
+    if (ImGui::IsItemHovered())
+        ImGui::SetTooltip("left drag orbits, right drag pans, the wheel zooms,\n"
+                          "a double click frames all, a click picks a ray");
+    if (v.options.rays) ray_legend();
     ImGui::End();
 }
 
