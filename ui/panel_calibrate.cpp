@@ -22,6 +22,7 @@ void start_calibration(Frame& f, bool rays_table, const std::string& parameter) 
                                  .rays_table = rays_table,
                                  .parameter = parameter,
                                  .out_dir = out});
+    s.calibration_scene = s.editor.path;
     add_log(s, "calibration started; files in " + out);
 }
 
@@ -57,7 +58,10 @@ void calibrate_panel(Frame& f) {
     } else if (ImGui::Button("Stop")) {
         f.worker.stop();
     }
-    if (c.running || c.rays || c.semivariogram) {
+    if ((c.running || c.rays || c.semivariogram) && s.calibration_scene != s.editor.path) {
+        // Another scene's calibration: not this scene's figures.
+        ImGui::TextWrapped("the last calibration was of %s", s.calibration_scene.c_str());
+    } else if (c.running || c.rays || c.semivariogram) {
         const ImVec2 avail = ImGui::GetContentRegionAvail();
         const auto w = std::uint32_t(std::max(200.0f, avail.x)),
                    h = std::uint32_t(std::max(200.0f, avail.y));

@@ -23,7 +23,8 @@ void start_search(Frame& f, SearchMethod method) {
     const std::string out = new_run_folder(s, "optimize");
     if (out.empty()) return; // the error is in the log
     f.worker.submit(SearchJob{.scene = edited_scene(s), .method = method, .out_dir = out});
-    s.search = {.start = s.editor.parameters,
+    s.search = {.scene_path = s.editor.path,
+                .start = s.editor.parameters,
                 .running = true,
                 .generation = f.worker.search().generation,
                 .started_s = ImGui::GetTime()};
@@ -130,11 +131,14 @@ void optimize_panel(Frame& f) {
         if (ImGui::Button("Stop (Esc)")) f.worker.stop();
     }
     // (A search still queued behind a trace has not touched the generation yet.)
+    // Results are the searched scene's: another scene opened since shows none of them
+    // (nor takes its parameters).
+    const bool this_scene = s.search.scene_path == s.editor.path;
     if (s.search.running && !p.running && p.generation > s.search.generation) {
         // The search ended: its best goes to the sliders. The worker has already shown
         // it at the scene's rays, so the sliders follow without a new trace.
         s.search.running = false;
-        if (p.result && p.result->best)
+        if (p.result && p.result->best && this_scene)
             for (const auto& [name, value] : p.result->best_parameters)
                 s.editor.parameters[name] = value;
     }
@@ -144,6 +148,11 @@ void optimize_panel(Frame& f) {
     ImGui::InputTextWithHint("##runs", runs_directory().c_str(), &s.runs_dir);
     if (ImGui::IsItemHovered())
         ImGui::SetTooltip("each search writes a new folder under this one (never overwriting)");
+    if (!this_scene && (p.running || p.result)) {
+        ImGui::TextWrapped("the last search was of %s", s.search.scene_path.c_str());
+        ImGui::End();
+        return;
+    }
     search_status(s, p);
     if (!p.history.empty() || p.result) {
         ImGui::BeginDisabled(!best_candidate(p));

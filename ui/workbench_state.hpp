@@ -63,6 +63,7 @@ struct ScriptedMouse {
 
 // What the workbench did with a search's result (so it is applied once, when it ends).
 struct SearchFollow {
+    std::string scene_path;              // the scene it searched (its results are that scene's)
     std::map<std::string, double> start; // the sliders when it started ("revert to start")
     bool running = false;                // started and not yet seen to end
     std::uint64_t generation = 0;        // the worker's search generation before it started
@@ -76,6 +77,7 @@ struct WorkbenchState {
     int method = 0;           // index into method_names()
     int calibration_kind = 0; // 0 rays, 1 semivariogram
     int calibration_parameter = 0;
+    std::string calibration_scene; // the scene the last calibration was of
     std::deque<std::string> log;
     std::vector<std::string> recent;             // recently opened scenes, newest first
     std::string runs_dir;                        // a search's or calibration's folders go under it

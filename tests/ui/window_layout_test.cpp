@@ -122,5 +122,19 @@ TEST(WindowSearch, ASearchRunToTheEndPutsItsBestOnTheSliders) {
     EXPECT_NE(search.at("stopped").get<std::string>(), "interrupted");
 }
 
+// tests/ui/search_then_switch.fird: the flat mirror opened while the mirror scene's search
+// runs keeps its own parameters (scenes/test/flat_mirror.toml: sx 0.2, sy -0.1, z0 -2)
+// when that search ends (its best, sx 0.15 on the lattice, belongs to the other scene),
+// and the search still finished and wrote its files.
+TEST(WindowSearch, ASearchEndingAfterASceneSwitchLeavesTheNewSceneAlone) {
+    const auto stats = read_stats("switch_stats.json");
+    const auto& sliders = stats.at("parameters");
+    EXPECT_EQ(sliders.at("sx").get<double>(), 0.2);
+    EXPECT_EQ(sliders.at("sy").get<double>(), -0.1);
+    EXPECT_EQ(sliders.at("z0").get<double>(), -2.0);
+    std::ifstream in(FIRD_UI_DATA_DIR "_switch/fird/runs/mirror_search-optimize-1/search.json");
+    EXPECT_TRUE(in) << "the search's files";
+}
+
 } // namespace
 } // namespace fird::test
