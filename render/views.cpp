@@ -11,12 +11,62 @@
 
 namespace fird::render {
 
+namespace {
+
+// Side by side with the polar curves when there is room; a narrow area shows the maps alone.
+bool shows_polar(const plot::Rect& a) {
+    return a.w >= 900.0;
+}
+double maps_width(const plot::Rect& a) {
+    return shows_polar(a) ? a.w * 0.62 : a.w;
+}
+// The k-th of n maps stacked in the maps' column.
+plot::Rect map_area(const plot::Rect& a, std::size_t k, std::size_t n) {
+    const double h = a.h / double(n);
+    return {a.x, a.y + h * double(k), maps_width(a), h};
+}
+plot::FarFieldPicture picture(const FarFieldContent& c, const FarFieldViewOptions& o,
+                              const std::string& name, bool difference) {
+    return {.title = c.title.empty() ? name : c.title + ": " + name,
+            .signed_values = difference,
+            .log_scale = o.log_scale,
+            .altitude_deg = o.altitude_deg ? *o.altitude_deg : plot::lit_altitude_band(c.obtained)};
+}
+
+} // namespace
+
+std::vector<FarFieldViewMap> farfield_view_maps(const plot::Rect& a, const FarFieldContent& c,
+                                                const FarFieldViewOptions& o) {
+    std::vector<FarFieldMapKind> kinds;
+    if (c.desired) kinds.push_back(FarFieldMapKind::Desired);
+    kinds.push_back(FarFieldMapKind::Obtained);
+    if (c.desired) kinds.push_back(FarFieldMapKind::Difference);
+    std::vector<FarFieldViewMap> maps;
+    for (std::size_t k = 0; k < kinds.size(); ++k)
+        maps.push_back({kinds[k], plot::farfield_map_placement(
+                                      map_area(a, k, kinds.size()), c.obtained,
+                                      picture(c, o, "", kinds[k] == FarFieldMapKind::Difference))});
+    return maps;
+}
+
+std::optional<FarFieldCellAt> farfield_cell_at(const std::vector<FarFieldViewMap>& maps,
+                                               const FarField& grid, double px, double py) {
+    for (const FarFieldViewMap& m : maps) {
+        const plot::Rect& r = m.placement.map;
+        if (!(px >= r.x && px < r.x + r.w && py >= r.y && py < r.y + r.h)) continue;
+        const std::uint32_t rows = m.placement.row1 - m.placement.row0;
+        const auto col = std::min(grid.width - 1, std::uint32_t((px - r.x) / r.w * grid.width));
+        const auto row =
+            m.placement.row0 + std::min(rows - 1, std::uint32_t((py - r.y) / r.h * double(rows)));
+        return FarFieldCellAt{m.kind, row, col};
+    }
+    return std::nullopt;
+}
+
 void draw_farfield_view(plot::Canvas& cv, const plot::Rect& a, const FarFieldContent& c,
                         const FarFieldViewOptions& o) {
-    const auto band = o.altitude_deg ? *o.altitude_deg : plot::lit_altitude_band(c.obtained);
-    // Side by side when there is room; a narrow area shows the maps alone.
-    const bool polar = a.w >= 900.0;
-    const double maps_w = polar ? a.w * 0.62 : a.w;
+    const bool polar = shows_polar(a);
+    const double maps_w = maps_width(a);
     std::vector<std::pair<std::string, FarField>> maps;
     if (c.desired) maps.emplace_back("desired", *c.desired);
     maps.emplace_back("obtained", c.obtained);
@@ -28,14 +78,9 @@ void draw_farfield_view(plot::Canvas& cv, const plot::Rect& a, const FarFieldCon
                                   : "obtained − desired",
                           std::move(diff));
     }
-    const double h = a.h / double(maps.size());
     for (std::size_t k = 0; k < maps.size(); ++k)
-        plot::draw_farfield(
-            cv, {a.x, a.y + h * double(k), maps_w, h}, maps[k].second,
-            {.title = c.title.empty() ? maps[k].first : c.title + ": " + maps[k].first,
-             .signed_values = k == 2,
-             .log_scale = o.log_scale,
-             .altitude_deg = band});
+        plot::draw_farfield(cv, map_area(a, k, maps.size()), maps[k].second,
+                            picture(c, o, maps[k].first, k == 2));
     // Candela curves of the obtained light (and the desired, when there is one), as a
     // photometric viewer draws them.
     if (polar && c.obtained.total_lm() > 0.0 && c.obtained.width >= 72 && c.obtained.height >= 36) {

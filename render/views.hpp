@@ -12,6 +12,7 @@
 
 #include "farfield/farfield.hpp"
 #include "plot/chart.hpp"
+#include "plot/farfield_picture.hpp"
 #include "viewport.hpp"
 
 namespace fird::render {
@@ -32,6 +33,25 @@ struct FarFieldContent {
 // Desired, obtained and difference maps stacked, then the polar curves.
 void draw_farfield_view(plot::Canvas& canvas, const plot::Rect& area, const FarFieldContent& c,
                         const FarFieldViewOptions& options);
+// The maps draw_farfield_view draws, top to bottom (desired, obtained, difference; the
+// obtained alone without a desired far field), where each is placed: for a readout of the
+// cell under the mouse.
+enum class FarFieldMapKind { Desired, Obtained, Difference };
+struct FarFieldViewMap {
+    FarFieldMapKind kind;
+    plot::FarFieldMapPlacement placement;
+};
+std::vector<FarFieldViewMap> farfield_view_maps(const plot::Rect& area, const FarFieldContent& c,
+                                                const FarFieldViewOptions& options);
+
+// The cell under pixel (px, py) of the view, and the map it is in; none off the maps.
+struct FarFieldCellAt {
+    FarFieldMapKind kind;
+    std::uint32_t row = 0, column = 0;
+};
+std::optional<FarFieldCellAt> farfield_cell_at(const std::vector<FarFieldViewMap>& maps,
+                                               const FarField& grid, double px, double py);
+
 // Light against altitude and against azimuth, obtained and desired.
 void draw_profile_plots(plot::Canvas& canvas, const plot::Rect& area, const FarFieldContent& c);
 

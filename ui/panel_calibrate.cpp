@@ -16,17 +16,19 @@ void start_calibration(Frame& f, bool rays_table, const std::string& parameter) 
         return add_log(s, "error: calibration needs a scene with a [target]");
     if (!parameter.empty() && !s.editor.scene->reflector.optimize.count(parameter))
         return add_log(s, "error: " + parameter + " is not in [reflector.optimize]");
-    const std::string out = (std::filesystem::path("workbench_out") / "calibrate").string();
+    const std::string out = new_run_folder(s, "calibrate");
+    if (out.empty()) return; // the error is in the log
     f.worker.submit(CalibrateJob{.scene = edited_scene(s),
                                  .rays_table = rays_table,
                                  .parameter = parameter,
                                  .out_dir = out});
+    s.calibration_scene = s.editor.path;
     add_log(s, "calibration started; files in " + out);
 }
 
 void calibrate_panel(Frame& f) {
     WorkbenchState& s = f.state;
-    ImGui::Begin("Calibration");
+    begin_panel(f, PanelId::Calibrate);
     const char* kinds[] = {"rays (Table 1)", "semivariogram"};
     ImGui::SetNextItemWidth(160);
     ImGui::Combo("kind", &s.calibration_kind, kinds, 2);
@@ -56,7 +58,10 @@ void calibrate_panel(Frame& f) {
     } else if (ImGui::Button("Stop")) {
         f.worker.stop();
     }
-    if (c.running || c.rays || c.semivariogram) {
+    if ((c.running || c.rays || c.semivariogram) && s.calibration_scene != s.editor.path) {
+        // Another scene's calibration: not this scene's figures.
+        ImGui::TextWrapped("the last calibration was of %s", s.calibration_scene.c_str());
+    } else if (c.running || c.rays || c.semivariogram) {
         const ImVec2 avail = ImGui::GetContentRegionAvail();
         const auto w = std::uint32_t(std::max(200.0f, avail.x)),
                    h = std::uint32_t(std::max(200.0f, avail.y));

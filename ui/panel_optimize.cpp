@@ -1,12 +1,15 @@
-// The optimization panel: start, pause and stop any method of fird optimize; best l2
-// against evaluations and each parameter's path, live; results saved as the command
-// would save them.
+// The optimization panel: start, pause and stop any method of fird optimize; what the
+// search is doing from its first second; best l2 against evaluations and each
+// parameter's path, live; the best on the sliders when it ends (or on "apply best"), and
+// "revert to start"; results saved as the command would save them.
 #include <filesystem>
 
 #include <fmt/format.h>
 #include <imgui.h>
+#include <imgui_stdlib.h>
 
 #include "panels.hpp"
+#include "run_directory.hpp"
 #include "view_textures.hpp"
 
 namespace fird::ui {
@@ -17,14 +20,96 @@ void start_search(Frame& f, SearchMethod method) {
     if (s.editor.scene->reflector.optimize.empty() ||
         s.editor.scene->target.kind == TargetDesc::Kind::None)
         return add_log(s, "error: the scene needs [reflector.optimize] and a [target] to optimize");
-    const std::string out = (std::filesystem::path("workbench_out") / "optimize").string();
+    const std::string out = new_run_folder(s, "optimize");
+    if (out.empty()) return; // the error is in the log
     f.worker.submit(SearchJob{.scene = edited_scene(s), .method = method, .out_dir = out});
+    s.search = {.scene_path = s.editor.path,
+                .start = s.editor.parameters,
+                .running = true,
+                .generation = f.worker.search().generation,
+                .started_s = ImGui::GetTime()};
     add_log(s, fmt::format("optimize ({}) started; files in {}", method_name(method), out));
 }
 
+namespace {
+
+// The best feasible candidate of the latest stage that has one (the search's own rule for
+// its result: a later stage's l2 is at more rays, not comparable with an earlier one's).
+const Candidate* best_candidate(const SearchProgress& p) {
+    const Candidate* best = nullptr;
+    for (const Candidate& c : p.history)
+        if (c.feasible &&
+            (!best || c.stage > best->stage || (c.stage == best->stage && c.l2_lm < best->l2_lm)))
+            best = &c;
+    return best;
+}
+
+std::map<std::string, double> best_parameters(const SearchProgress& p) {
+    if (p.result && p.result->best) return p.result->best_parameters;
+    std::map<std::string, double> named;
+    if (const Candidate* c = best_candidate(p))
+        for (std::size_t k = 0; k < p.names.size() && k < c->x.size(); ++k)
+            named[p.names[k]] = c->x[k];
+    return named;
+}
+
+// Parameters onto the sliders, traced (a preview, then the scene's rays).
+void put_on_sliders(WorkbenchState& s, const std::map<std::string, double>& values) {
+    for (const auto& [name, value] : values)
+        if (auto it = s.editor.parameters.find(name); it != s.editor.parameters.end())
+            it->second = value;
+    s.editor.dirty = true;
+}
+
+std::string rays_text(std::uint64_t rays) {
+    return fmt::format("{:.3g} rays", double(rays));
+}
+
+// What the search is doing, in words, from its first second.
+void search_status(const WorkbenchState& s, const SearchProgress& p) {
+    if (p.running) {
+        const double elapsed = ImGui::GetTime() - s.search.started_s;
+        if (p.history.empty()) {
+            ImGui::TextWrapped("%s: %.0f s, preparing: tracing the desired far field and the "
+                               "start reflector%s",
+                               p.method.c_str(), elapsed, p.paused ? " (paused)" : "");
+            return;
+        }
+        const StageSummary& stage = p.stages.back();
+        ImGui::TextWrapped("%s: %.0f s, stage %zu %s at %s, %ux%u far field; %zu evaluations%s",
+                           p.method.c_str(), elapsed, p.stages.size(), stage.name.c_str(),
+                           rays_text(stage.fidelity.rays).c_str(), stage.fidelity.farfield_w,
+                           stage.fidelity.farfield_h, p.history.size(),
+                           p.paused ? " (paused)" : "");
+    } else if (p.result) {
+        const SearchResult& r = *p.result;
+        const bool interrupted = r.stopped == StopReason::Interrupted;
+        ImGui::TextWrapped("%s %s: %zu evaluations in %.0f s%s", r.method.c_str(),
+                           interrupted ? "interrupted" : "done", r.history.size(), r.time_s,
+                           interrupted ? " (the best so far is on the sliders)"
+                                       : fmt::format(" ({})", stop_reason_name(r.stopped)).c_str());
+        if (r.start_l2_lm && r.final_l2_lm)
+            ImGui::TextWrapped(
+                "l2 at the scene's rays: start %.5g lm, best %.5g lm%s", *r.start_l2_lm,
+                *r.final_l2_lm,
+                r.noise_floor_l2_lm
+                    ? fmt::format(" (noise floor {:.3g} lm)", *r.noise_floor_l2_lm).c_str()
+                    : "");
+        if (!p.out_dir.empty()) ImGui::TextWrapped("files in %s", p.out_dir.c_str());
+    }
+    if (const Candidate* c = best_candidate(p); c && c->stage < p.stages.size()) {
+        const Fidelity& fid = p.stages[c->stage].fidelity;
+        ImGui::TextWrapped("best so far: l2 %.5g lm at %s (%ux%u far field, stage %s)", c->l2_lm,
+                           rays_text(fid.rays).c_str(), fid.farfield_w, fid.farfield_h,
+                           p.stages[c->stage].name.c_str());
+    }
+}
+
+} // namespace
+
 void optimize_panel(Frame& f) {
     WorkbenchState& s = f.state;
-    ImGui::Begin("Optimization");
+    begin_panel(f, PanelId::Optimize);
     const auto names = method_names();
     std::vector<const char*> items;
     for (const auto& n : names)
@@ -45,16 +130,40 @@ void optimize_panel(Frame& f) {
         ImGui::SameLine();
         if (ImGui::Button("Stop (Esc)")) f.worker.stop();
     }
+    // (A search still queued behind a trace has not touched the generation yet.)
+    // Results are the searched scene's: another scene opened since shows none of them
+    // (nor takes its parameters).
+    const bool this_scene = s.search.scene_path == s.editor.path;
+    if (s.search.running && !p.running && p.generation > s.search.generation) {
+        // The search ended: its best goes to the sliders. The worker has already shown
+        // it at the scene's rays, so the sliders follow without a new trace.
+        s.search.running = false;
+        if (p.result && p.result->best && this_scene)
+            for (const auto& [name, value] : p.result->best_parameters)
+                s.editor.parameters[name] = value;
+    }
+    ImGui::TextUnformatted("runs under");
+    ImGui::SameLine();
+    ImGui::SetNextItemWidth(-FLT_MIN);
+    ImGui::InputTextWithHint("##runs", runs_directory().c_str(), &s.runs_dir);
+    if (ImGui::IsItemHovered())
+        ImGui::SetTooltip("each search writes a new folder under this one (never overwriting)");
+    if (!this_scene && (p.running || p.result)) {
+        ImGui::TextWrapped("the last search was of %s", s.search.scene_path.c_str());
+        ImGui::End();
+        return;
+    }
+    search_status(s, p);
+    if (!p.history.empty() || p.result) {
+        ImGui::BeginDisabled(!best_candidate(p));
+        if (ImGui::Button("apply best")) put_on_sliders(s, best_parameters(p));
+        ImGui::EndDisabled();
+        ImGui::SameLine();
+        ImGui::BeginDisabled(s.search.start.empty());
+        if (ImGui::Button("revert to start")) put_on_sliders(s, s.search.start);
+        ImGui::EndDisabled();
+    }
     if (!p.history.empty()) {
-        double best = HUGE_VAL;
-        for (const Candidate& c : p.history)
-            if (c.feasible && c.stage + 1 == p.stages.size()) best = std::min(best, c.l2_lm);
-        ImGui::Text("%zu evaluations%s, best l2 %.5g lm (stage %s)", p.history.size(),
-                    p.running ? "" : ", done", best,
-                    p.stages.empty() ? "" : p.stages.back().name.c_str());
-        if (p.result && p.result->final_l2_lm && p.result->noise_floor_l2_lm)
-            ImGui::Text("final l2 %.5g lm, noise floor %.5g lm", *p.result->final_l2_lm,
-                        *p.result->noise_floor_l2_lm);
         const ImVec2 avail = ImGui::GetContentRegionAvail();
         const auto w = std::uint32_t(std::max(200.0f, avail.x)),
                    h = std::uint32_t(std::max(200.0f, avail.y));

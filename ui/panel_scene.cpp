@@ -27,24 +27,29 @@ void request_trace(Frame& f) {
 
 void scene_panel(Frame& f) {
     WorkbenchState& s = f.state;
-    ImGui::Begin("Scene");
-    ImGui::InputText("##path", &s.editor.path);
+    begin_panel(f, PanelId::Scene);
+    ImGui::InputTextWithHint("##path", "a scene (.toml) or a target (.ies, .ldt)", &s.editor.path);
     ImGui::SameLine();
-    if (ImGui::Button("Open")) open_scene(s, s.editor.path);
+    if (ImGui::Button("Open")) open_file(s, s.editor.path);
     if (!s.recent.empty() && ImGui::BeginCombo("recent", "recent scenes")) {
         for (const std::string& r : std::vector<std::string>(s.recent))
-            if (ImGui::Selectable(r.c_str())) open_scene(s, r);
+            if (ImGui::Selectable(r.c_str())) open_file(s, r);
         ImGui::EndCombo();
     }
-    if (!s.editor.error.empty())
-        ImGui::TextColored(ImVec4(0.9f, 0.2f, 0.2f, 1.0f), "%s", s.editor.error.c_str());
+    if (!s.editor.error.empty()) {
+        // Wrapped, not cut: an error names its file and line.
+        ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(0.9f, 0.2f, 0.2f, 1.0f));
+        ImGui::TextWrapped("%s", s.editor.error.c_str());
+        ImGui::PopStyleColor();
+    }
     if (!s.editor.scene) {
         ImGui::TextWrapped("Open a scene file (or drop one on the window).");
         ImGui::End();
         return;
     }
     const Scene& scene = *s.editor.scene;
-    ImGui::Text("%s: %s reflector", scene.name.c_str(), family_name(scene.reflector.family));
+    ImGui::TextWrapped("%s: %s reflector", scene.name.c_str(), family_name(scene.reflector.family));
+    ImGui::TextWrapped("target: %s", target_description(scene).c_str());
     ImGui::Separator();
     bool changed = false;
     for (auto& [name, value] : s.editor.parameters) {
@@ -72,11 +77,11 @@ void scene_panel(Frame& f) {
     if (f.snapshot) {
         const auto& t = f.snapshot->traced;
         ImGui::Separator();
-        ImGui::Text("%s%llu rays: %llu effective, %llu reflected",
-                    f.snapshot->preview ? "preview, " : "",
-                    static_cast<unsigned long long>(t.tally.emitted),
-                    static_cast<unsigned long long>(t.tally.emitted - t.tally.discarded),
-                    static_cast<unsigned long long>(t.tally.farfield));
+        ImGui::TextWrapped("%s%llu rays: %llu effective, %llu reflected",
+                           f.snapshot->preview ? "preview, " : "",
+                           static_cast<unsigned long long>(t.tally.emitted),
+                           static_cast<unsigned long long>(t.tally.emitted - t.tally.discarded),
+                           static_cast<unsigned long long>(t.tally.farfield));
         ImGui::Text("far field %.2f lm of %.2f lm", t.farfield.obtained.total_lm(),
                     scene.source.flux_lm);
         if (t.farfield.l2_lm) ImGui::Text("l2 to the target %.5g lm", *t.farfield.l2_lm);

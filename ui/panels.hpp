@@ -21,13 +21,18 @@ struct Frame {
 // Asks the worker for a progressive trace of the edited scene (preview, then full).
 void request_trace(Frame& f);
 
-// Starts the Optimization panel's method on the edited scene (files in workbench_out/).
+// Starts the Optimization panel's method on the edited scene (files in a new folder under the
+// state's runs_dir).
 void start_search(Frame& f, SearchMethod method);
 // Starts a calibration: Table 1, or the semivariogram of a parameter (empty: all).
 void start_calibration(Frame& f, bool rays_table, const std::string& parameter);
 
 // Picks the sample path under viewport pixel (px, py); false when none is near.
 bool pick_at(Frame& f, float px, float py);
+
+// Begins the panel's window where the layout puts it this frame: fixed (its title bar
+// neither moves nor resizes it), its content scrolling when it is below its minimum size.
+void begin_panel(Frame& f, PanelId id);
 
 void scene_panel(Frame& f);
 void viewport_panel(Frame& f);
@@ -37,7 +42,7 @@ void calibrate_panel(Frame& f);
 void log_panel(Frame& f);
 void help_panel(Frame& f);
 
-// Every panel, laid out on the display, plus the keyboard shortcuts.
+// The menu bar, every panel tiled on the display, the splitters, the keyboard shortcuts.
 void build_frame(Frame& f);
 
 } // namespace fird::ui

@@ -29,6 +29,8 @@ const std::map<std::string, std::tuple<ScriptAction::Kind, int, int>>& actions()
         {"wait", {K::Wait, 1, 1}},
         {"wait-idle", {K::WaitIdle, 0, 0}},
         {"pick-ray", {K::PickRay, 2, 2}},
+        {"drag", {K::Drag, 4, 5}},
+        {"resize", {K::Resize, 2, 2}},
         {"screenshot", {K::Screenshot, 1, 1}},
         {"quit", {K::Quit, 0, 0}}};
     return table;
@@ -43,6 +45,10 @@ double number(const std::string& path, int line, const std::string& s) {
 // The longest a wait-idle waits (frames at the frame loop's pace): a hung job fails the
 // script instead of hanging it.
 constexpr std::uint64_t kIdleFrameLimit = 200000;
+// Frames a resize may take to reach the window (the X server answers within a few).
+constexpr std::uint64_t kResizeFrameLimit = 600;
+// A drag's moves: frames between the press and the release.
+constexpr std::uint64_t kDragMoves = 10;
 
 } // namespace
 
@@ -79,6 +85,20 @@ Script parse_script_text(const std::string& text, const std::string& path) {
             throw std::invalid_argument(
                 fmt::format("{}:{}: wait needs a frame count >= 0", path, n));
         if (kind == K::PickRay) (void)number(path, n, a.args[0]), (void)number(path, n, a.args[1]);
+        if (kind == K::Drag) {
+            for (std::size_t k = 0; k < 4; ++k)
+                (void)number(path, n, a.args[k]);
+            if (a.args.size() == 5 && a.args[4] != "left" && a.args[4] != "right")
+                throw std::invalid_argument(fmt::format(
+                    "{}:{}: drag's button is left or right, not '{}'", path, n, a.args[4]));
+        }
+        if (kind == K::Resize)
+            for (std::size_t k = 0; k < 2; ++k) {
+                const double v = number(path, n, a.args[k]);
+                if (!(v >= 200 && v <= 16384 && v == std::floor(v)))
+                    throw std::invalid_argument(fmt::format(
+                        "{}:{}: resize needs whole pixel sizes from 200 to 16384", path, n));
+            }
         if (kind == K::Optimize && !a.args.empty() && !method_from_name(a.args[0]))
             throw std::invalid_argument(fmt::format("{}:{}: unknown method '{}' (one of {})", path,
                                                     n, a.args[0], fmt::join(method_names(), ", ")));
@@ -104,7 +124,34 @@ void ScriptRunner::fail(const ScriptAction& a, const std::string& why) const {
     throw std::runtime_error(fmt::format("{}:{}: {}", script_.path, a.line, why));
 }
 
-bool ScriptRunner::step(Frame& f, const std::function<void(const std::string&)>& screenshot) {
+bool ScriptRunner::drag(const ScriptAction& a, WorkbenchState& s) {
+    // Frame 0 moves to the start, 1 presses, then kDragMoves moves, then the release;
+    // the start is in viewport pixels (as pick-ray's), the moves add up to (DX, DY).
+    const std::uint64_t k = waited_++;
+    ScriptedMouse& m = s.scripted_mouse;
+    // The start is fixed when the drag begins: what it drags (a splitter) may move the
+    // viewport under it.
+    if (k == 0)
+        drag_from_ = {s.viewport_x + float(std::stod(a.args[0])),
+                      s.viewport_y + float(std::stod(a.args[1]))};
+    const auto [x, y] = drag_from_;
+    const float dx = float(std::stod(a.args[2])), dy = float(std::stod(a.args[3]));
+    const bool right = a.args.size() == 5 && a.args[4] == "right";
+    if (k > kDragMoves + 2) {
+        m = {};
+        return false;
+    }
+    const float t = k < 2 ? 0.0f : float(std::min(k - 1, kDragMoves)) / float(kDragMoves);
+    const bool down = k >= 1 && k <= kDragMoves + 1;
+    m = {.active = true,
+         .x = x + t * dx,
+         .y = y + t * dy,
+         .left = down && !right,
+         .right = down && right};
+    return true;
+}
+
+bool ScriptRunner::step(Frame& f, const ScriptHost& host) {
     using K = ScriptAction::Kind;
     WorkbenchState& s = f.state;
     while (!quit_ && next_ < script_.actions.size()) {
@@ -123,7 +170,7 @@ bool ScriptRunner::step(Frame& f, const std::function<void(const std::string&)>&
             if (++idle_frames_ < 2) return true;
             break;
         case K::Open:
-            if (!open_scene(s, a.args[0])) fail(a, "open: " + s.editor.error);
+            if (!open_file(s, a.args[0])) fail(a, "open: " + s.editor.error);
             break;
         case K::Set: {
             if (!s.editor.scene) fail(a, "set: no scene is open");
@@ -151,8 +198,23 @@ bool ScriptRunner::step(Frame& f, const std::function<void(const std::string&)>&
             if (!pick_at(f, float(std::stod(a.args[0])), float(std::stod(a.args[1]))))
                 fail(a, "pick-ray: no ray path near that viewport pixel");
             break;
+        case K::Drag:
+            if (s.viewport_w <= 0) fail(a, "drag: the viewport shows nothing yet");
+            if (drag(a, s)) return true;
+            break;
+        case K::Resize: {
+            const int w = std::stoi(a.args[0]), h = std::stoi(a.args[1]);
+            if (waited_ == 0) host.resize(w, h);
+            if (int(s.display_w) != w || int(s.display_h) != h) {
+                if (++waited_ > kResizeFrameLimit)
+                    fail(a, fmt::format("resize: the window stayed {} x {}", int(s.display_w),
+                                        int(s.display_h)));
+                return true;
+            }
+            break;
+        }
         case K::Screenshot:
-            screenshot(a.args[0]);
+            host.screenshot(a.args[0]);
             break;
         case K::Quit:
             quit_ = true;

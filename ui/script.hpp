@@ -2,12 +2,14 @@
 // the windowed tests drive the workbench, and how users record a reproducible session.
 // An open's PATH is relative to the script's folder; a screenshot's to the working directory.
 //   open PATH | set NAME VALUE | trace | optimize [METHOD] | calibrate rays|semivariogram
-//   [NAME] | stop | wait FRAMES | wait-idle | pick-ray X Y | screenshot PATH | quit
+//   [NAME] | stop | wait FRAMES | wait-idle | pick-ray X Y | drag X Y DX DY [left|right] |
+//   resize W H | screenshot PATH | quit
 #pragma once
 
 #include <cstdint>
 #include <functional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "panels.hpp"
@@ -25,6 +27,8 @@ struct ScriptAction {
         Wait,
         WaitIdle,
         PickRay,
+        Drag,
+        Resize,
         Screenshot,
         Quit
     } kind;
@@ -41,19 +45,28 @@ struct Script {
 Script parse_script(const std::string& path);
 Script parse_script_text(const std::string& text, const std::string& path);
 
+// What a script needs from the window it runs in.
+struct ScriptHost {
+    std::function<void(const std::string&)> screenshot; // capture the frame as PNG
+    std::function<void(int, int)> resize;               // ask for this window size
+};
+
 class ScriptRunner {
   public:
     explicit ScriptRunner(Script script) : script_(std::move(script)) {}
-    // Runs what is due this frame. `screenshot(path)` captures the frame. Returns false
+    // Runs what is due this frame, through the host's window. Returns false
     // when the script is done (after quit, or its last action). Throws
     // std::runtime_error "FILE:LINE: ..." when an action fails.
-    bool step(Frame& f, const std::function<void(const std::string&)>& screenshot);
+    bool step(Frame& f, const ScriptHost& host);
 
   private:
     [[noreturn]] void fail(const ScriptAction& a, const std::string& why) const;
     Script script_;
     std::size_t next_ = 0;
+    // Plays the drag action's mouse, one frame at a time; true while it goes on.
+    bool drag(const ScriptAction& a, WorkbenchState& s);
     std::uint64_t idle_frames_ = 0, waited_ = 0;
+    std::pair<float, float> drag_from_{0.0f, 0.0f}; // window pixels
     bool quit_ = false;
 };
 

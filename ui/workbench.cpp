@@ -20,6 +20,7 @@
 #include "imgui_renderer.hpp"
 #include "offscreen_target.hpp"
 #include "panels.hpp"
+#include "run_directory.hpp"
 #include "script.hpp"
 #include "settings.hpp"
 #include "views.hpp"
@@ -213,14 +214,10 @@ int run_workbench(const WorkbenchOptions& options) {
     constexpr std::uint32_t kMinImages = 2;
     resize_swapchain(ctx, wd, width, height, kMinImages);
 
-    const std::string dir = config_directory();
-    const std::string ini =
-        dir.empty() ? "" : (std::filesystem::path(dir) / "workbench.ini").string();
-    if (!dir.empty()) std::filesystem::create_directories(dir);
-    // After `ini`: Dear ImGui saves the layout to IniFilename when its context is
-    // destroyed, so the string must outlive the scope (declared later, destroyed first).
     const ImGuiScope imgui;
-    ImGui::GetIO().IniFilename = ini.empty() ? nullptr : ini.c_str();
+    // The layout is FIRD's own (ui/layout.hpp, kept in settings.txt): Dear ImGui keeps no
+    // window positions of its own.
+    ImGui::GetIO().IniFilename = nullptr;
     float xscale = 1.0f, yscale = 1.0f;
     glfwGetWindowContentScale(window, &xscale, &yscale);
     if (xscale > 1.0f) {
@@ -231,23 +228,26 @@ int run_workbench(const WorkbenchOptions& options) {
     int exit_code = 0;
     std::vector<double> frame_ms;
     std::uint64_t rays = 0, evaluations = 0;
+    // At exit, for --stats: each panel's rectangle and the window in window pixels, the
+    // viewport's camera (how a layout or a drag is checked from outside).
+    // The sliders' values: where a search's end left them.
+    nlohmann::json panels = nlohmann::json::object(), window_size, camera, sliders;
     {
         ImGuiRenderer renderer(ctx, wd.ImageCount);
         Session session(ctx);
         session.state.recent = settings.recent;
-        if (!options.scene.empty()) open_scene(session.state, options.scene);
+        session.state.layout = settings.layout;
+        session.state.runs_dir = settings.runs_dir.empty() ? runs_directory() : settings.runs_dir;
+        if (!options.scene.empty()) open_file(session.state, options.scene);
         bool rebuild = false;
         for (std::uint32_t n = 0; !glfwWindowShouldClose(window) && !session.state.quit; ++n) {
             if (options.max_frames && n >= options.max_frames) break;
             const auto t0 = std::chrono::steady_clock::now();
             glfwPollEvents();
-            for (const std::string& path : std::exchange(dropped, {})) {
-                const std::string ext = std::filesystem::path(path).extension().string();
-                if (ext == ".ies" || ext == ".IES" || ext == ".ldt" || ext == ".LDT")
-                    set_photometric_target(session.state, path);
-                else
-                    open_scene(session.state, path);
-            }
+            for (const std::string& path : std::exchange(dropped, {}))
+                open_file(session.state, path);
+            glfwGetFramebufferSize(window, &width, &height);
+            if (width != wd.Width || height != wd.Height) rebuild = true; // resized
             if (rebuild) {
                 glfwGetFramebufferSize(window, &width, &height);
                 if (width > 0 && height > 0) {
@@ -257,22 +257,33 @@ int run_workbench(const WorkbenchOptions& options) {
                 }
             }
             ImGui_ImplGlfw_NewFrame();
+            if (const ScriptedMouse& m = session.state.scripted_mouse; m.active) {
+                // A script's drag plays in place of the window's mouse.
+                ImGuiIO& io = ImGui::GetIO();
+                io.MousePos = ImVec2(m.x, m.y);
+                io.MouseDown[ImGuiMouseButton_Left] = m.left;
+                io.MouseDown[ImGuiMouseButton_Right] = m.right;
+            }
             ImGui::NewFrame();
             Frame f = session.frame();
             build_frame(f);
             bool more = true;
             if (script) {
                 try {
-                    more = script->step(f, [&](const std::string& path) {
-                        ImGui::Render();
-                        const ImDrawData* d = ImGui::GetDrawData();
-                        const auto w = std::uint32_t(d->DisplaySize.x),
-                                   h = std::uint32_t(d->DisplaySize.y);
-                        write_png(path, draw_offscreen(ctx, renderer, d, w, h), w, h);
-                        ImGui::NewFrame(); // the frame goes on to the window below
-                        Frame again = session.frame();
-                        build_frame(again);
-                    });
+                    const ScriptHost host{
+                        .screenshot =
+                            [&](const std::string& path) {
+                                ImGui::Render();
+                                const ImDrawData* d = ImGui::GetDrawData();
+                                const auto w = std::uint32_t(d->DisplaySize.x),
+                                           h = std::uint32_t(d->DisplaySize.y);
+                                write_png(path, draw_offscreen(ctx, renderer, d, w, h), w, h);
+                                ImGui::NewFrame(); // the frame goes on to the window below
+                                Frame again = session.frame();
+                                build_frame(again);
+                            },
+                        .resize = [&](int w, int h) { glfwSetWindowSize(window, w, h); }};
+                    more = script->step(f, host);
                 } catch (const std::exception& e) {
                     std::fprintf(stderr, "fird: error: %s\n", e.what());
                     exit_code = 1;
@@ -293,6 +304,19 @@ int run_workbench(const WorkbenchOptions& options) {
         rays = session.worker.rays_traced();
         evaluations = session.worker.evaluations();
         settings.recent = session.state.recent;
+        settings.runs_dir = session.state.runs_dir;
+        settings.layout = session.state.layout;
+        for (const PanelId id : kPanels) {
+            const PanelRect& r = session.state.drawn[std::size_t(id)];
+            panels[panel_key(id)] = {r.x, r.y, r.w, r.h};
+        }
+        window_size = {session.state.display_w, session.state.display_h};
+        sliders = session.state.editor.parameters;
+        const render::OrbitCamera& c = session.state.viewport.camera;
+        camera = {{"azimuth_deg", c.azimuth_deg},
+                  {"elevation_deg", c.elevation_deg},
+                  {"distance_mm", c.distance_mm},
+                  {"target_mm", {c.target.x, c.target.y, c.target.z}}};
         {
             // The worker may still be finishing a submission: waiting for the device uses
             // every queue, so it takes the queue lock like a submission does.
@@ -311,7 +335,11 @@ int run_workbench(const WorkbenchOptions& options) {
                                            {"frames", frame_ms.size()},
                                            {"first_frame_ms", first_frame_ms},
                                            {"rays_traced", rays},
-                                           {"evaluations", evaluations}}
+                                           {"evaluations", evaluations},
+                                           {"window", window_size},
+                                           {"panels", panels},
+                                           {"camera", camera},
+                                           {"parameters", sliders}}
                                 .dump(2)
                                 .c_str());
     if (ctx.validation_errors() > 0) {

@@ -7,6 +7,7 @@
 
 #include "io/scene_file.hpp"
 #include "photometry/photometry_file.hpp"
+#include "run_directory.hpp"
 
 namespace fird::ui {
 
@@ -16,7 +17,9 @@ void add_log(WorkbenchState& s, std::string line) {
         s.log.pop_front();
 }
 
-bool open_scene(WorkbenchState& s, const std::string& path) {
+bool open_scene(WorkbenchState& s, const std::string& given) {
+    // Kept absolute: the recent list must work from any working directory.
+    const std::string path = std::filesystem::absolute(given).lexically_normal().string();
     try {
         Scene scene = load_scene(path);
         s.editor.parameters = scene.reflector.parameters;
@@ -25,6 +28,7 @@ bool open_scene(WorkbenchState& s, const std::string& path) {
         s.editor.error.clear();
         s.editor.dirty = true;
         s.viewport.camera_set = false;
+        s.viewport.stale_generation = s.viewport.shown_generation;
         s.viewport.picked_path.reset();
         std::erase(s.recent, path);
         s.recent.insert(s.recent.begin(), path);
@@ -54,9 +58,46 @@ bool set_photometric_target(WorkbenchState& s, const std::string& path) {
     t = TargetDesc{.kind = TargetDesc::Kind::Photometric,
                    .file = std::filesystem::absolute(path).string(),
                    .resolved_path = std::filesystem::absolute(path).string()};
+    s.editor.error.clear();
     s.editor.dirty = true;
     add_log(s, "target: " + path);
     return true;
+}
+
+std::string new_run_folder(WorkbenchState& s, const std::string& job) {
+    try {
+        const std::string stem = std::filesystem::path(s.editor.path).stem().string();
+        return new_run_directory(s.runs_dir.empty() ? runs_directory() : s.runs_dir,
+                                 stem.empty() ? "scene" : stem, job);
+    } catch (const std::exception& e) {
+        add_log(s, std::string("error: ") + e.what());
+        return {};
+    }
+}
+
+bool open_file(WorkbenchState& s, const std::string& path) {
+    std::string ext = std::filesystem::path(path).extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(),
+                   [](unsigned char c) { return char(std::tolower(c)); });
+    if (ext == ".ies" || ext == ".ldt") return set_photometric_target(s, path);
+    return open_scene(s, path);
+}
+
+std::string target_description(const Scene& scene) {
+    const TargetDesc& t = scene.target;
+    switch (t.kind) {
+    case TargetDesc::Kind::None:
+        return "none";
+    case TargetDesc::Kind::Photometric:
+        return std::filesystem::path(t.file).filename().string() +
+               (t.absolute ? " (its own flux)" : " (scaled to the source's flux)");
+    case TargetDesc::Kind::Reflector:
+        break;
+    }
+    std::string text = "the reflector with";
+    for (const auto& [name, value] : t.parameters)
+        text += fmt::format(" {} = {:g}", name, value);
+    return text;
 }
 
 Scene edited_scene(const WorkbenchState& s) {

@@ -3,6 +3,7 @@
 // were last drawn into.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <deque>
 #include <map>
@@ -12,6 +13,7 @@
 #include <vector>
 
 #include "camera.hpp"
+#include "layout.hpp"
 #include "model/scene.hpp"
 #include "viewport.hpp"
 #include "vk/image.hpp"
@@ -34,6 +36,9 @@ struct ViewportState {
     std::optional<std::size_t> picked_path;
     std::size_t walk_step = 0; // steps of the picked ray's walk shown
     bool camera_set = false;   // framed on the holder once a scene is open
+    bool frame_all = false;    // asked for: fit the holder, keeping the direction
+    // The snapshot last shown, and the last one of the previous scene (not to frame on).
+    std::optional<std::uint64_t> shown_generation, stale_generation;
 };
 
 struct FarFieldState {
@@ -48,6 +53,23 @@ struct ViewTexture {
     std::uint32_t width = 0, height = 0;
 };
 
+// Mouse input a script plays (drag): applied to Dear ImGui's input before a frame, in
+// place of the window's, so a scripted drag goes through the same widgets as a user's.
+struct ScriptedMouse {
+    bool active = false;
+    float x = 0, y = 0;               // window pixels
+    bool left = false, right = false; // buttons held
+};
+
+// What the workbench did with a search's result (so it is applied once, when it ends).
+struct SearchFollow {
+    std::string scene_path;              // the scene it searched (its results are that scene's)
+    std::map<std::string, double> start; // the sliders when it started ("revert to start")
+    bool running = false;                // started and not yet seen to end
+    std::uint64_t generation = 0;        // the worker's search generation before it started
+    double started_s = 0.0;              // ImGui time at its start (what the panel shows)
+};
+
 struct WorkbenchState {
     SceneEditor editor;
     ViewportState viewport;
@@ -55,8 +77,16 @@ struct WorkbenchState {
     int method = 0;           // index into method_names()
     int calibration_kind = 0; // 0 rays, 1 semivariogram
     int calibration_parameter = 0;
+    std::string calibration_scene; // the scene the last calibration was of
     std::deque<std::string> log;
-    std::vector<std::string> recent; // recently opened scenes, newest first
+    std::vector<std::string> recent;             // recently opened scenes, newest first
+    std::string runs_dir;                        // a search's or calibration's folders go under it
+    Layout layout;                               // the splits, kept between runs
+    std::array<PanelRect, kPanelCount> panels{}; // where the layout puts each panel
+    std::array<PanelRect, kPanelCount> drawn{};  // where Dear ImGui drew it (--stats)
+    float display_w = 0, display_h = 0;          // the window, last frame
+    ScriptedMouse scripted_mouse;
+    SearchFollow search;
     bool show_help = false;
     bool quit = false;
     // Texture contents as last drawn.
@@ -71,6 +101,14 @@ void add_log(WorkbenchState& state, std::string line);
 bool open_scene(WorkbenchState& state, const std::string& path);
 // A dropped IES / LDT file becomes the open scene's photometric target.
 bool set_photometric_target(WorkbenchState& state, const std::string& path);
+// Any route (path field, recent list, drop, command line): an IES / LDT file becomes the
+// target, anything else is opened as a scene.
+bool open_file(WorkbenchState& state, const std::string& path);
+// What the open scene's desired far field is, in words ("none" without a target).
+std::string target_description(const Scene& scene);
+// A new folder under runs_dir for a job ("optimize", "calibrate") on the open scene;
+// empty (and the error logged) when it cannot be created.
+std::string new_run_folder(WorkbenchState& state, const std::string& job);
 // The scene with the sliders' values.
 Scene edited_scene(const WorkbenchState& state);
 

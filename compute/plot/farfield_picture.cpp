@@ -60,11 +60,20 @@ std::pair<double, double> lit_altitude_band(const FarField& f, double fraction) 
     return {std::min(90.0, hi + margin), std::max(-90.0, lo - margin)};
 }
 
-void draw_farfield(Canvas& cv, const Rect& a, const FarField& f, const FarFieldPicture& o) {
+FarFieldMapPlacement farfield_map_placement(const Rect& a, const FarField& f,
+                                            const FarFieldPicture& o) {
     const auto [r0, r1] = shown_rows(f, o);
-    const double map_x = a.x + kMarginLeft, map_y = a.y + kMarginTop;
-    const double map_w = a.w - kMarginLeft - kBarGap - kBarW - kBarLabels;
-    const double map_h = a.h - kMarginTop - kMarginBottom;
+    return {{a.x + kMarginLeft, a.y + kMarginTop, a.w - kMarginLeft - kBarGap - kBarW - kBarLabels,
+             a.h - kMarginTop - kMarginBottom},
+            r0,
+            r1};
+}
+
+void draw_farfield(Canvas& cv, const Rect& a, const FarField& f, const FarFieldPicture& o) {
+    const FarFieldMapPlacement placed = farfield_map_placement(a, f, o);
+    const std::uint32_t r0 = placed.row0, r1 = placed.row1;
+    const double map_x = placed.map.x, map_y = placed.map.y;
+    const double map_w = placed.map.w, map_h = placed.map.h;
     // One image pixel per screen pixel (at most one per cell): each shows the largest
     // |value| of the cells it covers.
     const int iw = int(std::clamp<double>(std::min<double>(f.width, map_w), 1.0, 4096.0));

@@ -22,6 +22,15 @@ struct FarFieldPicture {
 void draw_farfield(Canvas& canvas, const Rect& area, const FarField& farfield,
                    const FarFieldPicture& options);
 
+// Where draw_farfield puts the map in `area` and which rows [row0, row1) it shows (all
+// columns, azimuth -180 at the left): what a readout of the cell under a pixel needs.
+struct FarFieldMapPlacement {
+    Rect map;
+    std::uint32_t row0 = 0, row1 = 0;
+};
+FarFieldMapPlacement farfield_map_placement(const Rect& area, const FarField& farfield,
+                                            const FarFieldPicture& options);
+
 // The picture alone: one pixel per cell up to 1800 x 900 (each pixel the largest |value|
 // of its cells, so narrow peaks survive).
 void write_farfield_png(const std::string& path, const FarField& farfield,

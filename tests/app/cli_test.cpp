@@ -656,13 +656,17 @@ TEST(CliScreenshot, WritesTheViewsAndRefusesBadValues) {
 // A bad script line is refused naming the file and line, before any window opens.
 TEST(CliGui, ABadScriptLineIsAnErrorNamingFileAndLine) {
     const std::string path = ::testing::TempDir() + "/bad_session.fird";
-    for (const auto& [text, where] :
-         std::vector<std::pair<std::string, std::string>>{{"# ok\nfrobnicate\n", ":2:"},
-                                                          {"open\n", ":1:"},
-                                                          {"trace\nset sx fast\n", ":2:"},
-                                                          {"wait -3\n", ":1:"},
-                                                          {"optimize newton\n", ":1:"},
-                                                          {"calibrate everything\n", ":1:"}}) {
+    for (const auto& [text, where] : std::vector<std::pair<std::string, std::string>>{
+             {"# ok\nfrobnicate\n", ":2:"},
+             {"open\n", ":1:"},
+             {"trace\nset sx fast\n", ":2:"},
+             {"wait -3\n", ":1:"},
+             {"optimize newton\n", ":1:"},
+             {"calibrate everything\n", ":1:"},
+             {"trace\ndrag 1 2 3\n", ":2:"},
+             {"drag 1 2 3 4 middle\n", ":1:"},
+             {"resize 100 650\n", ":1:"},
+             {"wait 1\nresize 1000 6.5e2x\n", ":2:"}}) {
         std::ofstream(path) << text;
         const auto r = run("gui --script " + path);
         EXPECT_NE(r.code, 0) << text;

@@ -13,9 +13,11 @@
 
 #include "io/scene_file.hpp"
 #include "plot/canvas.hpp"
+#include "plot/colormap.hpp"
 #include "reference/reference_tracer.hpp"
 #include "reference/surface_hit.hpp"
 #include "traced_scene.hpp"
+#include "views.hpp"
 #include "vulkan_fixture.hpp"
 
 namespace fird::test {
@@ -159,6 +161,60 @@ TEST_F(Views, PickedRaysWalkVisitsNodesAlongItsPathAndEndsAtTheReferenceHit) {
     const RayPath& path = traced_->viewport.paths[pick_];
     ASSERT_GE(path.vertices.size(), 2u);
     EXPECT_LT(glm::length(path.vertices[1] - ref[1]), 0.05 * tx);
+}
+
+// The far-field readout (farfield_cell_at) names the cell the picture shows under the
+// mouse, over the whole of every map: a far field lit in one cell, in a known direction
+// (farfield_cell, the tally's own binning), drawn with a desired far field lit elsewhere;
+// the pixels drawn in that cell's colour are found by scanning the picture, and the
+// readout at each must be that cell in that map. Checked at a narrow and a wide (polar curves
+// beside) size, with the whole sphere and a zoomed band shown.
+TEST(FarFieldReadout, TheCellUnderAPixelIsTheCellDrawnThere) {
+    const std::uint32_t W = 36, H = 18;
+    const auto direction = [](double az_deg, double alt_deg) {
+        const double az = az_deg * M_PI / 180.0, alt = alt_deg * M_PI / 180.0;
+        return glm::dvec3{std::cos(alt) * std::cos(az), std::cos(alt) * std::sin(az),
+                          std::sin(alt)};
+    };
+    // The cell at half the peak (a colour of its own: the peak's is the background's
+    // white); the peak in another cell of the same band.
+    const auto lit = [&](const glm::dvec3& d) {
+        FarField f{W, H, std::vector<double>(std::size_t(W) * H, 0.0)};
+        f.lm[farfield_cell(glm::normalize(d), W, H)] = 0.5;
+        f.lm[farfield_cell(direction(110.0, 30.0), W, H)] = 1.0;
+        return f;
+    };
+    // Azimuth -110 deg, altitude 30 deg (the "-110 reads -30.7"): far left.
+    const glm::dvec3 d = direction(-110.0, 30.0);
+    const std::uint32_t cell = farfield_cell(glm::normalize(d), W, H);
+    render::FarFieldContent c{.obtained = lit(d), .desired = lit(direction(20.0, 45.0))};
+    const plot::Rgb half = plot::sequential_colour(0.5);
+    for (const auto& [w, h] : {std::pair{640, 900}, std::pair{1200, 900}})
+        for (const auto& band : {std::optional<std::pair<double, double>>{},
+                                 std::optional<std::pair<double, double>>{{60.0, 0.0}}}) {
+            SCOPED_TRACE(testing::Message() << w << " x " << h << (band ? " zoomed" : ""));
+            plot::Canvas cv{w, h};
+            const render::FarFieldViewOptions o{.altitude_deg = band};
+            render::draw_farfield_view(cv, {0, 0, double(w), double(h)}, c, o);
+            const auto maps = render::farfield_view_maps({0, 0, double(w), double(h)}, c, o);
+            ASSERT_EQ(maps.size(), 3u);
+            const auto rgba = cv.rgba();
+            std::size_t found = 0;
+            // The obtained map (the middle third): every pixel in the cell's colour reads it.
+            for (int y = h / 3; y < 2 * h / 3; ++y)
+                for (int x = 0; x < int(0.62 * w); ++x) {
+                    const std::size_t i = (std::size_t(y) * w + x) * 4;
+                    if (rgba[i] != half[0] || rgba[i + 1] != half[1] || rgba[i + 2] != half[2])
+                        continue;
+                    ++found;
+                    const auto at = render::farfield_cell_at(maps, c.obtained, x + 0.5, y + 0.5);
+                    ASSERT_TRUE(at) << x << ", " << y;
+                    EXPECT_EQ(at->kind, render::FarFieldMapKind::Obtained);
+                    EXPECT_EQ(std::size_t(at->row) * W + at->column, cell) << x << ", " << y;
+                }
+            // A cell of 10 deg spans several pixels at these sizes.
+            EXPECT_GT(found, 20u);
+        }
 }
 
 } // namespace

@@ -3,6 +3,9 @@
 // parameter, and the scene panel did not move.
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <string>
 
 #include <gtest/gtest.h>
 
@@ -36,14 +39,18 @@ TEST(WindowedSession, AParameterChangeChangesTheFarFieldShown) {
     EXPECT_LT(region_difference(before, after, wa, ha, 0.01, 0.70, 0.22, 0.99), 0.5);
 }
 
-// The panel layout is saved where the settings live when the session ends (after its
-// last screenshot), not under a name read from freed memory.
+// The panel layout (its splits) is saved with the settings in the config directory when
+// the session ends (after its last screenshot).
 TEST(WindowedSession, ThePanelLayoutIsSavedInTheConfigDirectoryAtExit) {
-    const std::filesystem::path ini =
-        std::filesystem::path(FIRD_UI_CONFIG_DIR) / "fird/workbench.ini";
-    ASSERT_TRUE(std::filesystem::is_regular_file(ini)) << ini;
-    EXPECT_GE(std::filesystem::last_write_time(ini),
+    const std::filesystem::path settings =
+        std::filesystem::path(FIRD_UI_CONFIG_DIR) / "fird/settings.txt";
+    ASSERT_TRUE(std::filesystem::is_regular_file(settings)) << settings;
+    EXPECT_GE(std::filesystem::last_write_time(settings),
               std::filesystem::last_write_time("ui_after.png"));
+    std::ifstream in(settings);
+    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    for (const char* key : {"layout_left=", "layout_right=", "layout_row="})
+        EXPECT_NE(text.find(key), std::string::npos) << key;
 }
 
 } // namespace
