@@ -117,14 +117,35 @@ std::vector<Ray> rays_over_the_bowl(std::size_t n) {
     return rays;
 }
 
-TEST_F(VulkanTest, AFacetedBowlReflectsAboutItsFacetsRayForRay) {
-    const FacetedBowl bowl;
-    const Scene s = faceted_bowl_scene(bowl, 1);
-    const Surface surface = Surface::make(s.reflector, s.holder);
-    const auto rays = rays_over_the_bowl(4000);
-    FastTracer fast(ctx(), s, 1);
+// The rays' paths on the fast path (the scene's own reflector).
+std::vector<RayPath> fast_paths(const vk::Context& ctx, const Scene& s,
+                                const std::vector<Ray>& rays) {
+    FastTracer fast(ctx, s, 1);
     fast.set_reflector(s.reflector);
-    const auto paths = fast.trace_paths(rays);
+    return fast.trace_paths(rays);
+}
+
+// The bowl traced with `bounces` on the fast path, beside its exact surface.
+struct BowlTrace {
+    FacetedBowl bowl;
+    Scene scene;
+    Surface surface;
+    std::vector<Ray> rays;
+    std::vector<RayPath> paths;
+};
+
+BowlTrace trace_bowl(const vk::Context& ctx, std::uint32_t bounces) {
+    const FacetedBowl bowl;
+    Scene s = faceted_bowl_scene(bowl, bounces);
+    Surface surface = Surface::make(s.reflector, s.holder);
+    auto rays = rays_over_the_bowl(4000);
+    auto paths = fast_paths(ctx, s, rays);
+    return {bowl, std::move(s), std::move(surface), std::move(rays), std::move(paths)};
+}
+
+TEST_F(VulkanTest, AFacetedBowlReflectsAboutItsFacetsRayForRay) {
+    const BowlTrace t = trace_bowl(ctx(), 1);
+    const auto& [bowl, s, surface, rays, paths] = t;
     const double texel = 20.0 / 400.0, near = std::sqrt(2.0) * texel;
 
     // A ray reflects about the facet under its hit: the face normal is stored in float
@@ -175,13 +196,8 @@ TEST_F(VulkanTest, AFacetedBowlReflectsAboutItsFacetsRayForRay) {
 }
 
 TEST_F(VulkanTest, AFacetedBowlGainsOrLosesNoReflection) {
-    const FacetedBowl bowl;
-    const Scene s = faceted_bowl_scene(bowl, 4);
-    const Surface surface = Surface::make(s.reflector, s.holder);
-    const auto rays = rays_over_the_bowl(4000);
-    FastTracer fast(ctx(), s, 1);
-    fast.set_reflector(s.reflector);
-    const auto paths = fast.trace_paths(rays);
+    const BowlTrace t = trace_bowl(ctx(), 4);
+    const auto& [bowl, s, surface, rays, paths] = t;
     const double near = std::sqrt(2.0) * 20.0 / 400.0;
     std::size_t compared = 0;
     for (std::size_t i = 0; i < rays.size(); ++i) {
@@ -243,12 +259,7 @@ TEST_F(VulkanTest, AMultiBounceSceneFarFromTheOriginTracesAsAtHome) {
     std::vector<Ray> moved;
     for (const Ray& r : rays)
         moved.push_back({r.origin + offset, r.direction});
-    const auto trace = [&](const Scene& s, const std::vector<Ray>& in) {
-        FastTracer fast(ctx(), s, 1);
-        fast.set_reflector(s.reflector);
-        return fast.trace_paths(in);
-    };
-    const auto a = trace(home, rays), b = trace(far, moved);
+    const auto a = fast_paths(ctx(), home, rays), b = fast_paths(ctx(), far, moved);
     std::size_t multi = 0; // rays with two reflections or more
     for (std::size_t i = 0; i < rays.size(); ++i) {
         ASSERT_EQ(a[i].reflections, b[i].reflections) << "ray " << i;
