@@ -143,13 +143,10 @@ StressResult run_stress_case(const vk::Context& ctx, const StressCase& c) {
             if (near_clamp(s.holder, ref_vertices[paths[i].reflections + 1].z, band))
                 ++path_near_clamp;
             if (std::getenv("FIRD_STRESS_DEBUG")) {
-                std::vector<glm::dvec3> v;
-                (void)trace_path(surface, s.holder, rays[i], s.trace.max_bounces,
-                                 s.trace.bounce_policy, &v);
                 std::fprintf(stderr, "missing: o (%.9g, %.9g, %.9g) d (%.9g, %.9g, %.9g)\n",
                              rays[i].origin.x, rays[i].origin.y, rays[i].origin.z,
                              rays[i].direction.x, rays[i].direction.y, rays[i].direction.z);
-                for (const auto& p : v)
+                for (const auto& p : ref_vertices)
                     std::fprintf(stderr, "  ref  %.7f %.7f %.7f\n", p.x, p.y, p.z);
                 for (const auto& p : paths[i].vertices)
                     std::fprintf(stderr, "  fast %.7f %.7f %.7f\n", p.x, p.y, p.z);
