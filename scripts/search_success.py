@@ -9,7 +9,8 @@ fidelity) is at most 1.1 x its noise floor (two independent traces of its best):
 field is then what noise alone would leave. Its surface RMS to the target (over the holder)
 says how close the surface came.
 
-    scripts/search_success.py --fird build/release/app/fird --seeds 10 --log study.jsonl
+    scripts/search_success.py --fird build/release/app/fird --seeds 10 --log study.jsonl \
+        --cases scene,off-lattice:refine
     scripts/search_success.py --table-only --log study.jsonl
 """
 import argparse
@@ -99,8 +100,9 @@ def main():
     ap.add_argument("--fird", default=os.path.join(ROOT, "build", "release", "app", "fird"))
     ap.add_argument("--seeds", type=int, default=10)
     ap.add_argument("--models", default="A,B,C")
-    ap.add_argument("--targets", default="scene,off-lattice", help="scene, off-lattice or both")
-    ap.add_argument("--refine", action="store_true", help="also run each search with --refine")
+    ap.add_argument("--cases", default="scene,off-lattice:refine",
+                    help="comma-separated TARGET[:refine], TARGET scene or off-lattice; with :refine "
+                         "the search runs with --refine (below the lattice step at its end)")
     ap.add_argument("--log", required=True, help="JSON lines, appended; searches already there are skipped")
     ap.add_argument("--table-only", action="store_true")
     a = ap.parse_args()
@@ -110,28 +112,33 @@ def main():
         rows = [json.loads(l) for l in open(a.log) if l.strip()]
     if not a.table_only:
         models = a.models.split(",")
-        targets = a.targets.split(",")
+        cases = []
+        for c in a.cases.split(","):
+            target, _, mode = c.partition(":")
+            if target not in ("scene", "off-lattice") or mode not in ("", "refine"):
+                sys.exit(f"search_success.py: --cases: '{c}' is not TARGET[:refine] with TARGET scene or off-lattice")
+            cases.append((target, mode == "refine"))
         done = {(r["model"], r["target"], r["refine"], r["seed"]) for r in rows}
         with tempfile.TemporaryDirectory() as tmp:
             scenes = {}
             for m in models:
                 scenes[(m, "scene")] = SCENES[m]
                 scenes[(m, "off-lattice")] = scene_with_target(m, OFF_LATTICE[m], tmp)
-            # Seed-major, models interleaved: a study cut short still covers every model.
-            for target in targets:
-                for refine in [False] + ([True] if a.refine else []):
-                    for seed in range(1, a.seeds + 1):
-                        for m in models:
-                            if (m, target, refine, seed) in done:
-                                continue
-                            r = run_one(a.fird, scenes[(m, target)], seed, refine)
-                            r.update(model=m, target=target, refine=refine, seed=seed)
-                            rows.append(r)
-                            with open(a.log, "a") as f:
-                                f.write(json.dumps(r) + "\n")
-                            print(f"{m} {target} refine={refine} seed {seed}: ratio "
-                                  f"{r.get('ratio')}, RMS {r.get('surface_rms_mm')} mm, "
-                                  f"{r.get('time_s') or r.get('wall_s'):.0f} s", file=sys.stderr, flush=True)
+            # Seed-major, models and cases interleaved: a study cut short still covers
+            # every model and case with the same number of seeds (give or take one).
+            for seed in range(1, a.seeds + 1):
+                for m in models:
+                    for target, refine in cases:
+                        if (m, target, refine, seed) in done:
+                            continue
+                        r = run_one(a.fird, scenes[(m, target)], seed, refine)
+                        r.update(model=m, target=target, refine=refine, seed=seed)
+                        rows.append(r)
+                        with open(a.log, "a") as f:
+                            f.write(json.dumps(r) + "\n")
+                        print(f"{m} {target} refine={refine} seed {seed}: ratio "
+                              f"{r.get('ratio')}, RMS {r.get('surface_rms_mm')} mm, "
+                              f"{r.get('time_s') or r.get('wall_s'):.0f} s", file=sys.stderr, flush=True)
     print(table(rows))
 
 
