@@ -14,7 +14,7 @@ packages=(
   libtomlplusplus-dev libcli11-dev nlohmann-json3-dev libfmt-dev libnlopt-cxx-dev nettle-dev
   libvtk9-dev
   libgtest-dev libgmock-dev libbenchmark-dev libeigen3-dev
-  xvfb xauth
+  xvfb xauth xdotool
   clang libclang-rt-14-dev
 )
 missing=()

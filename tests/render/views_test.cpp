@@ -11,6 +11,7 @@
 
 #include <glm/geometric.hpp>
 
+#include "golden_image.hpp"
 #include "io/scene_file.hpp"
 #include "plot/canvas.hpp"
 #include "plot/colormap.hpp"
@@ -31,49 +32,10 @@ Scene paraboloid() {
     return load_scene(std::string(FIRD_SOURCE_DIR) + "/scenes/test/focused_paraboloid.toml");
 }
 
-// A pixel differs when a channel is more than 16 counts off; at most 0.5 % may, and the
-// mean absolute difference over all channels must stay under 1.5 counts.
-void expect_like_golden(const std::vector<std::uint8_t>& rgba, int w, int h, const char* name) {
-    const fs::path golden = fs::path(FIRD_SOURCE_DIR) / "tests/render/golden" / name;
-    if (const char* u = std::getenv("FIRD_UPDATE_GOLDENS"); u && std::string(u) == "1") {
-        plot::Canvas cv{w, h};
-        std::vector<std::uint8_t> rgb(std::size_t(w) * h * 3);
-        for (std::size_t i = 0; i < std::size_t(w) * h; ++i)
-            for (int k = 0; k < 3; ++k)
-                rgb[i * 3 + k] = rgba[i * 4 + k];
-        cv.image(rgb, w, h, 0, 0, w, h);
-        cv.write_png(golden.string());
-        return;
-    }
-    int gw = 0, gh = 0;
-    const auto g = plot::read_png_rgba(golden.string(), gw, gh);
-    ASSERT_EQ(gw, w) << name;
-    ASSERT_EQ(gh, h) << name;
-    std::size_t differing = 0;
-    double sum = 0.0;
-    std::vector<std::uint8_t> diff(std::size_t(w) * h * 3, 255);
-    for (std::size_t i = 0; i < std::size_t(w) * h; ++i) {
-        int worst = 0;
-        for (int k = 0; k < 3; ++k) {
-            const int d = std::abs(int(rgba[i * 4 + k]) - int(g[i * 4 + k]));
-            worst = std::max(worst, d);
-            sum += d;
-        }
-        if (worst > 16) {
-            ++differing;
-            diff[i * 3] = 220, diff[i * 3 + 1] = diff[i * 3 + 2] = 0;
-        }
-    }
-    const double mean = sum / (3.0 * w * h);
-    const bool ok = differing <= std::size_t(0.005 * w * h) && mean < 1.5;
-    EXPECT_TRUE(ok) << name << ": " << differing << " pixels differ, mean difference " << mean;
-    if (!ok) {
-        plot::Canvas cv{w, h};
-        cv.image(diff, w, h, 0, 0, w, h);
-        const auto out = fs::path(::testing::TempDir()) / (std::string("diff_") + name);
-        cv.write_png(out.string());
-        std::fprintf(stderr, "diff image: %s\n", out.c_str());
-    }
+void expect_like_view_golden(const std::vector<std::uint8_t>& rgba, int w, int h,
+                             const char* name) {
+    test::expect_like_golden(rgba, w, h,
+                             (fs::path(FIRD_SOURCE_DIR) / "tests/render/golden" / name).string());
 }
 
 class Views : public VulkanTest {
@@ -108,16 +70,16 @@ TEST_F(Views, ViewportMatchesItsGolden) {
                               .quadtree_level = 5,
                               .height_colours = true};
     const auto rgba = render::render_viewport(ctx(), renderer, traced_->viewport, o, kW, kH);
-    expect_like_golden(rgba, kW, kH, "viewport.png");
+    expect_like_view_golden(rgba, kW, kH, "viewport.png");
 }
 
 TEST_F(Views, FarFieldAndPlotsMatchTheirGoldens) {
     plot::Canvas far{640, 400};
     render::draw_farfield_view(far, {0, 0, 640, 400}, traced_->farfield, {});
-    expect_like_golden(far.rgba(), 640, 400, "farfield.png");
+    expect_like_view_golden(far.rgba(), 640, 400, "farfield.png");
     plot::Canvas plots{kW * 2, kH * 2};
     render::draw_profile_plots(plots, {0, 0, kW * 2.0, kH * 2.0}, traced_->farfield);
-    expect_like_golden(plots.rgba(), kW * 2, kH * 2, "plots.png");
+    expect_like_view_golden(plots.rgba(), kW * 2, kH * 2, "plots.png");
 }
 
 // The recorded walk of the picked ray: every node it tests contains the ray's position

@@ -1,7 +1,10 @@
-// After the windowed layout sessions (tests/ui/resize_*.fird, drag_viewport.fird, run
-// under Xvfb by the fixture tests before this one, each writing `fird gui --stats`): the
-// panels tile the window at 1000 x 650 and again after it is restored to 1600 x 1000, and a
-// drag in the viewport orbits the camera without moving any panel.
+// After the windowed sessions run under Xvfb by the fixture tests before this one, each
+// writing `fird gui --stats`: the panels tile the window at 1000 x 650 and again after it
+// is restored to 1600 x 1000, a drag in the viewport orbits the camera without moving any
+// panel, and a search run to its end leaves its best on the sliders. Each check runs on two
+// sets of sessions: the scripted ones (tests/ui/*.fird: the workbench's own script actions)
+// and the real-input ones (tests/ui/real_input_session.sh: xdotool's mouse and keyboard
+// through the X server, as a user's hands).
 #include <fstream>
 
 #include <gtest/gtest.h>
@@ -44,12 +47,34 @@ void expect_tiled(const nlohmann::json& stats, double w, double h) {
     }
 }
 
-TEST(WindowLayout, PanelsTileTheShrunkWindow) {
-    expect_tiled(read_stats("layout_small.json"), 1000, 650);
+// One set of sessions: its stats files' prefix and the search's data folder.
+struct Sessions {
+    std::string prefix;      // <prefix>_small.json, _restored.json, _dragged.json
+    std::string search;      // the search session's stats
+    std::string search_data; // its XDG_DATA_HOME
+};
+
+class WindowLayout : public testing::TestWithParam<Sessions> {
+  protected:
+    nlohmann::json stats(const char* session) const {
+        return read_stats(GetParam().prefix + "_" + session + ".json");
+    }
+};
+
+INSTANTIATE_TEST_SUITE_P(
+    Input, WindowLayout,
+    testing::Values(Sessions{"layout", "search_stats.json", FIRD_UI_DATA_DIR "/data"},
+                    Sessions{"real", "real_search.json", FIRD_UI_DATA_DIR "/session/data_search"}),
+    [](const testing::TestParamInfo<Sessions>& i) {
+        return i.param.prefix == "real" ? std::string("Xdotool") : std::string("Scripted");
+    });
+
+TEST_P(WindowLayout, PanelsTileTheShrunkWindow) {
+    expect_tiled(stats("small"), 1000, 650);
 }
 
-TEST(WindowLayout, PanelsTileTheWindowRestoredAfterShrinking) {
-    const auto restored = read_stats("layout_restored.json");
+TEST_P(WindowLayout, PanelsTileTheWindowRestoredAfterShrinking) {
+    const auto restored = stats("restored");
     expect_tiled(restored, 1600, 1000);
     // And they use it: the panels cover most of the window (gaps and the menu bar aside).
     double covered = 0.0;
@@ -60,9 +85,9 @@ TEST(WindowLayout, PanelsTileTheWindowRestoredAfterShrinking) {
     EXPECT_GT(covered, 0.95 * 1600 * 1000);
 }
 
-TEST(WindowLayout, ADragInTheViewportOrbitsTheCameraAndMovesNoPanel) {
-    const auto still = read_stats("layout_restored.json");
-    const auto dragged = read_stats("layout_dragged.json");
+TEST_P(WindowLayout, ADragInTheViewportOrbitsTheCameraAndMovesNoPanel) {
+    const auto still = stats("restored");
+    const auto dragged = stats("dragged");
     expect_tiled(dragged, 1600, 1000);
     EXPECT_EQ(dragged.at("panels"), still.at("panels"));
     // 120 px right and 40 px down at the documented 0.4 deg per pixel (docs/workbench.md):
@@ -107,9 +132,9 @@ TEST(WindowLayout, ADragOnASplitterMovesOnlyThePanelsItSeparates) {
 // folder (the first under the test's data directory), which are the scene's analytic
 // optimum (sx 0.15, sy -0.1, on the step lattice) within one step (0.05): the scene's own
 // promise for every method.
-TEST(WindowSearch, ASearchRunToTheEndPutsItsBestOnTheSliders) {
-    const auto stats = read_stats("search_stats.json");
-    std::ifstream in(FIRD_UI_DATA_DIR "/fird/runs/mirror_search-optimize-1/search.json");
+TEST_P(WindowLayout, ASearchRunToTheEndPutsItsBestOnTheSliders) {
+    const auto stats = read_stats(GetParam().search);
+    std::ifstream in(GetParam().search_data + "/fird/runs/mirror_search-optimize-1/search.json");
     ASSERT_TRUE(in);
     const auto search = nlohmann::json::parse(in);
     const auto& best = search.at("best_parameters");
@@ -132,7 +157,8 @@ TEST(WindowSearch, ASearchEndingAfterASceneSwitchLeavesTheNewSceneAlone) {
     EXPECT_EQ(sliders.at("sx").get<double>(), 0.2);
     EXPECT_EQ(sliders.at("sy").get<double>(), -0.1);
     EXPECT_EQ(sliders.at("z0").get<double>(), -2.0);
-    std::ifstream in(FIRD_UI_DATA_DIR "_switch/fird/runs/mirror_search-optimize-1/search.json");
+    std::ifstream in(FIRD_UI_DATA_DIR
+                     "/data_switch/fird/runs/mirror_search-optimize-1/search.json");
     EXPECT_TRUE(in) << "the search's files";
 }
 
