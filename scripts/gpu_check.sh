@@ -11,32 +11,34 @@
 #   - the search time of fird optimize (auto) on Model A;
 #   - the workbench's frame time p50/p99 while a search runs (under xvfb-run, when there).
 #
-# Usage: scripts/gpu_check.sh [--quick] [--no-build] [--no-tests] [--device NAME] [--out FILE]
+# Usage: scripts/gpu_check.sh [--quick] [--no-build] [--no-tests] [--fird PATH] [--device NAME]
+#                             [--out FILE]
 #   --quick     the same table at a hundredth of the rays, no test suite (any device,
 #               lavapipe included): the script itself checked before a GPU is at hand
 #   --no-build  use build/release as it is (a machine without Debian's packages, say)
 #   --no-tests  skip the test suite
+#   --fird      the fird binary to measure (default build/release/app/fird; implies --no-build)
 #   --device    the Vulkan device (fird --device: a substring of its name)
 #   --out       the markdown file (default: gpu_check.md in the working directory)
 # Every step is bounded by a timeout; a step that fails or times out is reported in the
 # table as such and the script goes on (exit 1 at the end if any did).
 set -uo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
-quick=0 build=1 tests=1 device="" out="$PWD/gpu_check.md"
+quick=0 build=1 tests=1 device="" out="$PWD/gpu_check.md" fird="$root/build/release/app/fird"
 while (($#)); do
   case "$1" in
     --quick) quick=1; tests=0 ;;
     --no-build) build=0 ;;
     --no-tests) tests=0 ;;
+    --fird) fird="${2:?--fird needs a path}"; build=0; shift ;;
     --device) device="${2:?--device needs a name}"; shift ;;
     --out) out="${2:?--out needs a file}"; shift ;;
-    -h|--help) sed -n '2,22p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,24p' "$0"; exit 0 ;;
     *) echo "gpu_check.sh: unknown option '$1' (see --help)" >&2; exit 2 ;;
   esac
   shift
 done
 case "$out" in /*) ;; *) out="$PWD/$out" ;; esac
-fird="$root/build/release/app/fird"
 scale=1; ((quick)) && scale=100
 work="$(mktemp -d)"
 trap 'rm -rf "$work"' EXIT
