@@ -246,15 +246,26 @@ struct Context::State {
     VkPhysicalDeviceMemoryProperties memory{};
     // A command pool per thread that submits (pools are not thread-safe), and one lock
     // for the queue: the compute worker and the window's frames submit side by side.
+    // Each thread's own pool, command buffer and fence, reused by every submission from
+    // that thread (issue 24: none is created per pass). `busy` marks one being recorded or
+    // waited on: a submission made from inside another's recording gets buffers of its own.
+    struct ThreadSubmitter {
+        Owned<VkCommandPool> pool;
+        VkCommandBuffer command_buffer = VK_NULL_HANDLE; // freed with the pool
+        Owned<VkFence> fence;
+        bool busy = false;
+    };
     std::mutex pools_mutex;
-    std::map<std::thread::id, Owned<VkCommandPool>> command_pools;
+    std::map<std::thread::id, ThreadSubmitter> command_pools;
     std::mutex queue_mutex;
     std::uint64_t max_device_memory = 0;
     std::uint64_t max_batch_rays = 0;
     std::atomic<std::uint64_t> device_memory{0};
     PFN_vkSetDebugUtilsObjectNameEXT set_object_name = nullptr;
 
-    VkCommandPool pool_for_this_thread(const Context& ctx);
+    ThreadSubmitter& submitter_for_this_thread(const Context& ctx);
+    // Records, submits on the shared queue and waits (bounded) with t's buffer and fence.
+    void submit_with(ThreadSubmitter& t, const std::function<void(VkCommandBuffer)>& record);
 
     ~State() {
         command_pools.clear();
@@ -423,21 +434,34 @@ void Context::set_name(VkObjectType type, std::uint64_t handle, std::string_view
     FIRD_VK_CHECK(state_->set_object_name(state_->device, &info));
 }
 
-VkCommandPool Context::State::pool_for_this_thread(const Context& ctx) {
+Context::State::ThreadSubmitter& Context::State::submitter_for_this_thread(const Context& ctx) {
     const std::lock_guard lock(pools_mutex);
-    auto& pool = command_pools[std::this_thread::get_id()];
-    if (!pool) {
+    const std::size_t index = command_pools.size();
+    ThreadSubmitter& t = command_pools[std::this_thread::get_id()];
+    if (!t.pool) {
         const VkCommandPoolCreateInfo info{.sType = VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO,
                                            .flags = VK_COMMAND_POOL_CREATE_TRANSIENT_BIT |
                                                     VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT,
                                            .queueFamilyIndex = queue_family};
         VkCommandPool p = VK_NULL_HANDLE;
         FIRD_VK_CHECK(vkCreateCommandPool(device, &info, nullptr, &p));
-        pool = Owned<VkCommandPool>(device, p);
-        ctx.name(p, VK_OBJECT_TYPE_COMMAND_POOL,
-                 fmt::format("fird.command_pool.{}", command_pools.size()));
+        t.pool = Owned<VkCommandPool>(device, p);
+        ctx.name(p, VK_OBJECT_TYPE_COMMAND_POOL, fmt::format("fird.command_pool.{}", index));
+        const VkCommandBufferAllocateInfo alloc{.sType =
+                                                    VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO,
+                                                .commandPool = p,
+                                                .level = VK_COMMAND_BUFFER_LEVEL_PRIMARY,
+                                                .commandBufferCount = 1};
+        FIRD_VK_CHECK(vkAllocateCommandBuffers(device, &alloc, &t.command_buffer));
+        ctx.name(t.command_buffer, VK_OBJECT_TYPE_COMMAND_BUFFER,
+                 fmt::format("fird.command_buffer.{}", index));
+        const VkFenceCreateInfo fence_info{.sType = VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
+        VkFence f = VK_NULL_HANDLE;
+        FIRD_VK_CHECK(vkCreateFence(device, &fence_info, nullptr, &f));
+        t.fence = Owned<VkFence>(device, f);
+        ctx.name(f, VK_OBJECT_TYPE_FENCE, fmt::format("fird.submit_fence.{}", index));
     }
-    return pool.get();
+    return t;
 }
 
 MemoryCharge::~MemoryCharge() {
@@ -494,43 +518,62 @@ std::unique_lock<std::mutex> Context::lock_queue() const {
 }
 
 void Context::submit_and_wait(const std::function<void(VkCommandBuffer)>& record) const {
-    const VkCommandPool command_pool = state_->pool_for_this_thread(*this);
-    const VkCommandBufferAllocateInfo alloc{.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO,
-                                            .commandPool = command_pool,
-                                            .level = VK_COMMAND_BUFFER_LEVEL_PRIMARY,
-                                            .commandBufferCount = 1};
-    VkCommandBuffer cb = VK_NULL_HANDLE;
-    FIRD_VK_CHECK(vkAllocateCommandBuffers(state_->device, &alloc, &cb));
-    struct Free {
-        VkDevice d;
-        VkCommandPool p;
-        VkCommandBuffer c;
-        ~Free() { vkFreeCommandBuffers(d, p, 1, &c); }
-    } free_cb{state_->device, command_pool, cb};
+    State::ThreadSubmitter& t = state_->submitter_for_this_thread(*this);
+    if (t.busy) { // a submission from inside another's recording: buffers of its own
+        State::ThreadSubmitter nested;
+        const VkCommandPoolCreateInfo info{.sType = VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO,
+                                           .flags = VK_COMMAND_POOL_CREATE_TRANSIENT_BIT,
+                                           .queueFamilyIndex = state_->queue_family};
+        VkCommandPool p = VK_NULL_HANDLE;
+        FIRD_VK_CHECK(vkCreateCommandPool(state_->device, &info, nullptr, &p));
+        nested.pool = Owned<VkCommandPool>(state_->device, p);
+        const VkCommandBufferAllocateInfo alloc{.sType =
+                                                    VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO,
+                                                .commandPool = p,
+                                                .level = VK_COMMAND_BUFFER_LEVEL_PRIMARY,
+                                                .commandBufferCount = 1};
+        FIRD_VK_CHECK(vkAllocateCommandBuffers(state_->device, &alloc, &nested.command_buffer));
+        const VkFenceCreateInfo fence_info{.sType = VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
+        VkFence f = VK_NULL_HANDLE;
+        FIRD_VK_CHECK(vkCreateFence(state_->device, &fence_info, nullptr, &f));
+        nested.fence = Owned<VkFence>(state_->device, f);
+        state_->submit_with(nested, record);
+        return;
+    }
+    t.busy = true;
+    struct Release {
+        bool& busy;
+        ~Release() { busy = false; }
+    } release{t.busy};
+    state_->submit_with(t, record);
+}
 
+void Context::State::submit_with(ThreadSubmitter& t,
+                                 const std::function<void(VkCommandBuffer)>& record) {
+    // The buffer and fence are idle here: the last submission from this thread was waited
+    // on (or never submitted: recording threw), so both can be reset.
+    const VkFence fence = t.fence.get();
+    FIRD_VK_CHECK(vkResetCommandBuffer(t.command_buffer, 0));
+    FIRD_VK_CHECK(vkResetFences(device, 1, &fence));
     const VkCommandBufferBeginInfo begin{.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO,
                                          .flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT};
-    FIRD_VK_CHECK(vkBeginCommandBuffer(cb, &begin));
-    record(cb);
-    FIRD_VK_CHECK(vkEndCommandBuffer(cb));
+    FIRD_VK_CHECK(vkBeginCommandBuffer(t.command_buffer, &begin));
+    record(t.command_buffer);
+    FIRD_VK_CHECK(vkEndCommandBuffer(t.command_buffer));
 
-    const VkFenceCreateInfo fence_info{.sType = VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
-    VkFence fence_handle = VK_NULL_HANDLE;
-    FIRD_VK_CHECK(vkCreateFence(state_->device, &fence_info, nullptr, &fence_handle));
-    const Owned<VkFence> fence(state_->device, fence_handle);
     const VkCommandBufferSubmitInfo cb_info{.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_SUBMIT_INFO,
-                                            .commandBuffer = cb};
+                                            .commandBuffer = t.command_buffer};
     const VkSubmitInfo2 submit{.sType = VK_STRUCTURE_TYPE_SUBMIT_INFO_2,
                                .commandBufferInfoCount = 1,
                                .pCommandBufferInfos = &cb_info};
     {
-        const auto queue = lock_queue();
-        FIRD_VK_CHECK(vkQueueSubmit2(state_->queue, 1, &submit, fence.get()));
+        const std::lock_guard lock(queue_mutex);
+        FIRD_VK_CHECK(vkQueueSubmit2(queue, 1, &submit, fence));
     }
-    // Bounded wait: a submission that runs this long has hung the device.
+    // Bounded wait: a submission that runs this long has hung the device (the context is
+    // then unusable: the error ends the command).
     constexpr std::uint64_t kSubmitTimeoutNs = 600ull * 1000 * 1000 * 1000;
-    const VkResult waited =
-        vkWaitForFences(state_->device, 1, &fence_handle, VK_TRUE, kSubmitTimeoutNs);
+    const VkResult waited = vkWaitForFences(device, 1, &fence, VK_TRUE, kSubmitTimeoutNs);
     if (waited == VK_TIMEOUT)
         throw VulkanError("vkWaitForFences: the device did not finish within 600 s", VK_TIMEOUT);
     FIRD_VK_CHECK(waited);
