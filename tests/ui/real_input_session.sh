@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The workbench driven with real input (xdotool's XTEST mouse and keyboard, as a user's
-# hands), under the X server this runs in (xvfb-run). Four sessions, each a fresh start
+# hands), under the X server this runs in (tests/ui/with_xvfb.sh). Four sessions, each a fresh start
 # from a config folder of its own, each leaving `fird gui --stats` in OUT_DIR:
 #   real_small.json     the window resized to 1000 x 650
 #   real_restored.json  resized to 1000 x 650 and back to 1600 x 1000
