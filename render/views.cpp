@@ -13,17 +13,30 @@ namespace fird::render {
 
 namespace {
 
-// Side by side with the polar curves when there is room; a narrow area shows the maps alone.
-bool shows_polar(const plot::Rect& a) {
-    return a.w >= 900.0;
+// Side by side with the polar curves when there is room (and the maps are one column); a
+// narrow area shows the maps alone.
+bool shows_polar(const plot::Rect& a, const FarFieldViewOptions& o) {
+    return a.w >= 900.0 && o.columns <= 1;
 }
-double maps_width(const plot::Rect& a) {
-    return shows_polar(a) ? a.w * 0.62 : a.w;
+double maps_width(const plot::Rect& a, const FarFieldViewOptions& o) {
+    return shows_polar(a, o) ? a.w * 0.62 : a.w;
 }
-// The k-th of n maps stacked in the maps' column.
-plot::Rect map_area(const plot::Rect& a, std::size_t k, std::size_t n) {
-    const double h = a.h / double(n);
-    return {a.x, a.y + h * double(k), maps_width(a), h};
+// The k-th of n maps, row by row in the options' columns.
+plot::Rect map_area(const plot::Rect& a, std::size_t k, std::size_t n,
+                    const FarFieldViewOptions& o) {
+    const std::size_t columns = std::clamp<std::size_t>(std::size_t(std::max(1, o.columns)), 1, n);
+    const std::size_t rows = (n + columns - 1) / columns;
+    const double w = maps_width(a, o) / double(columns), h = a.h / double(rows);
+    return {a.x + w * double(k % columns), a.y + h * double(k / columns), w, h};
+}
+// The maps the options show, in order.
+std::vector<FarFieldMapKind> shown_maps(const FarFieldContent& c, const FarFieldViewOptions& o) {
+    if (o.only && (c.desired || *o.only == FarFieldMapKind::Obtained)) return {*o.only};
+    std::vector<FarFieldMapKind> kinds;
+    if (c.desired) kinds.push_back(FarFieldMapKind::Desired);
+    kinds.push_back(FarFieldMapKind::Obtained);
+    if (c.desired) kinds.push_back(FarFieldMapKind::Difference);
+    return kinds;
 }
 plot::FarFieldPicture picture(const FarFieldContent& c, const FarFieldViewOptions& o,
                               const std::string& name, bool difference) {
@@ -35,16 +48,33 @@ plot::FarFieldPicture picture(const FarFieldContent& c, const FarFieldViewOption
 
 } // namespace
 
+FarFieldViewGrid farfield_view_grid(double w, double h, std::size_t n) {
+    // A map's height in an area of one cell of the grid: the compact picture's margins
+    // (title and tick labels, 42 px) off, and no more than a 360 deg map a third as high as
+    // wide would use (beyond that, height is better spent in another row).
+    const auto map_height = [&](int columns) {
+        const std::size_t rows = (n + std::size_t(columns) - 1) / std::size_t(columns);
+        const double cell_w = w / columns, cell_h = h / double(rows);
+        return std::min(cell_h - 42.0, (cell_w - 110.0) / 3.0);
+    };
+    FarFieldViewGrid best{1, h};
+    for (int columns = 2; columns <= int(std::max<std::size_t>(1, n)); ++columns)
+        if (map_height(columns) > map_height(best.columns)) best.columns = columns;
+    const std::size_t rows = (n + std::size_t(best.columns) - 1) / std::size_t(best.columns);
+    if (map_height(best.columns) < kFarFieldMapMinPx)
+        best = {1, std::max(h, double(n) * (kFarFieldMapMinPx + 42.0))};
+    else
+        best.height = std::max(h, double(rows) * (kFarFieldMapMinPx + 42.0));
+    return best;
+}
+
 std::vector<FarFieldViewMap> farfield_view_maps(const plot::Rect& a, const FarFieldContent& c,
                                                 const FarFieldViewOptions& o) {
-    std::vector<FarFieldMapKind> kinds;
-    if (c.desired) kinds.push_back(FarFieldMapKind::Desired);
-    kinds.push_back(FarFieldMapKind::Obtained);
-    if (c.desired) kinds.push_back(FarFieldMapKind::Difference);
+    const std::vector<FarFieldMapKind> kinds = shown_maps(c, o);
     std::vector<FarFieldViewMap> maps;
     for (std::size_t k = 0; k < kinds.size(); ++k)
         maps.push_back({kinds[k], plot::farfield_map_placement(
-                                      map_area(a, k, kinds.size()), c.obtained,
+                                      map_area(a, k, kinds.size(), o), c.obtained,
                                       picture(c, o, "", kinds[k] == FarFieldMapKind::Difference))});
     return maps;
 }
@@ -65,22 +95,27 @@ std::optional<FarFieldCellAt> farfield_cell_at(const std::vector<FarFieldViewMap
 
 void draw_farfield_view(plot::Canvas& cv, const plot::Rect& a, const FarFieldContent& c,
                         const FarFieldViewOptions& o) {
-    const bool polar = shows_polar(a);
-    const double maps_w = maps_width(a);
-    std::vector<std::pair<std::string, FarField>> maps;
-    if (c.desired) maps.emplace_back("desired", *c.desired);
-    maps.emplace_back("obtained", c.obtained);
-    if (c.desired) {
-        FarField diff = c.obtained;
-        for (std::size_t i = 0; i < diff.lm.size(); ++i)
-            diff.lm[i] -= c.desired->lm[i];
-        maps.emplace_back(c.l2_lm ? fmt::format("obtained − desired, l2 = {:.4g} lm", *c.l2_lm)
-                                  : "obtained − desired",
-                          std::move(diff));
+    const bool polar = shows_polar(a, o);
+    const double maps_w = maps_width(a, o);
+    const std::vector<FarFieldMapKind> kinds = shown_maps(c, o);
+    for (std::size_t k = 0; k < kinds.size(); ++k) {
+        const plot::Rect area = map_area(a, k, kinds.size(), o);
+        if (kinds[k] == FarFieldMapKind::Desired) {
+            plot::draw_farfield(cv, area, *c.desired, picture(c, o, "desired", false));
+        } else if (kinds[k] == FarFieldMapKind::Obtained) {
+            plot::draw_farfield(cv, area, c.obtained, picture(c, o, "obtained", false));
+        } else {
+            FarField diff = c.obtained;
+            for (std::size_t i = 0; i < diff.lm.size(); ++i)
+                diff.lm[i] -= c.desired->lm[i];
+            plot::draw_farfield(
+                cv, area, diff,
+                picture(c, o,
+                        c.l2_lm ? fmt::format("obtained − desired, l2 = {:.4g} lm", *c.l2_lm)
+                                : "obtained − desired",
+                        true));
+        }
     }
-    for (std::size_t k = 0; k < maps.size(); ++k)
-        plot::draw_farfield(cv, map_area(a, k, maps.size()), maps[k].second,
-                            picture(c, o, maps[k].first, k == 2));
     // Candela curves of the obtained light (and the desired, when there is one), as a
     // photometric viewer draws them.
     if (polar && c.obtained.total_lm() > 0.0 && c.obtained.width >= 72 && c.obtained.height >= 36) {

@@ -17,11 +17,27 @@
 
 namespace fird::render {
 
+enum class FarFieldMapKind { Desired, Obtained, Difference };
+
 struct FarFieldViewOptions {
     bool log_scale = false;
     // Altitudes shown (high, low, deg); empty: the lit band of the obtained far field.
     std::optional<std::pair<double, double>> altitude_deg;
+    // One map alone (filling the area); empty: every map there is.
+    std::optional<FarFieldMapKind> only;
+    // The maps in this many columns, row by row (the polar curves only beside one column).
+    int columns = 1;
 };
+
+// How an area of w x h pixels shows n maps: in the columns that give each map the most
+// height, and the height they need: h, or more where a map would be lower than
+// kFarFieldMapMinPx (the panel then scrolls rather than squeezing them).
+inline constexpr double kFarFieldMapMinPx = 80.0;
+struct FarFieldViewGrid {
+    int columns = 1;
+    double height = 0.0;
+};
+FarFieldViewGrid farfield_view_grid(double w, double h, std::size_t n);
 
 struct FarFieldContent {
     std::string title;
@@ -30,13 +46,13 @@ struct FarFieldContent {
     std::optional<double> l2_lm;
 };
 
-// Desired, obtained and difference maps stacked, then the polar curves.
+// Desired, obtained and difference maps (or the one the options name) in the options'
+// columns, then the polar curves.
 void draw_farfield_view(plot::Canvas& canvas, const plot::Rect& area, const FarFieldContent& c,
                         const FarFieldViewOptions& options);
-// The maps draw_farfield_view draws, top to bottom (desired, obtained, difference; the
-// obtained alone without a desired far field), where each is placed: for a readout of the
-// cell under the mouse.
-enum class FarFieldMapKind { Desired, Obtained, Difference };
+// The maps draw_farfield_view draws, in order (desired, obtained, difference; the obtained
+// alone without a desired far field; the options' one alone), where each is placed: for a
+// readout of the cell under the mouse.
 struct FarFieldViewMap {
     FarFieldMapKind kind;
     plot::FarFieldMapPlacement placement;

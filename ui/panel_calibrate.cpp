@@ -1,12 +1,14 @@
 // The calibration panel: Table 1 and the semivariograms of fird calibrate, run beside
 // the frames, with their plots and fitted curves.
+#include <algorithm>
 #include <filesystem>
 
 #include <fmt/format.h>
 #include <imgui.h>
 
+#include "calibrate/calibration_report.hpp"
+#include "chart_widget.hpp"
 #include "panels.hpp"
-#include "view_textures.hpp"
 
 namespace fird::ui {
 
@@ -25,6 +27,51 @@ void start_calibration(Frame& f, bool rays_table, const std::string& parameter) 
     s.calibration_scene = s.editor.path;
     add_log(s, "calibration started; files in " + out);
 }
+
+namespace {
+
+// The calibration's charts at the panel's size: Table 1's rays, or one semivariogram per
+// parameter (in a grid whose columns follow the width, scrolling below their least
+// height), or the runs' l2 while it runs.
+void calibration_plots(const CalibrationProgress& c, const std::string& scene) {
+    ImGui::BeginChild("##calibration");
+    const float line = ImGui::GetTextLineHeightWithSpacing();
+    const ImVec2 avail = ImGui::GetContentRegionAvail();
+    if (c.rays) {
+        chart_widget("##rays", rays_table_chart(*c.rays, scene),
+                     ImVec2(avail.x, std::max(13.0f * line, avail.y)));
+    } else if (c.semivariogram && !c.semivariogram->parameters.empty()) {
+        const auto& ps = c.semivariogram->parameters;
+        const int columns = std::clamp(int(avail.x / (20.0f * line)), 1, int(ps.size()));
+        const int rows = int((ps.size() + std::size_t(columns) - 1) / std::size_t(columns));
+        const float h =
+            std::max(11.0f * line, avail.y / float(rows) - ImGui::GetStyle().ItemSpacing.y);
+        const float w =
+            (avail.x - ImGui::GetStyle().ItemSpacing.x * float(columns - 1)) / float(columns);
+        for (std::size_t k = 0; k < ps.size(); ++k) {
+            if (k % std::size_t(columns) != 0) ImGui::SameLine();
+            chart_widget(fmt::format("##semivariogram{}", k).c_str(),
+                         semivariogram_chart(ps[k], c.semivariogram->rays, scene), ImVec2(w, h));
+        }
+    } else {
+        plot::Series runs{
+            .kind = plot::Series::Kind::Points, .label = "l2 so far", .colour = plot::palette(0)};
+        for (std::size_t i = 0; i < c.partial.size(); ++i) {
+            runs.x.push_back(double(i));
+            runs.y.push_back(c.partial[i]);
+        }
+        chart_widget("##running",
+                     {.title = "Calibration running",
+                      .x = {"run or point", plot::Scale::Linear, 0.0,
+                            std::max(10.0, double(c.partial.size()))},
+                      .y = {"l2 (lm)"},
+                      .series = {runs}},
+                     ImVec2(avail.x, std::max(11.0f * line, avail.y)));
+    }
+    ImGui::EndChild();
+}
+
+} // namespace
 
 void calibrate_panel(Frame& f) {
     WorkbenchState& s = f.state;
@@ -62,12 +109,7 @@ void calibrate_panel(Frame& f) {
         // Another scene's calibration: not this scene's figures.
         ImGui::TextWrapped("the last calibration was of %s", s.calibration_scene.c_str());
     } else if (c.running || c.rays || c.semivariogram) {
-        const ImVec2 avail = ImGui::GetContentRegionAvail();
-        const auto w = std::uint32_t(std::max(200.0f, avail.x)),
-                   h = std::uint32_t(std::max(200.0f, avail.y));
-        update_calibration_plot(f.ctx, s, c, s.editor.scene ? s.editor.scene->name : "", w, h);
-        ImGui::Image(static_cast<ImTextureID>(s.calibration_plot.texture.get()),
-                     ImVec2(float(w), float(h)));
+        calibration_plots(c, s.editor.scene ? s.editor.scene->name : "");
     }
     ImGui::End();
 }

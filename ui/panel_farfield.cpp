@@ -1,5 +1,6 @@
-// The far-field panel: desired, obtained and difference with the polar curves, zoom to
-// the lit band, linear or log, a hover readout of the cell under the mouse, l2 and flux.
+// The far-field panel: desired, obtained and difference (or one of them, filling the
+// panel) in the columns that keep each readable, zoom onto the lit band's brightest part,
+// linear or log, a hover readout of the cell under the mouse, l2 and flux.
 #include <algorithm>
 #include <cmath>
 
@@ -17,8 +18,13 @@ void farfield_panel(Frame& f) {
     begin_panel(f, PanelId::FarField);
     ImGui::Checkbox("log scale", &s.farfield.log_scale);
     ImGui::SameLine();
-    ImGui::SetNextItemWidth(160);
+    ImGui::SetNextItemWidth(8.0f * ImGui::GetFontSize());
     ImGui::SliderFloat("zoom", &s.farfield.zoom, 1.0f, 8.0f, "%.1fx");
+    ImGui::SameLine();
+    const char* shown[] = {"all", "desired", "obtained", "difference"};
+    ImGui::SetNextItemWidth(7.0f * ImGui::GetFontSize());
+    ImGui::Combo("maps", &s.farfield.maps, shown, 4);
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("one map alone fills the panel");
     if (!f.snapshot) {
         ImGui::TextDisabled("no trace yet");
         ImGui::End();
@@ -31,33 +37,45 @@ void farfield_panel(Frame& f) {
         ImGui::Text("| desired %.3f lm | l2 %.5g lm", ff.desired->total_lm(),
                     ff.l2_lm.value_or(0.0));
     }
+    // The maps in the columns that keep each readable; below their least height they keep
+    // it and the panel scrolls.
     const ImVec2 avail = ImGui::GetContentRegionAvail();
-    const auto w = std::uint32_t(std::max(200.0f, avail.x)),
-               h = std::uint32_t(std::max(200.0f, avail.y - 20));
-    update_farfield_image(f.ctx, s, *f.snapshot, w, h);
+    const std::size_t n = s.farfield.maps != 0 || !ff.desired ? 1 : 3;
+    render::FarFieldViewGrid grid = render::farfield_view_grid(avail.x, avail.y, n);
+    const bool scrolls = grid.height > avail.y + 0.5f;
+    float w = avail.x;
+    if (scrolls) {
+        ImGui::BeginChild("##maps_scroll", avail, false, ImGuiWindowFlags_AlwaysVerticalScrollbar);
+        w -= ImGui::GetStyle().ScrollbarSize;
+        grid = render::farfield_view_grid(w, avail.y, n);
+    }
+    const render::FarFieldViewOptions options = farfield_view_options(s, ff, grid.columns);
+    const auto iw = std::uint32_t(std::max(200.0f, w)),
+               ih = std::uint32_t(std::max(120.0, grid.height));
+    update_farfield_image(f.ctx, s, *f.snapshot, options, iw, ih);
     const ImVec2 origin = ImGui::GetCursorScreenPos();
     // The maps own their mouse (an invisible button over the image): the wheel zooms the
     // band, a double click shows it whole, and nothing drags the window.
-    ImGui::InvisibleButton("##maps", ImVec2(float(w), float(h)));
+    ImGui::InvisibleButton("##maps", ImVec2(float(iw), float(ih)));
     ImGui::SetItemUsingMouseWheel();
     ImGui::GetWindowDrawList()->AddImage(static_cast<ImTextureID>(s.farfield_image.texture.get()),
-                                         origin, ImVec2(origin.x + float(w), origin.y + float(h)));
+                                         origin,
+                                         ImVec2(origin.x + float(iw), origin.y + float(ih)));
     if (ImGui::IsItemHovered()) {
         const float wheel = ImGui::GetIO().MouseWheel;
         if (wheel != 0.0f)
             s.farfield.zoom = std::clamp(s.farfield.zoom * std::pow(1.25f, wheel), 1.0f, 8.0f);
         if (ImGui::IsMouseDoubleClicked(ImGuiMouseButton_Left)) s.farfield.zoom = 1.0f;
         // The cell under the mouse, in whichever map it is over (the placement is the
-        // drawing's own, so the readout follows the maps at any panel size and zoom).
+        // drawing's own, with the same options, so the readout follows the maps at any
+        // panel size, selection and zoom).
         const ImVec2 m = ImGui::GetIO().MousePos;
-        const double px = m.x - origin.x, py = m.y - origin.y;
-        const auto maps = render::farfield_view_maps(
-            {0, 0, double(w), double(h)}, ff,
-            {.log_scale = s.farfield.log_scale, .altitude_deg = farfield_band(s, ff.obtained)});
-        if (const auto at = render::farfield_cell_at(maps, ff.obtained, px, py)) {
-            const FarField& grid = ff.obtained;
-            const std::size_t cell = std::size_t(at->row) * grid.width + at->column;
-            const double obtained = grid.lm[cell];
+        const auto maps = render::farfield_view_maps({0, 0, double(iw), double(ih)}, ff, options);
+        if (const auto at =
+                render::farfield_cell_at(maps, ff.obtained, m.x - origin.x, m.y - origin.y)) {
+            const FarField& grid_ff = ff.obtained;
+            const std::size_t cell = std::size_t(at->row) * grid_ff.width + at->column;
+            const double obtained = grid_ff.lm[cell];
             const double desired = ff.desired ? ff.desired->lm[cell] : 0.0;
             using K = render::FarFieldMapKind;
             const double lm = at->kind == K::Desired    ? desired
@@ -66,12 +84,14 @@ void farfield_panel(Frame& f) {
             const char* name = at->kind == K::Desired    ? "desired"
                                : at->kind == K::Obtained ? "obtained"
                                                          : "obtained - desired";
-            ImGui::SetTooltip("%s\nazimuth phi %.1f deg, altitude theta %.1f deg\n%.4g lm, %.4g cd",
-                              name, -180.0 + (at->column + 0.5) * 360.0 / grid.width,
-                              90.0 - (at->row + 0.5) * 180.0 / grid.height, lm,
-                              lm / farfield_cell_solid_angle_sr(at->row, grid.width, grid.height));
+            ImGui::SetTooltip(
+                "%s\nazimuth phi %.1f deg, altitude theta %.1f deg\n%.4g lm, %.4g cd", name,
+                -180.0 + (at->column + 0.5) * 360.0 / grid_ff.width,
+                90.0 - (at->row + 0.5) * 180.0 / grid_ff.height, lm,
+                lm / farfield_cell_solid_angle_sr(at->row, grid_ff.width, grid_ff.height));
         }
     }
+    if (scrolls) ImGui::EndChild();
     ImGui::End();
 }
 

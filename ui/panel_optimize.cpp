@@ -2,15 +2,17 @@
 // search is doing from its first second; best l2 against evaluations and each
 // parameter's path, live; the best on the sliders when it ends (or on "apply best"), and
 // "revert to start"; results saved as the command would save them.
+#include <algorithm>
 #include <filesystem>
 
 #include <fmt/format.h>
 #include <imgui.h>
 #include <imgui_stdlib.h>
 
+#include "chart_widget.hpp"
+#include "optimize/search_report.hpp"
 #include "panels.hpp"
 #include "run_directory.hpp"
-#include "view_textures.hpp"
 
 namespace fird::ui {
 
@@ -105,6 +107,51 @@ void search_status(const WorkbenchState& s, const SearchProgress& p) {
     }
 }
 
+// The search so far as a result (what progress.png draws from).
+SearchResult progress_result(const SearchProgress& p) {
+    SearchResult r = p.result.value_or(SearchResult{});
+    r.method = p.method;
+    r.names = p.names;
+    r.bounds = p.bounds;
+    r.history = p.history;
+    r.stages = p.stages;
+    return r;
+}
+
+// The progress charts at the panel's size: l2 on top, the parameters in a grid whose
+// columns follow the width; below their least heights the panel scrolls instead of
+// squeezing them.
+void progress_plots(const SearchProgress& p) {
+    ProgressCharts charts = progress_charts(progress_result(p));
+    // Rows a small panel can spare: no title (the status above names the method), the
+    // stages by name and rays (the status names their grids), one line for the y axis.
+    charts.l2.title.clear();
+    charts.l2.y.label = "l2 (lm) of each reflector tested";
+    for (std::size_t k = 0; k < p.stages.size() && 2 * k < charts.l2.series.size(); ++k)
+        charts.l2.series[2 * k].label =
+            fmt::format("{} {:.0e}", p.stages[k].name, double(p.stages[k].fidelity.rays));
+    ImGui::BeginChild("##progress");
+    const float line = ImGui::GetTextLineHeightWithSpacing();
+    const ImVec2 avail = ImGui::GetContentRegionAvail();
+    const std::size_t n = charts.parameters.size();
+    const int columns = std::clamp(int(avail.x / (16.0f * line)), 1, std::max(1, int(n)));
+    const int rows = int((n + std::size_t(columns) - 1) / std::size_t(columns));
+    const float l2_h = std::max(10.0f * line, 0.45f * avail.y);
+    const float spacing = ImGui::GetStyle().ItemSpacing.y;
+    const float param_h =
+        rows ? std::max(8.0f * line, (avail.y - l2_h) / float(rows) - spacing) : 0.0f;
+    chart_widget("##l2", charts.l2, ImVec2(avail.x, l2_h));
+    const float col_w =
+        (avail.x - ImGui::GetStyle().ItemSpacing.x * float(columns - 1)) / float(columns);
+    for (std::size_t k = 0; k < n; ++k) {
+        // The evaluations' label under the bottom row only (it is the same for all).
+        if (int(k) / columns < rows - 1) charts.parameters[k].x.label.clear();
+        if (k % std::size_t(columns) != 0) ImGui::SameLine();
+        chart_widget(fmt::format("##p{}", k).c_str(), charts.parameters[k], ImVec2(col_w, param_h));
+    }
+    ImGui::EndChild();
+}
+
 } // namespace
 
 void optimize_panel(Frame& f) {
@@ -163,14 +210,7 @@ void optimize_panel(Frame& f) {
         if (ImGui::Button("revert to start")) put_on_sliders(s, s.search.start);
         ImGui::EndDisabled();
     }
-    if (!p.history.empty()) {
-        const ImVec2 avail = ImGui::GetContentRegionAvail();
-        const auto w = std::uint32_t(std::max(200.0f, avail.x)),
-                   h = std::uint32_t(std::max(200.0f, avail.y));
-        update_search_plot(f.ctx, s, p, w, h);
-        ImGui::Image(static_cast<ImTextureID>(s.search_plot.texture.get()),
-                     ImVec2(float(w), float(h)));
-    }
+    if (!p.history.empty()) progress_plots(p);
     ImGui::End();
 }
 

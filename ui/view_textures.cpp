@@ -4,13 +4,22 @@
 #include <cstring>
 #include <functional>
 
-#include "calibrate/calibration_report.hpp"
-#include "optimize/search_report.hpp"
 #include "plot/farfield_picture.hpp"
 
 namespace fird::ui {
 
 namespace {
+
+// FNV-1a over the values' bits: what a view was drawn from.
+template <std::size_t N> std::uint64_t value_hash(const double (&values)[N]) {
+    std::uint64_t hash = 1469598103934665603ull;
+    for (double v : values) {
+        std::uint64_t bits;
+        std::memcpy(&bits, &v, 8);
+        hash = (hash ^ bits) * 1099511628211ull;
+    }
+    return hash;
+}
 
 std::uint64_t camera_hash(const WorkbenchState& s, std::uint32_t w, std::uint32_t h) {
     const auto& c = s.viewport.camera;
@@ -29,13 +38,7 @@ std::uint64_t camera_hash(const WorkbenchState& s, std::uint32_t w, std::uint32_
                              double(w),
                              double(h),
                              double(s.viewport.picked_path.value_or(~0ull))};
-    std::uint64_t hash = 1469598103934665603ull;
-    for (double v : values) {
-        std::uint64_t bits;
-        std::memcpy(&bits, &v, 8);
-        hash = (hash ^ bits) * 1099511628211ull;
-    }
-    return hash;
+    return value_hash(values);
 }
 
 std::vector<std::uint8_t> canvas_rgba(plot::Canvas& cv) {
@@ -75,72 +78,40 @@ void update_viewport_image(const vk::Context& ctx, render::ViewportRenderer& ren
 
 std::pair<double, double> farfield_band(const WorkbenchState& s, const FarField& f) {
     const auto band = plot::lit_altitude_band(f);
-    const double centre = 0.5 * (band.first + band.second);
-    const double half = 0.5 * (band.first - band.second) / std::max(1.0f, s.farfield.zoom);
-    return {std::min(90.0, centre + half), std::max(-90.0, centre - half)};
+    return plot::brightest_altitude_window(
+        f, band, (band.first - band.second) / std::max(1.0f, s.farfield.zoom));
+}
+
+render::FarFieldViewOptions farfield_view_options(const WorkbenchState& s,
+                                                  const render::FarFieldContent& c, int columns) {
+    using K = render::FarFieldMapKind;
+    std::optional<K> only;
+    if (s.farfield.maps == 1) only = K::Desired;
+    if (s.farfield.maps == 2) only = K::Obtained;
+    if (s.farfield.maps == 3) only = K::Difference;
+    return {.log_scale = s.farfield.log_scale,
+            .altitude_deg = farfield_band(s, c.obtained),
+            .only = only,
+            .columns = columns};
 }
 
 void update_farfield_image(const vk::Context& ctx, WorkbenchState& s, const SceneSnapshot& snap,
-                           std::uint32_t w, std::uint32_t h) {
-    w = std::max(w, 200u), h = std::max(h, 200u);
-    const std::uint64_t generation = snap.generation * 64 + (s.farfield.log_scale ? 1 : 0) +
-                                     2 * std::uint64_t(std::min(30.0f, s.farfield.zoom * 2.0f));
+                           const render::FarFieldViewOptions& o, std::uint32_t w, std::uint32_t h) {
+    w = std::max(w, 200u), h = std::max(h, 120u);
+    // Redrawn when the far field or any option changes (the band follows the zoom).
+    const double values[] = {double(snap.generation),
+                             o.log_scale ? 1.0 : 0.0,
+                             o.altitude_deg ? o.altitude_deg->first : 0.0,
+                             o.altitude_deg ? o.altitude_deg->second : 0.0,
+                             o.only ? double(*o.only) : -1.0,
+                             double(o.columns)};
+    const std::uint64_t generation = value_hash(values);
     if (s.farfield_image.generation == generation && s.farfield_image.width == w &&
         s.farfield_image.height == h)
         return;
     plot::Canvas cv{int(w), int(h)};
-    render::draw_farfield_view(cv, {0, 0, double(w), double(h)}, snap.traced.farfield,
-                               {.log_scale = s.farfield.log_scale,
-                                .altitude_deg = farfield_band(s, snap.traced.farfield.obtained)});
+    render::draw_farfield_view(cv, {0, 0, double(w), double(h)}, snap.traced.farfield, o);
     upload(ctx, s.farfield_image, canvas_rgba(cv), w, h, generation);
-}
-
-void update_search_plot(const vk::Context& ctx, WorkbenchState& s, const SearchProgress& p,
-                        std::uint32_t w, std::uint32_t h) {
-    w = std::max(w, 200u), h = std::max(h, 200u);
-    if (s.search_plot.generation == p.generation && s.search_plot.width == w &&
-        s.search_plot.height == h)
-        return;
-    SearchResult r = p.result.value_or(SearchResult{});
-    r.method = p.method;
-    r.names = p.names;
-    r.history = p.history;
-    r.stages = p.stages;
-    plot::Canvas cv{int(w), int(h)};
-    draw_progress(cv, {0, 0, double(w), double(h)}, r);
-    upload(ctx, s.search_plot, canvas_rgba(cv), w, h, p.generation);
-}
-
-void update_calibration_plot(const vk::Context& ctx, WorkbenchState& s,
-                             const CalibrationProgress& c, const std::string& scene,
-                             std::uint32_t w, std::uint32_t h) {
-    w = std::max(w, 200u), h = std::max(h, 200u);
-    if (s.calibration_plot.generation == c.generation && s.calibration_plot.width == w &&
-        s.calibration_plot.height == h)
-        return;
-    plot::Canvas cv{int(w), int(h)};
-    if (c.rays) {
-        plot::draw_chart(cv, {0, 0, double(w), double(h)}, rays_table_chart(*c.rays, scene));
-    } else if (c.semivariogram && !c.semivariogram->parameters.empty()) {
-        const auto& ps = c.semivariogram->parameters;
-        const double ph = double(h) / double(ps.size());
-        for (std::size_t k = 0; k < ps.size(); ++k)
-            plot::draw_chart(cv, {0, ph * double(k), double(w), ph},
-                             semivariogram_chart(ps[k], c.semivariogram->rays, scene));
-    } else {
-        plot::Series runs{
-            .kind = plot::Series::Kind::Points, .label = "l2 so far", .colour = plot::palette(0)};
-        for (std::size_t i = 0; i < c.partial.size(); ++i) {
-            runs.x.push_back(double(i));
-            runs.y.push_back(c.partial[i]);
-        }
-        plot::draw_chart(cv, {0, 0, double(w), double(h)},
-                         {.title = "Calibration running",
-                          .x = {"run or point"},
-                          .y = {"l2 (lm)"},
-                          .series = {runs}});
-    }
-    upload(ctx, s.calibration_plot, canvas_rgba(cv), w, h, c.generation);
 }
 
 } // namespace fird::ui

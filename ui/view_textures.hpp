@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "viewport.hpp"
+#include "views.hpp"
 #include "workbench_state.hpp"
 #include "worker.hpp"
 
@@ -19,15 +20,14 @@ void upload(const vk::Context& ctx, ViewTexture& t, const std::vector<std::uint8
 void update_viewport_image(const vk::Context& ctx, render::ViewportRenderer& renderer,
                            WorkbenchState& state, const SceneSnapshot& snapshot,
                            std::uint32_t width, std::uint32_t height);
+// The far-field view the panel shows: the state's scale, zoom and maps, in `columns`.
+render::FarFieldViewOptions farfield_view_options(const WorkbenchState& state,
+                                                  const render::FarFieldContent& content,
+                                                  int columns);
 void update_farfield_image(const vk::Context& ctx, WorkbenchState& state,
-                           const SceneSnapshot& snapshot, std::uint32_t width,
+                           const SceneSnapshot& snapshot,
+                           const render::FarFieldViewOptions& options, std::uint32_t width,
                            std::uint32_t height);
-void update_search_plot(const vk::Context& ctx, WorkbenchState& state, const SearchProgress& search,
-                        std::uint32_t width, std::uint32_t height);
-void update_calibration_plot(const vk::Context& ctx, WorkbenchState& state,
-                             const CalibrationProgress& c, const std::string& scene_name,
-                             std::uint32_t width, std::uint32_t height);
-
 // The altitude band the far-field view shows at the state's zoom.
 std::pair<double, double> farfield_band(const WorkbenchState& state, const FarField& farfield);
 

@@ -43,7 +43,8 @@ struct ViewportState {
 
 struct FarFieldState {
     bool log_scale = false;
-    float zoom = 1.0f; // 1: the lit band; larger: a narrower band about its centre
+    float zoom = 1.0f; // 1: the lit band; larger: a narrower window on its brightest part
+    int maps = 0;      // shown: 0 all, 1 desired, 2 obtained, 3 difference (one fills the panel)
 };
 
 // A texture with the generation of the content it shows (redrawn when that changes).
@@ -90,7 +91,7 @@ struct WorkbenchState {
     bool show_help = false;
     bool quit = false;
     // Texture contents as last drawn.
-    ViewTexture viewport_image, farfield_image, search_plot, calibration_plot;
+    ViewTexture viewport_image, farfield_image;
     std::uint64_t drawn_camera_hash = 0;
     // Where the viewport image was drawn (screen pixels): a script's pick-ray uses it.
     float viewport_x = 0, viewport_y = 0, viewport_w = 0, viewport_h = 0;

@@ -142,6 +142,7 @@ void Worker::run(const SearchJob& job) {
         search_ = {.running = true,
                    .method = method_name(job.method),
                    .names = space.names,
+                   .bounds = space.bounds(),
                    .out_dir = job.out_dir,
                    .generation = search_.generation + 1};
     }

@@ -35,6 +35,7 @@ struct SearchProgress {
     bool running = false, paused = false;
     std::string method;
     std::vector<std::string> names;
+    std::vector<std::pair<double, double>> bounds; // each parameter's min, max
     std::vector<Candidate> history;
     std::vector<StageSummary> stages;
     std::optional<SearchResult> result; // when finished

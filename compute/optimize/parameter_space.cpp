@@ -34,6 +34,13 @@ double start_value(const ReflectorDesc& r, const std::string& name) {
 
 } // namespace
 
+std::vector<std::pair<double, double>> ParameterSpace::bounds() const {
+    std::vector<std::pair<double, double>> b;
+    for (std::size_t k = 0; k < size(); ++k)
+        b.emplace_back(lo[k], hi[k]);
+    return b;
+}
+
 std::vector<std::uint64_t> ParameterSpace::lattice_counts() const {
     std::vector<std::uint64_t> counts;
     for (std::size_t k = 0; k < size(); ++k)

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <map>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "model/scene.hpp"
@@ -18,6 +19,8 @@ struct ParameterSpace {
     std::vector<double> start; // the scene's reflector, clamped into the box
 
     std::size_t size() const { return names.size(); }
+    // (lo, hi) per parameter.
+    std::vector<std::pair<double, double>> bounds() const;
     // Lattice values per parameter: lo, lo + step, ... up to hi.
     std::vector<std::uint64_t> lattice_counts() const;
     // The product of the counts, saturating at UINT64_MAX.

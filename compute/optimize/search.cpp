@@ -237,6 +237,7 @@ SearchOutcome run_search(const vk::Context& ctx, const Scene& scene, const Searc
     SearchResult& r = out.result;
     r.method = method_name(settings.method);
     r.names = space.names;
+    r.bounds = space.bounds();
     r.flat_directions = flat_directions(scene.reflector, space.names);
     r.grid_size = space.lattice_size();
     if (settings.refine && settings.method != SearchMethod::Auto &&

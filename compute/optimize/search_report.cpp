@@ -1,5 +1,6 @@
 #include "search_report.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 
@@ -91,24 +92,31 @@ nlohmann::json search_json(const SearchResult& r) {
 }
 
 void write_progress_png(const std::string& out, const SearchResult& r) {
-    const int rows = int((r.names.size() + 1) / 2);
-    plot::Canvas cv(1100, 440 + rows * 250);
-    draw_progress(cv, {0, 0, 1100, 440.0 + rows * 250.0}, r);
+    const ProgressCharts charts = progress_charts(r);
+    const int cols = 2, rows = int((charts.parameters.size() + 1) / 2);
+    const double w = 1100.0, top_h = 440.0, panel_h = 250.0;
+    plot::Canvas cv(int(w), int(top_h + rows * panel_h));
+    plot::draw_chart(cv, {0, 0, w, top_h}, charts.l2);
+    for (std::size_t k = 0; k < charts.parameters.size(); ++k)
+        plot::draw_chart(
+            cv,
+            {double(k % cols) * w / cols, top_h + double(k / cols) * panel_h, w / cols, panel_h},
+            charts.parameters[k]);
     cv.write_png(out);
 }
 
-void draw_progress(plot::Canvas& cv, const plot::Rect& area, const SearchResult& r) {
-    const std::size_t n = r.names.size();
-    const int cols = 2, rows = int((n + 1) / 2);
-    const double w = area.w;
-    const double top_h = area.h * 440.0 / (440.0 + rows * 250.0);
-    const double panel_h = rows ? (area.h - top_h) / rows : 0.0;
-
+ProgressCharts progress_charts(const SearchResult& r) {
+    ProgressCharts out;
+    // Evaluations from 0, at least ten wide (whole numbers from the first point).
+    double last = double(r.history.size());
+    for (const Candidate& c : r.history)
+        last = std::max(last, double(c.index) + 1.0);
+    const plot::Axis evaluations{.label = "evaluation", .min = 0.0, .max = std::max(10.0, last)};
     // Every candidate's l2, coloured by stage, and each stage's best so far.
-    plot::Chart l2{.title =
-                       fmt::format("Search progress ({}): l2 of each reflector tested", r.method),
-                   .x = {"evaluation", plot::Scale::Linear},
-                   .y = {"l2 to the desired far field (lm)", plot::Scale::Log}};
+    plot::Chart& l2 = out.l2;
+    l2 = {.title = fmt::format("Search progress ({}): l2 of each reflector tested", r.method),
+          .x = evaluations,
+          .y = {"l2 to the desired far field (lm)", plot::Scale::Log}};
     for (std::size_t s = 0; s < r.stages.size(); ++s) {
         plot::Series points{.kind = plot::Series::Kind::Points,
                             .label = stage_label(r.stages[s]),
@@ -137,14 +145,15 @@ void draw_progress(plot::Canvas& cv, const plot::Rect& area, const SearchResult&
                             .value = *r.noise_floor_l2_lm,
                             .label = fmt::format("noise floor {:.4g} lm", *r.noise_floor_l2_lm),
                             .colour = {0.5, 0.5, 0.5}});
-    plot::draw_chart(cv, {area.x, area.y, w, top_h}, l2);
-
     // Each parameter: every candidate's value (grey) and the best so far (the path).
-    for (std::size_t k = 0; k < n; ++k) {
-        plot::Chart p{.title = r.names[k],
-                      .x = {"evaluation", plot::Scale::Linear},
-                      .y = {r.names[k], plot::Scale::Linear},
-                      .legend = false};
+    for (std::size_t k = 0; k < r.names.size(); ++k) {
+        plot::Chart p{.title = r.names[k], .x = evaluations, .y = {r.names[k]}, .legend = false};
+        if (k < r.bounds.size()) {
+            // The box, a little wider so candidates on its edges stay visible.
+            const auto [lo, hi] = r.bounds[k];
+            const double pad = hi > lo ? 0.04 * (hi - lo) : std::max(1.0, 0.05 * std::abs(lo));
+            p.y.min = lo - pad, p.y.max = hi + pad;
+        }
         plot::Series tried{.kind = plot::Series::Kind::Points, .colour = {0.6, 0.6, 0.6}};
         plot::Series path{.colour = plot::palette(0), .width = 2.2};
         double best = HUGE_VAL;
@@ -175,10 +184,9 @@ void draw_progress(plot::Canvas& cv, const plot::Rect& area, const SearchResult&
                                .value = it->second,
                                .label = fmt::format("best {:.4g}", it->second),
                                .colour = plot::palette(1)});
-        const double x = area.x + double(k % cols) * w / cols;
-        const double y = area.y + top_h + double(k / cols) * panel_h;
-        plot::draw_chart(cv, {x, y, w / cols, panel_h}, p);
+        out.parameters.push_back(std::move(p));
     }
+    return out;
 }
 
 std::string best_scene_toml(const Scene& scene, const SearchResult& r) {

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -15,8 +16,15 @@ namespace fird {
 nlohmann::json search_json(const SearchResult& result);
 
 void write_progress_png(const std::string& path, const SearchResult& result);
-// The same picture into a region of a canvas (the workbench's live plot).
-void draw_progress(plot::Canvas& canvas, const plot::Rect& area, const SearchResult& result);
+
+// The progress picture's charts: every candidate's l2 by stage with each stage's best so
+// far, and each parameter's path (its axis the parameter's box, so it reads from the first
+// evaluation). progress.png draws them; the workbench draws the same charts at panel size.
+struct ProgressCharts {
+    plot::Chart l2;
+    std::vector<plot::Chart> parameters;
+};
+ProgressCharts progress_charts(const SearchResult& result);
 
 // The scene with the best parameters, traceable as it is from any directory (file paths
 // made absolute).

@@ -8,6 +8,7 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "evaluation/evaluator.hpp"
@@ -82,6 +83,8 @@ struct LatticeCheck {
 struct SearchResult {
     std::string method;
     std::vector<std::string> names; // the optimized parameters
+    // Each parameter's box ([reflector.optimize] min, max), in the names' order.
+    std::vector<std::pair<double, double>> bounds;
     std::vector<Candidate> history;
     std::vector<StageSummary> stages;
     std::uint64_t infeasible = 0;

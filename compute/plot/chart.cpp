@@ -22,62 +22,24 @@ struct Range {
     }
 };
 
-// Data range of an axis, padded, with the axis's fixed limits applied.
-std::pair<double, double> limits(const Axis& axis, Range r) {
-    if (!(r.lo <= r.hi)) r = {axis.scale == Scale::Log ? 0.1 : 0.0, 1.0};
+// The range of a value or of a log axis's decades, padded.
+std::pair<double, double> padded(Scale scale, Range r) {
+    if (!(r.lo <= r.hi)) r = {scale == Scale::Log ? 0.1 : 0.0, 1.0};
     double lo = r.lo, hi = r.hi;
-    if (axis.scale == Scale::Log) {
+    if (scale == Scale::Log) {
         lo = std::pow(10.0, std::floor(std::log10(lo)));
         hi = std::pow(10.0, std::ceil(std::log10(hi)));
         if (hi <= lo) hi = lo * 10.0;
+    } else if (hi - lo <= 1e-12 * std::max(1.0, std::abs(hi))) {
+        // One value (a single point, or a parameter that has not moved yet): a range
+        // about it that reads as one, ±1 about 0.
+        const double pad = hi != 0.0 ? 0.05 * std::abs(hi) : 1.0;
+        lo -= pad, hi += pad;
     } else {
-        if (hi - lo <= 1e-12 * std::max(1.0, std::abs(hi))) {
-            const double pad = std::max(std::abs(hi) * 0.05, 1e-9);
-            lo -= pad, hi += pad;
-        } else {
-            const double pad = 0.04 * (hi - lo);
-            lo -= pad, hi += pad;
-        }
+        const double pad = 0.04 * (hi - lo);
+        lo -= pad, hi += pad;
     }
-    return {axis.min.value_or(lo), axis.max.value_or(hi)};
-}
-
-struct Mapping {
-    Scale scale;
-    double lo, hi; // data
-    double p0, p1; // pixels
-    double operator()(double v) const {
-        const double t = scale == Scale::Log
-                             ? (std::log10(v) - std::log10(lo)) / (std::log10(hi) - std::log10(lo))
-                             : (v - lo) / (hi - lo);
-        return p0 + t * (p1 - p0);
-    }
-    bool inside(double v) const {
-        return std::isfinite(v) && (scale == Scale::Linear || v > 0.0) &&
-               v >= std::min(lo, hi) - 1e-12 * std::abs(hi - lo) &&
-               v <= std::max(lo, hi) + 1e-12 * std::abs(hi - lo);
-    }
-};
-
-// Tick values and their labels for one axis.
-std::vector<std::pair<double, std::string>> ticks(const Mapping& m) {
-    std::vector<std::pair<double, std::string>> out;
-    if (m.scale == Scale::Log) {
-        const int d0 = int(std::ceil(std::log10(m.lo) - 1e-9)),
-                  d1 = int(std::floor(std::log10(m.hi) + 1e-9));
-        const int stride = std::max(1, (d1 - d0 + 1) / 8);
-        for (int d = d0; d <= d1; d += stride) {
-            const double v = std::pow(10.0, d);
-            out.emplace_back(v,
-                             d >= -3 && d <= 4 ? fmt::format("{:g}", v) : fmt::format("1e{}", d));
-        }
-        return out;
-    }
-    const auto values = linear_ticks(m.lo, m.hi);
-    const double spacing = values.size() > 1 ? values[1] - values[0] : 1.0;
-    for (double v : values)
-        out.emplace_back(v, tick_label(v, spacing));
-    return out;
+    return {lo, hi};
 }
 
 } // namespace
@@ -105,6 +67,108 @@ std::string tick_label(double v, double spacing) {
     return fmt::format("{:.{}f}", v, decimals);
 }
 
+std::pair<double, double> axis_limits(const Chart& c, bool y_axis) {
+    const Axis& axis = y_axis ? c.y : c.x;
+    Range r;
+    for (const Series& s : c.series) {
+        for (double v : y_axis ? s.y : s.x)
+            r.add(v, axis.scale);
+        if (y_axis)
+            for (double v : s.y_upper)
+                r.add(v, axis.scale);
+    }
+    for (const Mark& m : c.marks)
+        if (m.vertical != y_axis) r.add(m.value, axis.scale);
+    auto [lo, hi] = padded(axis.scale, r);
+    lo = axis.min.value_or(lo), hi = axis.max.value_or(hi);
+    if (!(hi > lo)) {
+        // One fixed limit on the wrong side of the data: a range on the fixed side.
+        const double span = axis.scale == Scale::Log ? 0.0 : std::max(1.0, 0.1 * std::abs(lo));
+        if (axis.max)
+            lo = axis.scale == Scale::Log ? hi / 10.0 : hi - span;
+        else
+            hi = axis.scale == Scale::Log ? lo * 10.0 : lo + span;
+    }
+    return {lo, hi};
+}
+
+double AxisMapping::operator()(double v) const {
+    const double t = scale == Scale::Log
+                         ? (std::log10(v) - std::log10(lo)) / (std::log10(hi) - std::log10(lo))
+                         : (v - lo) / (hi - lo);
+    return p0 + t * (p1 - p0);
+}
+
+double AxisMapping::value_at(double p) const {
+    const double t = (p - p0) / (p1 - p0);
+    return scale == Scale::Log
+               ? std::pow(10.0, std::log10(lo) + t * (std::log10(hi) - std::log10(lo)))
+               : lo + t * (hi - lo);
+}
+
+bool AxisMapping::inside(double v) const {
+    return std::isfinite(v) && (scale == Scale::Linear || v > 0.0) &&
+           v >= std::min(lo, hi) - 1e-12 * std::abs(hi - lo) &&
+           v <= std::max(lo, hi) + 1e-12 * std::abs(hi - lo);
+}
+
+std::vector<Tick> axis_ticks(const AxisMapping& m,
+                             const std::function<double(const std::string&)>& extent_px,
+                             double gap_px, int most) {
+    // Candidate tick sets from the densest down; the first whose labels keep apart wins.
+    const auto fits = [&](const std::vector<Tick>& t) {
+        for (std::size_t i = 1; i < t.size(); ++i)
+            if (std::abs(m(t[i].value) - m(t[i - 1].value)) <
+                0.5 * (extent_px(t[i].label) + extent_px(t[i - 1].label)) + gap_px)
+                return false;
+        return true;
+    };
+    std::vector<Tick> out;
+    if (m.scale == Scale::Log) {
+        const int d0 = int(std::ceil(std::log10(std::min(m.lo, m.hi)) - 1e-9)),
+                  d1 = int(std::floor(std::log10(std::max(m.lo, m.hi)) + 1e-9));
+        for (int stride = std::max(1, (d1 - d0 + 1) / 8); stride <= std::max(1, d1 - d0 + 1);
+             ++stride) {
+            out.clear();
+            for (int d = d0; d <= d1; d += stride) {
+                const double v = std::pow(10.0, d);
+                out.push_back(
+                    {v, d >= -3 && d <= 4 ? fmt::format("{:g}", v) : fmt::format("1e{}", d)});
+            }
+            if (fits(out)) return out;
+        }
+    } else {
+        for (int target = std::max(1, most); target >= 1; --target) {
+            const auto values = linear_ticks(std::min(m.lo, m.hi), std::max(m.lo, m.hi), target);
+            const double spacing = values.size() > 1 ? values[1] - values[0] : 1.0;
+            out.clear();
+            for (double v : values)
+                if (m.inside(v)) out.push_back({v, tick_label(v, spacing)});
+            if (fits(out)) return out;
+        }
+    }
+    // Not even two labels fit: the first alone.
+    if (out.size() > 1) out.resize(1);
+    return out;
+}
+
+std::optional<NearestPoint> nearest_point(const Chart& c, const AxisMapping& x,
+                                          const AxisMapping& y, double px, double py,
+                                          double within_px) {
+    std::optional<NearestPoint> best;
+    for (std::size_t s = 0; s < c.series.size(); ++s) {
+        const Series& series = c.series[s];
+        if (series.kind == Series::Kind::Band) continue;
+        const std::size_t n = std::min(series.x.size(), series.y.size());
+        for (std::size_t i = 0; i < n; ++i) {
+            if (!x.inside(series.x[i]) || !y.inside(series.y[i])) continue;
+            const double d = std::hypot(x(series.x[i]) - px, y(series.y[i]) - py);
+            if (d <= within_px && (!best || d < best->distance_px)) best = {s, i, d};
+        }
+    }
+    return best;
+}
+
 Colour palette(std::size_t i) {
     static constexpr Colour kColours[] = {
         {0.12, 0.40, 0.75}, {0.85, 0.33, 0.10}, {0.20, 0.60, 0.25}, {0.55, 0.25, 0.65},
@@ -113,34 +177,23 @@ Colour palette(std::size_t i) {
 }
 
 void draw_chart(Canvas& cv, const Rect& a, const Chart& c) {
-    Range rx, ry;
-    for (const Series& s : c.series) {
-        for (double v : s.x)
-            rx.add(v, c.x.scale);
-        for (double v : s.y)
-            ry.add(v, c.y.scale);
-        for (double v : s.y_upper)
-            ry.add(v, c.y.scale);
-    }
-    for (const Mark& m : c.marks)
-        (m.vertical ? rx : ry).add(m.value, m.vertical ? c.x.scale : c.y.scale);
-    const auto [x0, x1] = limits(c.x, rx);
-    const auto [y0, y1] = limits(c.y, ry);
+    const auto [x0, x1] = axis_limits(c, false);
+    const auto [y0, y1] = axis_limits(c, true);
     // The plot box inside the area: room for tick labels, axis labels and the title.
     const double left = a.x + 74, right = a.x + a.w - 16;
     const double top = a.y + (c.title.empty() ? 14 : 36), bottom = a.y + a.h - 50;
-    const Mapping mx{c.x.scale, x0, x1, left, right};
-    const Mapping my{c.y.scale, y0, y1, bottom, top};
+    const AxisMapping mx{c.x.scale, x0, x1, left, right};
+    const AxisMapping my{c.y.scale, y0, y1, bottom, top};
 
-    for (const auto& [v, label] : ticks(mx)) {
-        if (!mx.inside(v)) continue;
+    const auto width = [&](const std::string& s) { return cv.text_width(s, kFontPx); };
+    const auto height = [&](const std::string&) { return kFontPx; };
+    for (const auto& [v, label] : axis_ticks(mx, width, kFontPx)) {
         const double px = mx(v);
         cv.line({px, top}, {px, bottom}, {kGrid, 1.0});
         cv.line({px, bottom}, {px, bottom + 5}, {kInk, 1.0});
         cv.text(px, bottom + 19, label, kFontPx, Align::Centre);
     }
-    for (const auto& [v, label] : ticks(my)) {
-        if (!my.inside(v)) continue;
+    for (const auto& [v, label] : axis_ticks(my, height, 0.5 * kFontPx)) {
         const double py = my(v);
         cv.line({left, py}, {right, py}, {kGrid, 1.0});
         cv.line({left - 5, py}, {left, py}, {kInk, 1.0});

@@ -3,8 +3,11 @@
 // semivariograms with their fitted curves, run time against error.
 #pragma once
 
+#include <cstddef>
+#include <functional>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "plot/canvas.hpp"
@@ -61,5 +64,44 @@ Colour palette(std::size_t i);
 // Round tick values covering [lo, hi] (about `target` of them), and their labels.
 std::vector<double> linear_ticks(double lo, double hi, int target = 6);
 std::string tick_label(double value, double spacing);
+
+// The axis logic both chart renderers share (cairo here, ImGui in the workbench).
+
+// The range an axis of the chart shows: its series' and marks' values, padded, with the
+// axis's fixed limits applied. A constant series is shown about its value (±5 %, or ±1
+// about 0), never as a sliver of ±1e-9.
+std::pair<double, double> axis_limits(const Chart& chart, bool y_axis);
+
+// Axis values to pixels (and back), linear or log between lo and hi.
+struct AxisMapping {
+    Scale scale = Scale::Linear;
+    double lo = 0, hi = 1; // data
+    double p0 = 0, p1 = 1; // pixels
+    double operator()(double value) const;
+    double value_at(double pixel) const;
+    bool inside(double value) const;
+};
+
+struct Tick {
+    double value = 0;
+    std::string label;
+};
+// The ticks of an axis whose labels never overlap: as many as fit (at most `most` on a
+// linear axis, about 8 decades on a log axis), each label's extent along the axis measured by
+// `extent_px` (its width on a horizontal axis, its height on a vertical one) and at least
+// `gap_px` between neighbouring labels. Only ticks inside the axis's range.
+std::vector<Tick> axis_ticks(const AxisMapping& axis,
+                             const std::function<double(const std::string&)>& extent_px,
+                             double gap_px, int most = 6);
+
+// The drawn point (of a Line or Points series) nearest pixel (px, py), within `within_px`:
+// what a hover readout names.
+struct NearestPoint {
+    std::size_t series = 0, index = 0;
+    double distance_px = 0;
+};
+std::optional<NearestPoint> nearest_point(const Chart& chart, const AxisMapping& x,
+                                          const AxisMapping& y, double px, double py,
+                                          double within_px);
 
 } // namespace fird::plot

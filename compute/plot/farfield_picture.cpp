@@ -11,8 +11,20 @@ namespace fird::plot {
 
 namespace {
 
-constexpr double kMarginLeft = 70, kMarginTop = 40, kMarginBottom = 56, kBarGap = 26, kBarW = 22,
-                 kBarLabels = 92;
+// Room around the map: the title above, degree ticks and the azimuth label below and the
+// altitude label left, the colour bar with its labels right. A small area (a workbench panel)
+// gets the compact set: one line of title, tick labels only, a narrow bar.
+struct Margins {
+    double left, top, bottom, bar_gap, bar_w, bar_labels;
+    bool axis_labels;
+};
+constexpr Margins kFull{70, 40, 56, 26, 22, 92, true};
+constexpr Margins kCompact{44, 20, 22, 8, 12, 58, false};
+constexpr double kFontPx = 12.0;
+
+Margins margins(const Rect& a) {
+    return a.h < 300.0 || a.w < 560.0 ? kCompact : kFull;
+}
 
 // Rows [r0, r1) of the far field shown for the options' altitude band.
 std::pair<std::uint32_t, std::uint32_t> shown_rows(const FarField& f, const FarFieldPicture& o) {
@@ -60,11 +72,44 @@ std::pair<double, double> lit_altitude_band(const FarField& f, double fraction) 
     return {std::min(90.0, hi + margin), std::max(-90.0, lo - margin)};
 }
 
+std::pair<double, double>
+brightest_altitude_window(const FarField& f, std::pair<double, double> band, double height_deg) {
+    const auto [hi, lo] = band;
+    if (!(height_deg < hi - lo) || f.height == 0) return band;
+    // Light per row, then the window's sum at each start row within the band (rows of
+    // 180 / height deg; the window as many whole rows as its height covers).
+    const double deg_per_row = 180.0 / f.height;
+    const auto row_of = [&](double alt) {
+        return std::clamp(int(std::floor((90.0 - alt) / deg_per_row)), 0, int(f.height) - 1);
+    };
+    const int first = row_of(hi), last = row_of(lo);
+    const int span = std::max(1, int(std::round(height_deg / deg_per_row)));
+    std::vector<double> rows(f.height, 0.0);
+    for (std::uint32_t r = 0; r < f.height; ++r)
+        for (std::uint32_t c = 0; c < f.width; ++c)
+            rows[r] += std::abs(f.lm[std::size_t(r) * f.width + c]);
+    int best_start = first;
+    double best = -1.0;
+    for (int start = first; start + span - 1 <= last; ++start) {
+        double sum = 0.0;
+        for (int r = start; r < start + span; ++r)
+            sum += rows[std::size_t(r)];
+        if (sum > best) best = sum, best_start = start;
+    }
+    // The window's centre on the bright rows' centre, kept inside the band.
+    const double centre = 90.0 - (best_start + 0.5 * span) * deg_per_row;
+    const double half = 0.5 * height_deg;
+    const double c = std::clamp(centre, lo + half, hi - half);
+    return {c + half, c - half};
+}
+
 FarFieldMapPlacement farfield_map_placement(const Rect& a, const FarField& f,
                                             const FarFieldPicture& o) {
     const auto [r0, r1] = shown_rows(f, o);
-    return {{a.x + kMarginLeft, a.y + kMarginTop, a.w - kMarginLeft - kBarGap - kBarW - kBarLabels,
-             a.h - kMarginTop - kMarginBottom},
+    const Margins m = margins(a);
+    return {{a.x + m.left, a.y + m.top,
+             std::max(1.0, a.w - m.left - m.bar_gap - m.bar_w - m.bar_labels),
+             std::max(1.0, a.h - m.top - m.bottom)},
             r0,
             r1};
 }
@@ -103,44 +148,70 @@ void draw_farfield(Canvas& cv, const Rect& a, const FarField& f, const FarFieldP
     cv.image(rgb, iw, ih, map_x, map_y, map_w, map_h);
     cv.stroke_rect(map_x, map_y, map_w, map_h, {kInk, 1.0});
 
-    // Degree axes: azimuth every 45 deg, altitude at round steps of the band shown.
-    for (int deg = -180; deg <= 180; deg += 45) {
-        const double x = map_x + (deg + 180.0) / 360.0 * map_w;
-        cv.line({x, map_y + map_h}, {x, map_y + map_h + 5}, {kInk, 1.0});
-        cv.text(x, map_y + map_h + 19, fmt::format("{}°", deg), 12.0, Align::Centre);
+    // Degree axes: azimuth at 45 deg steps and altitude at round steps of the band shown,
+    // as many as fit without their labels touching (compute/plot's axis_ticks).
+    const Margins mg = margins(a);
+    const auto width = [&](const std::string& t) { return cv.text_width(t, kFontPx); };
+    const auto height = [&](const std::string&) { return kFontPx; };
+    const AxisMapping azimuth{Scale::Linear, -180.0, 180.0, map_x, map_x + map_w};
+    for (int step = 45; step <= 360; step *= 2) {
+        std::vector<Tick> ticks;
+        for (int deg = -180; deg <= 180; deg += step)
+            ticks.push_back({double(deg), fmt::format("{}°", deg)});
+        bool fits = true;
+        for (std::size_t i = 1; i < ticks.size(); ++i)
+            fits = fits && azimuth(ticks[i].value) - azimuth(ticks[i - 1].value) >=
+                               width(ticks[i].label) + kFontPx;
+        if (!fits && step < 360) continue;
+        for (const Tick& t : ticks) {
+            const double x = azimuth(t.value);
+            cv.line({x, map_y + map_h}, {x, map_y + map_h + 4}, {kInk, 1.0});
+            cv.text(x, map_y + map_h + 16, t.label, kFontPx, Align::Centre);
+        }
+        break;
     }
     const double alt_hi = 90.0 - r0 * 180.0 / f.height, alt_lo = 90.0 - r1 * 180.0 / f.height;
-    for (double deg : linear_ticks(alt_lo, alt_hi, 6)) {
-        const double y = map_y + (alt_hi - deg) / (alt_hi - alt_lo) * map_h;
-        cv.line({map_x - 5, y}, {map_x, y}, {kInk, 1.0});
-        cv.text(map_x - 8, y + 4.5, fmt::format("{:g}°", deg), 12.0, Align::Right);
+    const AxisMapping altitude{Scale::Linear, alt_lo, alt_hi, map_y + map_h, map_y};
+    for (const Tick& t : axis_ticks(altitude, height, 0.5 * kFontPx)) {
+        const double y = altitude(t.value);
+        cv.line({map_x - 4, y}, {map_x, y}, {kInk, 1.0});
+        cv.text(map_x - 7, y + 4.5, t.label + "°", kFontPx, Align::Right);
     }
-    cv.text(map_x + map_w / 2, a.y + a.h - 12, "azimuth φ", 13.0, Align::Centre);
-    cv.text(a.x + 16, map_y + map_h / 2, "altitude θ", 13.0, Align::Centre, kInk, 90.0);
+    if (mg.axis_labels) {
+        cv.text(map_x + map_w / 2, a.y + a.h - 12, "azimuth φ", 13.0, Align::Centre);
+        cv.text(a.x + 16, map_y + map_h / 2, "altitude θ", 13.0, Align::Centre, kInk, 90.0);
+    }
     // The title, with the grid and total where the width allows.
     const std::string full = fmt::format("{}   ({} × {} cells, total {:.4g} lm)", o.title, f.width,
                                          f.height, f.total_lm());
-    const double size = std::clamp(a.w / 60.0, 11.0, 15.0);
-    cv.text(a.x + a.w / 2, a.y + 24, cv.text_width(full, size, true) < a.w - 20 ? full : o.title,
-            size, Align::Centre, kInk, 0.0, true);
+    const double size = mg.axis_labels ? std::clamp(a.w / 60.0, 11.0, 15.0) : kFontPx;
+    cv.text(a.x + a.w / 2, a.y + (mg.axis_labels ? 24 : 14),
+            cv.text_width(full, size, true) < a.w - 20 ? full : o.title, size, Align::Centre, kInk,
+            0.0, true);
 
-    // Colour bar with its scale.
-    const double bx = map_x + map_w + kBarGap;
+    // Colour bar with its scale (the unit under it, clear of the title).
+    const double bx = map_x + map_w + mg.bar_gap, bar_w = mg.bar_w;
     std::vector<std::uint8_t> bar(256 * 3);
     for (int k = 0; k < 256; ++k) {
         const double t = 1.0 - k / 255.0;
         const Rgb col = colour(o.signed_values ? 2.0 * t - 1.0 : t, o.signed_values);
         std::copy(col.begin(), col.end(), bar.begin() + k * 3);
     }
-    cv.image(bar, 1, 256, bx, map_y, kBarW, map_h);
-    cv.stroke_rect(bx, map_y, kBarW, map_h, {kInk, 1.0});
+    cv.image(bar, 1, 256, bx, map_y, bar_w, map_h);
+    cv.stroke_rect(bx, map_y, bar_w, map_h, {kInk, 1.0});
     const auto bar_label = [&](double t, const std::string& s) {
         const double y = map_y + (1.0 - t) * map_h;
-        cv.line({bx + kBarW, y}, {bx + kBarW + 4, y}, {kInk, 1.0});
-        cv.text(bx + kBarW + 7, y + 4.5, s, 12.0);
+        cv.line({bx + bar_w, y}, {bx + bar_w + 4, y}, {kInk, 1.0});
+        cv.text(bx + bar_w + 6, y + 4.5, s, kFontPx);
     };
     if (o.log_scale) {
-        for (int d = 0; d <= 4; ++d) {
+        // Decades below the peak, as many as the bar's height has room for (a signed bar
+        // labels each twice).
+        const double labels_per_decade = o.signed_values ? 2.0 : 1.0;
+        int stride = 1;
+        while (stride < 4 && (4.0 / stride + 1.0) * labels_per_decade * (kFontPx + 3.0) > map_h)
+            stride *= 2;
+        for (int d = 0; d <= 4; d += stride) {
             const std::string v = fmt::format("{:.2g}", peak * std::pow(10.0, -d));
             if (o.signed_values) {
                 bar_label(0.5 + 0.5 * (4 - d) / 4.0, "+" + v);
@@ -151,18 +222,20 @@ void draw_farfield(Canvas& cv, const Rect& a, const FarField& f, const FarFieldP
         }
     } else {
         bar_label(1.0, fmt::format("{:.3g}", peak));
-        bar_label(o.signed_values ? 0.5 : 0.0, "0");
+        if (map_h >= 3.0 * (kFontPx + 3.0) || !o.signed_values)
+            bar_label(o.signed_values ? 0.5 : 0.0, "0");
         if (o.signed_values) bar_label(0.0, fmt::format("{:.3g}", -peak));
     }
-    cv.text(bx + kBarW / 2, map_y - 8, "lm / cell", 12.0, Align::Centre);
+    cv.text(std::max(bx + bar_w / 2, map_x + map_w + 0.5 * width("180°") + 6), map_y + map_h + 16,
+            "lm/cell", kFontPx, Align::Left);
 }
 
 void write_farfield_png(const std::string& path, const FarField& f, const FarFieldPicture& o) {
     const auto [r0, r1] = shown_rows(f, o);
     const double map_w = std::clamp<double>(f.width, 720.0, 1800.0);
     const double map_h = std::clamp<double>(double(r1 - r0) * map_w / f.width, 180.0, 900.0);
-    const int w = int(map_w + kMarginLeft + kBarGap + kBarW + kBarLabels);
-    const int h = int(map_h + kMarginTop + kMarginBottom);
+    const int w = int(map_w + kFull.left + kFull.bar_gap + kFull.bar_w + kFull.bar_labels);
+    const int h = int(map_h + kFull.top + kFull.bottom);
     Canvas cv(w, h);
     draw_farfield(cv, {0, 0, double(w), double(h)}, f, o);
     cv.write_png(path);

@@ -40,4 +40,11 @@ void write_farfield_png(const std::string& path, const FarField& farfield,
 // widened by a margin: where a zoomed view should look.
 std::pair<double, double> lit_altitude_band(const FarField& farfield, double fraction = 1e-3);
 
+// The window of `height_deg` altitude inside `band` (high, low) that holds the most light:
+// where a view zoomed into the band looks (on the bright part, not on the middle of the
+// band, which stray light far from it can stretch).
+std::pair<double, double> brightest_altitude_window(const FarField& farfield,
+                                                    std::pair<double, double> band,
+                                                    double height_deg);
+
 } // namespace fird::plot

@@ -1,0 +1,169 @@
+// The axis logic both chart renderers share (compute/plot/chart.hpp): tick labels that never
+// overlap however small the axis, a constant series shown about its value, the hover
+// readout's nearest point; the search progress charts' parameter axes; and the far field's
+// zoom window on the brightest rows.
+#include <cmath>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "optimize/search_report.hpp"
+#include "plot/chart.hpp"
+#include "plot/farfield_picture.hpp"
+
+namespace fird::test {
+namespace {
+
+// A label's extent as a UI font of 7 px per character (13 px high) would measure it.
+double width_px(const std::string& s) {
+    return 7.0 * double(s.size());
+}
+double height_px(const std::string&) {
+    return 13.0;
+}
+
+// Neighbouring labels' boxes (centred on their ticks) keep at least the gap apart.
+void expect_apart(const plot::AxisMapping& m, const std::vector<plot::Tick>& ticks,
+                  double (*extent)(const std::string&), double gap) {
+    for (std::size_t i = 1; i < ticks.size(); ++i) {
+        const double apart = std::abs(m(ticks[i].value) - m(ticks[i - 1].value));
+        EXPECT_GE(apart, 0.5 * (extent(ticks[i].label) + extent(ticks[i - 1].label)) + gap)
+            << ticks[i - 1].label << " and " << ticks[i].label << " over " << std::abs(m.p1 - m.p0)
+            << " px";
+    }
+}
+
+TEST(ChartAxis, TickLabelsNeverOverlapAtAnySize) {
+    const std::pair<double, double> ranges[] = {{0, 1},   {-0.0123, 0.0456}, {11.4, 12.6},
+                                                {0, 174}, {-1e6, 3e6},       {1e-7, 3e-7}};
+    for (const auto& [lo, hi] : ranges)
+        for (double length : {12.0, 30.0, 55.0, 80.0, 110.0, 200.0, 400.0, 900.0}) {
+            const plot::AxisMapping x{plot::Scale::Linear, lo, hi, 0.0, length};
+            const auto xt = plot::axis_ticks(x, width_px, 13.0);
+            ASSERT_FALSE(xt.empty());
+            expect_apart(x, xt, width_px, 13.0);
+            const plot::AxisMapping y{plot::Scale::Linear, lo, hi, length, 0.0};
+            const auto yt = plot::axis_ticks(y, height_px, 6.5);
+            ASSERT_FALSE(yt.empty());
+            expect_apart(y, yt, height_px, 6.5);
+            for (const plot::Tick& t : yt)
+                EXPECT_TRUE(y.inside(t.value)) << t.label;
+            // Room for several labels gives several: the budget is used, not just one tick.
+            if (length >= 200.0) {
+                EXPECT_GE(yt.size(), 3u) << lo << ".." << hi;
+            }
+        }
+    for (double length : {20.0, 60.0, 150.0, 600.0}) {
+        const plot::AxisMapping y{plot::Scale::Log, 1e-6, 1e6, length, 0.0};
+        const auto yt = plot::axis_ticks(y, height_px, 6.5);
+        ASSERT_FALSE(yt.empty());
+        expect_apart(y, yt, height_px, 6.5);
+    }
+    // A linear axis of 0..1 over 600 px: the round steps of 0.2 (six labels, the most).
+    const plot::AxisMapping wide{plot::Scale::Linear, 0.0, 1.0, 0.0, 600.0};
+    const auto t = plot::axis_ticks(wide, width_px, 13.0);
+    ASSERT_EQ(t.size(), 6u);
+    EXPECT_EQ(t[1].label, "0.2");
+}
+
+TEST(ChartAxis, AConstantSeriesIsShownAboutItsValue) {
+    plot::Chart c;
+    c.series.push_back({.x = {3.0}, .y = {0.0}});
+    // About 0: ±1 (a sliver of ±1e-9 made every tick read 0 or 1e-9).
+    auto [lo, hi] = plot::axis_limits(c, true);
+    EXPECT_DOUBLE_EQ(lo, -1.0);
+    EXPECT_DOUBLE_EQ(hi, 1.0);
+    // Elsewhere: ±5 % of the value.
+    c.series[0].y = {12.0, 12.0};
+    std::tie(lo, hi) = plot::axis_limits(c, true);
+    EXPECT_NEAR(lo, 11.4, 1e-12);
+    EXPECT_NEAR(hi, 12.6, 1e-12);
+    // The axis's fixed limits win over the data.
+    c.y.min = 5.0, c.y.max = 20.0;
+    std::tie(lo, hi) = plot::axis_limits(c, true);
+    EXPECT_EQ(lo, 5.0);
+    EXPECT_EQ(hi, 20.0);
+    // One fixed limit above all the data: still a range, on the fixed side.
+    c.y.min = 30.0, c.y.max.reset();
+    std::tie(lo, hi) = plot::axis_limits(c, true);
+    EXPECT_EQ(lo, 30.0);
+    EXPECT_GT(hi, lo);
+}
+
+TEST(ChartHover, TheNearestDrawnPointWithinReachIsNamed) {
+    plot::Chart c{.y = {"l2", plot::Scale::Log}};
+    c.series.push_back({.kind = plot::Series::Kind::Points, .x = {0, 1, 2}, .y = {1, 10, 100}});
+    c.series.push_back({.x = {0, 2}, .y = {0.0, 50.0}}); // 0 is not drawn on a log axis
+    c.series.push_back(
+        {.kind = plot::Series::Kind::Band, .x = {0, 2}, .y = {1, 1}, .y_upper = {100, 100}});
+    // x 0..2 over 0..200 px; y 1..100 over 100..0 px (a decade per 50 px).
+    const plot::AxisMapping x{plot::Scale::Linear, 0, 2, 0, 200};
+    const plot::AxisMapping y{plot::Scale::Log, 1, 100, 100, 0};
+    // (1, 10) is drawn at (100, 50).
+    auto near = plot::nearest_point(c, x, y, 103, 46, 8);
+    ASSERT_TRUE(near);
+    EXPECT_EQ(near->series, 0u);
+    EXPECT_EQ(near->index, 1u);
+    EXPECT_NEAR(near->distance_px, 5.0, 1e-9);
+    // (2, 50) of the line is at (200, 50 - 50 log10(5) / ... ): y(50) = 100 - 50 log10(50).
+    near = plot::nearest_point(c, x, y, 198, 100 - 50 * std::log10(50.0) + 1, 8);
+    ASSERT_TRUE(near);
+    EXPECT_EQ(near->series, 1u);
+    EXPECT_EQ(near->index, 1u);
+    // The line's (0, 0) is not drawn: at (0, 100) the points' (0, 1) is what is there.
+    near = plot::nearest_point(c, x, y, 0, 100, 8);
+    ASSERT_TRUE(near);
+    EXPECT_EQ(near->series, 0u);
+    EXPECT_EQ(near->index, 0u);
+    // Nothing within reach (the band is not a point).
+    EXPECT_FALSE(plot::nearest_point(c, x, y, 150, 20, 8));
+}
+
+TEST(ProgressCharts, ParameterAxesSpanTheSearchBoxFromTheFirstEvaluation) {
+    SearchResult r;
+    r.method = "auto";
+    r.names = {"fx", "z0"};
+    r.bounds = {{5.0, 20.0}, {-15.0, -5.0}};
+    r.stages = {StageSummary{.name = "explore"}};
+    r.history = {Candidate{.index = 0, .stage = 0, .x = {13.0, -10.0}, .l2_lm = 3.4}};
+    const ProgressCharts charts = progress_charts(r);
+    ASSERT_EQ(charts.parameters.size(), 2u);
+    for (std::size_t k = 0; k < 2; ++k) {
+        const auto [lo, hi] = plot::axis_limits(charts.parameters[k], true);
+        EXPECT_LE(lo, r.bounds[k].first);
+        EXPECT_GE(hi, r.bounds[k].second);
+        // No more than the box and a margin of a tenth of it.
+        EXPECT_GE(lo, r.bounds[k].first - 0.1 * (r.bounds[k].second - r.bounds[k].first));
+        EXPECT_LE(hi, r.bounds[k].second + 0.1 * (r.bounds[k].second - r.bounds[k].first));
+    }
+    // Evaluations from 0 over whole numbers.
+    const auto [x0, x1] = plot::axis_limits(charts.l2, false);
+    EXPECT_EQ(x0, 0.0);
+    EXPECT_GE(x1, 10.0);
+}
+
+// A zoomed far field looks at its brightest rows: a bright band at altitude 30..40 deg and a
+// little stray light at -60 deg stretch the lit band from about -62 to 42 deg; its middle
+// (-10 deg) is dark. A window of 20 deg must hold the bright band.
+TEST(FarFieldZoom, TheWindowCentresOnTheBrightestRows) {
+    const std::uint32_t W = 36, H = 180; // one row per degree
+    FarField f{W, H, std::vector<double>(std::size_t(W) * H, 0.0)};
+    const auto row = [&](double alt) { return std::uint32_t(90.0 - alt); };
+    for (double alt = 31; alt <= 40; ++alt)
+        for (std::uint32_t c = 0; c < W; ++c)
+            f.lm[std::size_t(row(alt)) * W + c] = 1.0;
+    for (std::uint32_t c = 0; c < W; ++c)
+        f.lm[std::size_t(row(-59)) * W + c] = 0.01; // stray: 1 % of the band's rows' light
+    const auto band = plot::lit_altitude_band(f);
+    ASSERT_LT(band.second, -55.0); // the stray light is inside the lit band
+    const auto [hi, lo] = plot::brightest_altitude_window(f, band, 20.0);
+    EXPECT_NEAR(hi - lo, 20.0, 1e-9);
+    EXPECT_GE(hi, 40.0);
+    EXPECT_LE(lo, 30.0);
+    // A window as tall as the band is the band.
+    const auto whole = plot::brightest_altitude_window(f, band, band.first - band.second);
+    EXPECT_EQ(whole, band);
+}
+
+} // namespace
+} // namespace fird::test
