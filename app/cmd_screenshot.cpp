@@ -3,6 +3,7 @@
 #include <filesystem>
 
 #include <fmt/format.h>
+#include <nlohmann/json.hpp>
 
 #include "commands.hpp"
 #include "io/atomic_file.hpp"
@@ -23,7 +24,7 @@ struct Args {
     std::string scene, out, size = "1280x800", view = "all", camera, parameters, rays;
     std::int64_t pick = -1, quadtree_level = -1;
     std::uint32_t paths = 300;
-    bool height_colours = false, log = false;
+    bool height_colours = false, log = false, json = false;
 };
 
 std::pair<std::uint32_t, std::uint32_t> parse_size(const std::string& text) {
@@ -73,7 +74,10 @@ int run_screenshot(const GlobalOptions& global, const Args& a) {
         render::write_rgba_png(path, rgba, w, h);
         if (errors > 0)
             throw std::runtime_error("Vulkan validation errors were reported (see above)");
-        std::printf("wrote %s\n", path.c_str());
+        if (a.json)
+            std::printf("%s\n", nlohmann::json{{"files", {path}}}.dump(2).c_str());
+        else
+            std::printf("wrote %s\n", path.c_str());
         return 0;
 #else
         throw std::runtime_error("this fird was built without the ui floor (FIRD_BUILD_UI=OFF)");
@@ -82,7 +86,7 @@ int run_screenshot(const GlobalOptions& global, const Args& a) {
     render::TraceForViews t{.paths = a.paths};
     if (!a.parameters.empty()) t.parameters = parse_assignments("--parameters", a.parameters);
     if (!a.rays.empty()) t.rays = parse_count("--rays", a.rays, 4e9);
-    if (a.pick >= 0) t.pick = std::size_t(a.pick);
+    if (a.pick >= 0) t.pick = std::uint64_t(a.pick);
     const Scene scene = load_scene(a.scene);
     render::ViewportOptions vo{.camera = render::frame_holder(scene.holder),
                                .quadtree = a.quadtree_level >= 0,
@@ -90,34 +94,46 @@ int run_screenshot(const GlobalOptions& global, const Args& a) {
                                    std::uint32_t(std::max<std::int64_t>(0, a.quadtree_level)),
                                .height_colours = a.height_colours};
     if (!a.camera.empty()) vo.camera = parse_camera(a.camera, vo.camera);
-    const auto ctx =
-        vk::Context::create(context_options(global));
+    const auto ctx = vk::Context::create(context_options(global));
     const render::TracedScene traced = render::trace_for_views(ctx, scene, t);
     create_output_directory(a.out);
-    const auto path = [&](const char* n) { return (std::filesystem::path(a.out) / n).string(); };
+    nlohmann::json files = nlohmann::json::array();
+    const auto path = [&](const char* n) {
+        const std::string p = (std::filesystem::path(a.out) / n).string();
+        files.push_back(p);
+        return p;
+    };
+    const auto wrote = [&](const std::string& p) {
+        if (!a.json) std::printf("wrote %s\n", p.c_str());
+    };
     const bool all = a.view == "all";
     if (all || a.view == "viewport") {
         render::ViewportRenderer renderer(ctx);
         render::write_rgba_png(path("viewport.png"),
                                render::render_viewport(ctx, renderer, traced.viewport, vo, w, h), w,
                                h);
-        std::printf("wrote %s\n", path("viewport.png").c_str());
+        wrote(files.back());
     }
     if (all || a.view == "farfield") {
         plot::Canvas cv{int(w), int(h)};
         render::draw_farfield_view(cv, {0, 0, double(w), double(h)}, traced.farfield,
                                    {.log_scale = a.log});
         cv.write_png(path("farfield.png"));
-        std::printf("wrote %s\n", path("farfield.png").c_str());
+        wrote(files.back());
     }
     if (all || a.view == "plots") {
         plot::Canvas cv{int(w), int(h)};
         render::draw_profile_plots(cv, {0, 0, double(w), double(h)}, traced.farfield);
         cv.write_png(path("plots.png"));
-        std::printf("wrote %s\n", path("plots.png").c_str());
+        wrote(files.back());
     }
     if (ctx.validation_errors() > 0)
         throw std::runtime_error("Vulkan validation errors were reported (see above)");
+    if (a.json) {
+        nlohmann::json j{{"files", files}, {"rayset_rays", traced.rayset_rays}};
+        if (traced.viewport.picked) j["picked_ray"] = picked_ray_json(*traced.viewport.picked);
+        std::printf("%s\n", j.dump(2).c_str());
+    }
     return 0;
 }
 
@@ -135,12 +151,15 @@ void register_screenshot(CLI::App& app, const GlobalOptions& global, std::functi
     cmd->add_option("--parameters", a->parameters, "Reflector values, e.g. fx=15,fy=10");
     cmd->add_option("--rays", a->rays, "Rays to trace (default: the scene's)");
     cmd->add_option("--paths", a->paths, "Sample ray paths drawn")->check(CLI::Range(0.0, 5000.0));
-    cmd->add_option("--pick-ray", a->pick, "Show this sample ray's RQRM walk")
+    cmd->add_option("--pick-ray", a->pick,
+                    "Trace ray INDEX of the rayset alone and show its path and RQRM walk")
         ->check(CLI::NonNegativeNumber);
     cmd->add_option("--quadtree-level", a->quadtree_level, "Draw the quadtree nodes of a level")
         ->check(CLI::Range(0.0, 64.0));
     cmd->add_flag("--height-colours", a->height_colours, "Colour the reflector by height");
     cmd->add_flag("--log", a->log, "Far fields on a log scale");
+    cmd->add_flag("--json", a->json,
+                  "Print one JSON object: the files written, and the picked ray's path and walk");
     cmd->callback(
         [&global, &run, a] { run = [&global, a] { return run_screenshot(global, *a); }; });
 }

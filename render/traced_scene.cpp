@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include "evaluation/desired_farfield.hpp"
+#include "fastpath/picked_ray.hpp"
 #include "model/source.hpp"
 #include "optimize/parameter_space.hpp"
 
@@ -52,13 +53,33 @@ TracedScene trace_for_views(const vk::Context& ctx, const Scene& input, const Tr
     const auto [lo, hi] = std::minmax_element(v.quadtree.begin(), level0);
     v.z_lo_mm = *lo;
     v.z_hi_mm = *hi;
-    const auto rays = sample_effective_rays(s, o.paths);
-    if (o.pick && *o.pick >= rays.size())
-        throw std::invalid_argument(fmt::format("--pick-ray {}: there are {} sample rays (0 to {})",
-                                                *o.pick, rays.size(), rays.size() - 1));
-    v.paths = tracer.trace_paths(rays, o.pick.value_or(0), o.pick ? &v.walk : nullptr);
-    v.picked = o.pick;
+    t.rayset_rays = o.rayset_rays.value_or(s.trace.rays);
+    const Scene rayset = rayset_scene(t);
+    const auto indices = sample_effective_ray_indices(rayset, o.paths);
+    std::vector<Ray> rays;
+    for (const std::uint64_t i : indices)
+        rays.push_back(emit_ray(s.source, s.trace.sampler, s.trace.seed, i, t.rayset_rays));
+    v.paths = tracer.trace_paths(rays);
+    for (std::size_t k = 0; k < v.paths.size(); ++k)
+        v.paths[k].ray_index = indices[k];
+    if (o.pick) {
+        try {
+            v.picked = trace_picked_ray(tracer, rayset, *o.pick);
+        } catch (const std::invalid_argument& e) {
+            throw std::invalid_argument(std::string("--pick-ray: ") + e.what());
+        }
+    }
     return t;
+}
+
+Scene rayset_scene(const TracedScene& traced) {
+    Scene rayset = traced.scene;
+    rayset.trace.rays = traced.rayset_rays;
+    return rayset;
+}
+
+PickedRay pick_ray(const TracedScene& traced, std::uint64_t index) {
+    return trace_picked_ray(traced.evaluator->tracer(), rayset_scene(traced), index);
 }
 
 } // namespace fird::render

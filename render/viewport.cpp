@@ -181,19 +181,22 @@ void ViewportRenderer::record(VkCommandBuffer cb, const OffscreenTarget& target,
                     add(at(e, kk));
         }
     }
-    if (o.rays)
-        for (std::size_t i = 0; i < c.paths.size(); ++i) {
-            const RayPath& p = c.paths[i];
-            const bool picked = c.picked && *c.picked == i;
-            for (std::size_t k = 0; k + 1 < p.vertices.size(); ++k) {
-                auto col = picked ? std::array<float, 4>{0.05f, 0.05f, 0.05f, 1.0f}
-                                  : bounce_colour(std::uint32_t(k));
-                if (!picked && c.picked) col[3] = 0.35f;
-                for (const glm::dvec3& v : {p.vertices[k], p.vertices[k + 1]})
-                    lines.push_back(
-                        {{float(v.x), float(v.y), float(v.z)}, {col[0], col[1], col[2], col[3]}});
-            }
+    // A path's segments, coloured by the reflections before each (or all in `colour`).
+    const auto segments = [&](const RayPath& p, float alpha,
+                              const std::optional<std::array<float, 4>>& colour) {
+        for (std::size_t k = 0; k + 1 < p.vertices.size(); ++k) {
+            auto col = colour.value_or(bounce_colour(std::uint32_t(k)));
+            col[3] = std::min(col[3], alpha);
+            for (const glm::dvec3& v : {p.vertices[k], p.vertices[k + 1]})
+                lines.push_back(
+                    {{float(v.x), float(v.y), float(v.z)}, {col[0], col[1], col[2], col[3]}});
         }
+    };
+    if (o.rays)
+        for (const RayPath& p : c.paths)
+            if (!c.picked || p.ray_index != c.picked->index) // the picked one: below, in black
+                segments(p, c.picked ? 0.35f : 1.0f, std::nullopt);
+    if (c.picked) segments(c.picked->path, 1.0f, std::array<float, 4>{0.05f, 0.05f, 0.05f, 1.0f});
     const QuadtreeLayout q = quadtree_layout(std::max(c.width, 1u), std::max(c.height, 1u));
     if (o.quadtree && !c.quadtree.empty()) {
         const std::uint32_t l = viewport_quadtree_level(q, o.quadtree_level);
@@ -204,10 +207,13 @@ void ViewportRenderer::record(VkCommandBuffer cb, const OffscreenTarget& target,
                 box_edges(lines, lo, hi, {0.25f, 0.45f, 0.75f, 0.45f});
             }
     }
-    // The picked ray's walk, node by node, coarse (light) to fine (dark).
-    const std::size_t steps = std::min(o.walk_steps, c.walk.size());
-    for (std::size_t k = 0; k < steps; ++k) {
-        const WalkStep& s = c.walk[k];
+    // The picked ray's walk, node by node, coarse (light) to fine (dark); the current step
+    // (the last shown) in red, with a cross where the ray is at its t.
+    const std::vector<WalkStep> no_walk;
+    const std::vector<WalkStep>& walk = c.picked ? c.picked->walk : no_walk;
+    const std::size_t steps = std::min(o.walk_steps, walk.size());
+    for (std::size_t k = o.walk_trail ? 0 : std::max<std::size_t>(steps, 1) - 1; k < steps; ++k) {
+        const WalkStep& s = walk[k];
         const auto [lo, hi] =
             node_box(c.holder, c.width, c.height, s.level, s.x, s.y, s.max_height_mm);
         const float shade = 0.15f + 0.6f * float(s.level) / float(std::max(1u, q.levels - 1));
@@ -215,6 +221,17 @@ void ViewportRenderer::record(VkCommandBuffer cb, const OffscreenTarget& target,
         box_edges(lines, lo, hi,
                   last ? std::array<float, 4>{0.9f, 0.1f, 0.1f, 1.0f}
                        : std::array<float, 4>{shade, 0.2f + 0.5f * shade, 0.2f, 0.8f});
+        const auto& v = c.picked->path.vertices;
+        if (last && s.bounce + 1 < v.size()) {
+            const glm::dvec3 at =
+                v[s.bounce] + double(s.t) * glm::normalize(v[s.bounce + 1] - v[s.bounce]);
+            const double r = 0.01 * glm::length(c.holder.max_mm - c.holder.min_mm);
+            for (int axis = 0; axis < 3; ++axis) {
+                glm::dvec3 d(0.0);
+                d[axis] = r;
+                box_edges(lines, at - d, at + d, {0.9f, 0.1f, 0.1f, 1.0f});
+            }
+        }
     }
     upload(*ctx_, line_vertices_, lines, "fird.viewport.line_vertices");
     upload(*ctx_, triangle_vertices_, triangles, "fird.viewport.triangle_vertices");

@@ -12,6 +12,7 @@
 
 #include "camera.hpp"
 #include "fastpath/fast_tracer.hpp"
+#include "fastpath/picked_ray.hpp"
 #include "fastpath/scene_params.hpp"
 #include "flat_pipeline.hpp"
 #include "offscreen_target.hpp"
@@ -32,10 +33,9 @@ struct ViewportContent {
     const vk::Buffer* gradients = nullptr; // FastTracer::gradients_buffer()
     std::uint32_t width = 0, height = 0;   // of the height field
     double z_lo_mm = 0, z_hi_mm = 0;       // for the height colours
-    std::vector<RayPath> paths;
-    std::vector<float> quadtree;       // FastTracer::read_quadtree() (for the level boxes)
-    std::optional<std::size_t> picked; // a path whose walk is shown
-    std::vector<WalkStep> walk;        // its walk
+    std::vector<RayPath> paths;            // each with its rayset index
+    std::vector<float> quadtree;           // FastTracer::read_quadtree() (for the level boxes)
+    std::optional<PickedRay> picked;       // a ray whose path and walk are shown (picked_ray.hpp)
 };
 
 struct ViewportOptions {
@@ -44,7 +44,9 @@ struct ViewportOptions {
     bool quadtree = false;
     std::uint32_t quadtree_level = 4; // clamped to a level of at most kMaxViewportBoxes nodes
     bool height_colours = false;
-    std::size_t walk_steps = std::numeric_limits<std::size_t>::max(); // steps shown
+    // Steps of the picked ray's walk shown (the last of them, the current one, in red).
+    std::size_t walk_steps = std::numeric_limits<std::size_t>::max();
+    bool walk_trail = true; // the nodes of the steps before the current one too
     std::array<float, 4> background{0.97f, 0.97f, 0.98f, 1.0f};
 };
 

@@ -21,7 +21,7 @@ void request_trace(Frame& f) {
     f.worker.submit(TraceJob{.scene = *s.editor.scene,
                              .parameters = s.editor.parameters,
                              .rays = rays,
-                             .pick = s.viewport.picked_path});
+                             .pick = s.viewport.picked_ray});
     s.editor.dirty = false;
 }
 

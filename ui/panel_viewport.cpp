@@ -1,11 +1,12 @@
 // The 3D viewport panel: orbit (left drag), pan (right drag), zoom (wheel), frame all
 // (double click); ray paths and quadtree overlays; a ray picked by clicking, its RQRM walk
-// stepped forward and back. The view owns its mouse input: an invisible button over the
-// image (as Dear ImGui's canvas example) captures drags, wheel and clicks.
+// stepped forward and back, each step described. The view owns its mouse input: an invisible button
+// over the image (as Dear ImGui's canvas example) captures drags, wheel and clicks.
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
+#include <fmt/format.h>
 #include <glm/geometric.hpp>
 #include <imgui.h>
 #include <imgui_internal.h> // SetItemUsingMouseWheel: the wheel zooms, not scrolls
@@ -43,12 +44,93 @@ bool pick_at(Frame& f, float px, float py) {
     ViewportState& v = s.viewport;
     const render::PixelRay ray = render::pixel_ray(v.camera, px, py, s.viewport_w, s.viewport_h);
     const double tolerance = 6.0 * v.camera.distance_mm / double(s.viewport_h);
-    const auto picked = pick_path(f.snapshot->traced.viewport.paths, ray, tolerance);
+    const auto& paths = f.snapshot->traced.viewport.paths;
+    const auto picked = pick_path(paths, ray, tolerance);
     if (!picked) return false;
-    v.picked_path = picked;
-    v.walk_step = std::numeric_limits<std::size_t>::max() / 2;
-    request_trace(f); // records the picked ray's walk
+    pick_index(f, paths[*picked].ray_index); // the ray's identity, not its place in the list
     return true;
+}
+
+void pick_index(Frame& f, std::uint64_t index) {
+    if (!f.snapshot) throw std::logic_error("nothing is traced yet");
+    const render::TracedScene& traced = f.snapshot->traced;
+    (void)effective_ray(render::rayset_scene(traced), index); // a one-line error, at once
+    ViewportState& v = f.state.viewport;
+    v.picked_ray = index;
+    v.picked_rayset_rays = traced.rayset_rays;
+    v.walk_step = std::numeric_limits<std::size_t>::max(); // its last step, once it is there
+    v.pick_asked_generation = f.snapshot->generation;
+    f.worker.submit(PickJob{f.snapshot, index}); // this ray alone, not the scene
+}
+
+const PickedRay* shown_pick(const Frame& f) {
+    const ViewportState& v = f.state.viewport;
+    if (!v.picked_ray || !f.snapshot) return nullptr;
+    const auto& traced = f.snapshot->traced.viewport.picked;
+    if (traced && traced->index == *v.picked_ray) return &*traced;
+    if (f.picked && f.picked->generation == f.snapshot->generation &&
+        f.picked->ray.index == *v.picked_ray)
+        return &f.picked->ray;
+    return nullptr;
+}
+
+// Keeps the pick on the trace shown: a new trace (a moved slider, the full trace after the
+// preview) re-traces the picked ray alone through its reflector; a trace of another
+// rayset (another ray count) has another ray under that index, so the pick is dropped.
+static void follow_pick(Frame& f) {
+    ViewportState& v = f.state.viewport;
+    if (!v.picked_ray || !f.snapshot) return;
+    if (f.snapshot->traced.rayset_rays != v.picked_rayset_rays) {
+        add_log(f.state,
+                fmt::format("unpicked ray {}: the trace shown has a rayset of {} rays, "
+                            "it was picked in one of {}",
+                            *v.picked_ray, f.snapshot->traced.rayset_rays, v.picked_rayset_rays));
+        v.picked_ray.reset();
+        return;
+    }
+    if (!shown_pick(f) && v.pick_asked_generation != f.snapshot->generation) {
+        v.pick_asked_generation = f.snapshot->generation;
+        f.worker.submit(PickJob{f.snapshot, *v.picked_ray});
+    }
+}
+
+// The picked ray's walk: the step buttons, and every step described in a scrolling list
+// (the current one highlighted, scrolled into view when a button moves it).
+static void walk_steps(ViewportState& v, const PickedRay& p) {
+    const std::size_t n = p.walk.size();
+    if (n == 0) {
+        ImGui::TextDisabled("no walk steps (the ray leaves the holder before any node)");
+        return;
+    }
+    v.walk_step = std::min(v.walk_step, n - 1);
+    if (ImGui::SmallButton("first")) v.walk_step = 0;
+    ImGui::SameLine();
+    if (ImGui::SmallButton("<") && v.walk_step > 0) --v.walk_step;
+    ImGui::SameLine();
+    if (ImGui::SmallButton(">") && v.walk_step + 1 < n) ++v.walk_step;
+    ImGui::SameLine();
+    if (ImGui::SmallButton("last")) v.walk_step = n - 1;
+    ImGui::SameLine();
+    ImGui::Checkbox("trail", &v.walk_trail);
+    ImGui::SameLine();
+    ImGui::Text("step %zu of %zu", v.walk_step + 1, n);
+    const float row = ImGui::GetTextLineHeightWithSpacing();
+    ImGui::BeginChild("##walk", ImVec2(0.0f, 6.0f * row), true,
+                      ImGuiWindowFlags_HorizontalScrollbar);
+    if (v.walk_scrolled_to != v.walk_step) {
+        ImGui::SetScrollY(std::max(0.0f, float(v.walk_step) * row - 2.5f * row));
+        v.walk_scrolled_to = v.walk_step;
+    }
+    ImGuiListClipper clipper;
+    clipper.Begin(int(n), row);
+    while (clipper.Step())
+        for (int k = clipper.DisplayStart; k < clipper.DisplayEnd; ++k) {
+            const std::string text = fmt::format("{:4d}  {}", k + 1, describe_walk_step(p.walk[k]));
+            if (ImGui::Selectable(text.c_str(), std::size_t(k) == v.walk_step))
+                v.walk_step = v.walk_scrolled_to = std::size_t(k);
+        }
+    ImGui::EndChild();
+    ImGui::TextWrapped("%s", walk_step_reason(p.walk[v.walk_step]).c_str());
 }
 
 // What the ray colours mean: each segment of a path is coloured by the reflections
@@ -105,23 +187,23 @@ void viewport_panel(Frame& f) {
         v.camera = framed_all(v.camera, content.holder);
         v.frame_all = false;
     }
-    if (v.picked_path) {
-        const std::size_t steps = content.picked == v.picked_path ? content.walk.size() : 0;
-        ImGui::Text("ray %zu: walk step %zu of %zu", *v.picked_path, std::min(v.walk_step, steps),
-                    steps);
+    follow_pick(f);
+    const PickedRay* picked = shown_pick(f);
+    if (v.picked_ray) {
+        ImGui::Text("ray %llu of the %llu-ray rayset",
+                    static_cast<unsigned long long>(*v.picked_ray),
+                    static_cast<unsigned long long>(v.picked_rayset_rays));
         ImGui::SameLine();
-        if (ImGui::Button("<") && v.walk_step > 0) --v.walk_step;
-        ImGui::SameLine();
-        if (ImGui::Button(">") && v.walk_step < steps) ++v.walk_step;
-        ImGui::SameLine();
-        if (ImGui::Button("all")) v.walk_step = steps;
-        ImGui::SameLine();
-        if (ImGui::Button("unpick")) v.picked_path.reset();
+        if (ImGui::SmallButton("unpick")) v.picked_ray.reset(), picked = nullptr;
+        if (picked)
+            walk_steps(v, *picked);
+        else if (v.picked_ray)
+            ImGui::TextDisabled("tracing the ray...");
     }
     const ImVec2 avail = ImGui::GetContentRegionAvail();
     const auto w = std::uint32_t(std::max(64.0f, avail.x)),
                h = std::uint32_t(std::max(64.0f, avail.y - ImGui::GetTextLineHeightWithSpacing()));
-    update_viewport_image(f.ctx, f.renderer, s, *f.snapshot, w, h);
+    update_viewport_image(f.ctx, f.renderer, s, *f.snapshot, picked, w, h);
     const ImVec2 origin = ImGui::GetCursorScreenPos();
     s.viewport_x = origin.x, s.viewport_y = origin.y, s.viewport_w = float(w),
     s.viewport_h = float(h);

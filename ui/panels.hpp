@@ -16,6 +16,7 @@ struct Frame {
     WorkbenchState& state;
     render::ViewportRenderer& renderer;
     std::shared_ptr<const SceneSnapshot> snapshot; // the latest traced state, if any
+    std::shared_ptr<const PickOutcome> picked;     // the last ray traced alone, if any
 };
 
 // Asks the worker for a progressive trace of the edited scene (preview, then full).
@@ -29,6 +30,13 @@ void start_calibration(Frame& f, bool rays_table, const std::string& parameter);
 
 // Picks the sample path under viewport pixel (px, py); false when none is near.
 bool pick_at(Frame& f, float px, float py);
+// Picks ray `index` of the shown trace's rayset: its path and walk are traced alone (the
+// worker's PickJob). Throws std::invalid_argument, one line, for an index past the rayset
+// or a ray the holder discards; std::logic_error when nothing is traced yet.
+void pick_index(Frame& f, std::uint64_t index);
+// The picked ray's path and walk as traced through the shown snapshot's reflector, once
+// they are there (nullptr before, or with nothing picked).
+const PickedRay* shown_pick(const Frame& f);
 
 // Begins the panel's window where the layout puts it this frame: fixed (its title bar
 // neither moves nor resizes it), its content scrolling when it is below its minimum size.

@@ -28,7 +28,7 @@ const std::map<std::string, std::tuple<ScriptAction::Kind, int, int>>& actions()
         {"stop", {K::Stop, 0, 0}},
         {"wait", {K::Wait, 1, 1}},
         {"wait-idle", {K::WaitIdle, 0, 0}},
-        {"pick-ray", {K::PickRay, 2, 2}},
+        {"pick-ray", {K::PickRay, 1, 2}}, // X Y (a viewport pixel) or INDEX (in the rayset)
         {"drag", {K::Drag, 4, 5}},
         {"resize", {K::Resize, 2, 2}},
         {"screenshot", {K::Screenshot, 1, 1}},
@@ -84,7 +84,14 @@ Script parse_script_text(const std::string& text, const std::string& path) {
         if (kind == K::Wait && !(number(path, n, a.args[0]) >= 0))
             throw std::invalid_argument(
                 fmt::format("{}:{}: wait needs a frame count >= 0", path, n));
-        if (kind == K::PickRay) (void)number(path, n, a.args[0]), (void)number(path, n, a.args[1]);
+        if (kind == K::PickRay && a.args.size() == 2)
+            (void)number(path, n, a.args[0]), (void)number(path, n, a.args[1]);
+        if (kind == K::PickRay && a.args.size() == 1) {
+            const double index = number(path, n, a.args[0]);
+            if (!(index >= 0 && index == std::floor(index) && index < 1.8e19))
+                throw std::invalid_argument(
+                    fmt::format("{}:{}: pick-ray INDEX needs a whole ray index >= 0", path, n));
+        }
         if (kind == K::Drag) {
             for (std::size_t k = 0; k < 4; ++k)
                 (void)number(path, n, a.args[k]);
@@ -195,8 +202,15 @@ bool ScriptRunner::step(Frame& f, const ScriptHost& host) {
             f.worker.stop();
             break;
         case K::PickRay:
-            if (!pick_at(f, float(std::stod(a.args[0])), float(std::stod(a.args[1]))))
+            if (a.args.size() == 1) {
+                try {
+                    pick_index(f, std::uint64_t(std::stod(a.args[0])));
+                } catch (const std::exception& e) {
+                    fail(a, std::string("pick-ray: ") + e.what());
+                }
+            } else if (!pick_at(f, float(std::stod(a.args[0])), float(std::stod(a.args[1])))) {
                 fail(a, "pick-ray: no ray path near that viewport pixel");
+            }
             break;
         case K::Drag:
             if (s.viewport_w <= 0) fail(a, "drag: the viewport shows nothing yet");

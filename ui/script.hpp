@@ -2,7 +2,8 @@
 // the windowed tests drive the workbench, and how users record a reproducible session.
 // An open's PATH is relative to the script's folder; a screenshot's to the working directory.
 //   open PATH | set NAME VALUE | trace | optimize [METHOD] | calibrate rays|semivariogram
-//   [NAME] | stop | wait FRAMES | wait-idle | pick-ray X Y | drag X Y DX DY [left|right] |
+//   [NAME] | stop | wait FRAMES | wait-idle | pick-ray X Y | pick-ray INDEX |
+//   drag X Y DX DY [left|right] |
 //   resize W H | screenshot PATH | quit
 #pragma once
 

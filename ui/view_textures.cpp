@@ -21,7 +21,8 @@ template <std::size_t N> std::uint64_t value_hash(const double (&values)[N]) {
     return hash;
 }
 
-std::uint64_t camera_hash(const WorkbenchState& s, std::uint32_t w, std::uint32_t h) {
+std::uint64_t camera_hash(const WorkbenchState& s, const PickedRay* picked, std::uint32_t w,
+                          std::uint32_t h) {
     const auto& c = s.viewport.camera;
     const auto& o = s.viewport.options;
     const double values[] = {c.target.x,
@@ -35,9 +36,11 @@ std::uint64_t camera_hash(const WorkbenchState& s, std::uint32_t w, std::uint32_
                              double(o.quadtree_level),
                              double(o.height_colours),
                              double(s.viewport.walk_step),
+                             double(s.viewport.walk_trail),
                              double(w),
                              double(h),
-                             double(s.viewport.picked_path.value_or(~0ull))};
+                             picked ? double(picked->index) : -1.0,
+                             picked ? double(picked->walk.size()) : -1.0};
     return value_hash(values);
 }
 
@@ -59,18 +62,17 @@ void upload(const vk::Context& ctx, ViewTexture& t, const std::vector<std::uint8
 }
 
 void update_viewport_image(const vk::Context& ctx, render::ViewportRenderer& renderer,
-                           WorkbenchState& s, const SceneSnapshot& snap, std::uint32_t w,
-                           std::uint32_t h) {
+                           WorkbenchState& s, const SceneSnapshot& snap, const PickedRay* picked,
+                           std::uint32_t w, std::uint32_t h) {
     w = std::max(w, 64u), h = std::max(h, 64u);
-    const std::uint64_t view = camera_hash(s, w, h);
+    const std::uint64_t view = camera_hash(s, picked, w, h);
     if (s.viewport_image.generation == snap.generation && s.drawn_camera_hash == view) return;
     render::ViewportContent content = snap.traced.viewport;
-    // The walk shown is the one traced for the picked path (a new pick re-traces).
-    if (s.viewport.picked_path != content.picked) content.walk.clear();
-    content.picked = s.viewport.picked_path;
+    content.picked = picked ? std::make_optional(*picked) : std::nullopt;
     render::ViewportOptions o = s.viewport.options;
     o.camera = s.viewport.camera;
-    o.walk_steps = s.viewport.walk_step;
+    o.walk_steps = s.viewport.walk_step + 1; // up to the current step
+    o.walk_trail = s.viewport.walk_trail;
     upload(ctx, s.viewport_image, render::render_viewport(ctx, renderer, content, o, w, h), w, h,
            snap.generation);
     s.drawn_camera_hash = view;

@@ -17,9 +17,10 @@ namespace fird::ui {
 void upload(const vk::Context& ctx, ViewTexture& t, const std::vector<std::uint8_t>& rgba,
             std::uint32_t width, std::uint32_t height, std::uint64_t generation);
 
+// `picked`: the picked ray's path and walk (shown_pick), drawn up to the current step.
 void update_viewport_image(const vk::Context& ctx, render::ViewportRenderer& renderer,
                            WorkbenchState& state, const SceneSnapshot& snapshot,
-                           std::uint32_t width, std::uint32_t height);
+                           const PickedRay* picked, std::uint32_t width, std::uint32_t height);
 // The far-field view the panel shows: the state's scale, zoom and maps, in `columns`.
 render::FarFieldViewOptions farfield_view_options(const WorkbenchState& state,
                                                   const render::FarFieldContent& content,

@@ -70,7 +70,7 @@ struct Session {
     Frame frame() {
         for (std::string& line : worker.take_log())
             add_log(state, std::move(line));
-        return Frame{ctx, worker, state, renderer, worker.snapshot()};
+        return Frame{ctx, worker, state, renderer, worker.snapshot(), worker.picked()};
     }
 };
 

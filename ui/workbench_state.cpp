@@ -29,7 +29,7 @@ bool open_scene(WorkbenchState& s, const std::string& given) {
         s.editor.dirty = true;
         s.viewport.camera_set = false;
         s.viewport.stale_generation = s.viewport.shown_generation;
-        s.viewport.picked_path.reset();
+        s.viewport.picked_ray.reset();
         std::erase(s.recent, path);
         s.recent.insert(s.recent.begin(), path);
         if (s.recent.size() > 10) s.recent.resize(10);

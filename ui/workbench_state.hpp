@@ -33,10 +33,17 @@ struct SceneEditor {
 struct ViewportState {
     render::OrbitCamera camera;
     render::ViewportOptions options;
-    std::optional<std::size_t> picked_path;
-    std::size_t walk_step = 0; // steps of the picked ray's walk shown
-    bool camera_set = false;   // framed on the holder once a scene is open
-    bool frame_all = false;    // asked for: fit the holder, keeping the direction
+    // The picked ray: its index in the rayset (the same ray in the preview and the full
+    // trace), the current step of its walk (clamped to the last), whether the steps before
+    // the current one are drawn too, and the snapshot its one-ray trace was asked for.
+    std::optional<std::uint64_t> picked_ray;
+    std::uint64_t picked_rayset_rays = 0; // the rayset it is an index of
+    std::size_t walk_step = 0;
+    bool walk_trail = true;
+    std::size_t walk_scrolled_to = 0; // the step the list last scrolled to
+    std::optional<std::uint64_t> pick_asked_generation;
+    bool camera_set = false; // framed on the holder once a scene is open
+    bool frame_all = false;  // asked for: fit the holder, keeping the direction
     // The snapshot last shown, and the last one of the previous scene (not to frame on).
     std::optional<std::uint64_t> shown_generation, stale_generation;
 };

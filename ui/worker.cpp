@@ -33,8 +33,9 @@ Worker::~Worker() {
 void Worker::submit(Job job) {
     {
         const std::lock_guard lock(mutex_);
-        if (std::holds_alternative<TraceJob>(job))
-            std::erase_if(jobs_, [](const Job& j) { return std::holds_alternative<TraceJob>(j); });
+        const std::size_t kind = job.index();
+        if (std::holds_alternative<TraceJob>(job) || std::holds_alternative<PickJob>(job))
+            std::erase_if(jobs_, [&](const Job& j) { return j.index() == kind; });
         jobs_.push_back(std::move(job));
     }
     wake_.notify_all();
@@ -59,6 +60,11 @@ bool Worker::busy() const {
 std::shared_ptr<const SceneSnapshot> Worker::snapshot() const {
     const std::lock_guard lock(mutex_);
     return snapshot_;
+}
+
+std::shared_ptr<const PickOutcome> Worker::picked() const {
+    const std::lock_guard lock(mutex_);
+    return picked_;
 }
 
 SearchProgress Worker::search() const {
@@ -128,11 +134,30 @@ void Worker::run(const TraceJob& job) {
         }
         render::TracedScene t = render::trace_for_views(
             *ctx_, job.scene,
-            {.parameters = job.parameters, .rays = job.rays[k], .pick = job.pick});
+            {.parameters = job.parameters, .rays = job.rays[k], .rayset_rays = job.rays.back()});
+        if (job.pick) {
+            // A pick that fails (a rayset changed under it) is logged; the trace stands.
+            try {
+                t.viewport.picked = render::pick_ray(t, *job.pick);
+            } catch (const std::invalid_argument& e) {
+                log(std::string("error: pick: ") + e.what());
+            }
+        }
         rays_traced_ += job.rays[k];
         ++evaluations_;
         publish(std::move(t), job.parameters, job.rays[k], k + 1 < job.rays.size());
     }
+}
+
+void Worker::run(const PickJob& job) {
+    {
+        const std::lock_guard lock(mutex_);
+        if (job.snapshot != snapshot_) return; // a newer trace came: the panel asks again
+    }
+    auto outcome = std::make_shared<PickOutcome>(
+        PickOutcome{job.snapshot->generation, render::pick_ray(job.snapshot->traced, job.index)});
+    const std::lock_guard lock(mutex_);
+    picked_ = std::move(outcome);
 }
 
 void Worker::run(const SearchJob& job) {
@@ -170,9 +195,12 @@ void Worker::run(const SearchJob& job) {
         if (std::chrono::duration<double>(now - last_view).count() < kBestViewEvery_s) return;
         last_view = now;
         const auto params = space.named(c.x);
-        publish(render::trace_for_views(*ctx_, job.scene,
-                                        {.parameters = params, .rays = kBestViewRays}),
-                params, kBestViewRays, true);
+        // Its paths are rays of the scene's rayset, as the full trace's (a pick follows).
+        publish(
+            render::trace_for_views(
+                *ctx_, job.scene,
+                {.parameters = params, .rays = kBestViewRays, .rayset_rays = job.scene.trace.rays}),
+            params, kBestViewRays, true);
     };
     SearchOutcome outcome = run_search(*ctx_, job.scene, request);
     if (!job.out_dir.empty()) {

@@ -53,11 +53,24 @@ struct CalibrationProgress {
     std::uint64_t generation = 0;
 };
 
+// A picked ray re-traced alone, through the reflector of the snapshot it was picked in.
+struct PickOutcome {
+    std::uint64_t generation = 0; // the snapshot's
+    PickedRay ray;
+};
+
 struct TraceJob {
     Scene scene;
     std::map<std::string, double> parameters;
-    std::vector<std::uint64_t> rays; // progressive: a preview, then the full count
-    std::optional<std::size_t> pick;
+    // Progressive: a preview, then the full count; the paths shown and the pick are rays of
+    // the full trace's rayset (the last count) in both.
+    std::vector<std::uint64_t> rays;
+    std::optional<std::uint64_t> pick; // a rayset index
+};
+// One ray of a traced state, its path and walk (no far field traced again).
+struct PickJob {
+    std::shared_ptr<const SceneSnapshot> snapshot;
+    std::uint64_t index = 0;
 };
 struct SearchJob {
     Scene scene;
@@ -70,7 +83,7 @@ struct CalibrateJob {
     std::string parameter; // semivariogram: one parameter, or empty for all
     std::string out_dir;
 };
-using Job = std::variant<TraceJob, SearchJob, CalibrateJob>;
+using Job = std::variant<TraceJob, PickJob, SearchJob, CalibrateJob>;
 
 class Worker {
   public:
@@ -79,7 +92,7 @@ class Worker {
     Worker(const Worker&) = delete;
     Worker& operator=(const Worker&) = delete;
 
-    // Queues a job; a trace replaces a trace still waiting (only the latest matters).
+    // Queues a job; a trace (or a pick) replaces one still waiting (only the latest matters).
     void submit(Job job);
     // Stops the running search or calibration (cleanly: what was done is kept).
     void stop();
@@ -88,6 +101,8 @@ class Worker {
     bool busy() const;
 
     std::shared_ptr<const SceneSnapshot> snapshot() const;
+    // The last pick traced on its own (PickJob), if any.
+    std::shared_ptr<const PickOutcome> picked() const;
     SearchProgress search() const;
     CalibrationProgress calibration() const;
     // Messages since the last call (errors start with "error: ").
@@ -99,6 +114,7 @@ class Worker {
   private:
     void loop();
     void run(const TraceJob& job);
+    void run(const PickJob& job);
     void run(const SearchJob& job);
     void run(const CalibrateJob& job);
     void publish(render::TracedScene traced, const std::map<std::string, double>& parameters,
@@ -112,6 +128,7 @@ class Worker {
     bool quit_ = false, running_ = false;
     SearchControl control_;
     std::shared_ptr<const SceneSnapshot> snapshot_;
+    std::shared_ptr<const PickOutcome> picked_;
     SearchProgress search_;
     CalibrationProgress calibration_;
     std::vector<std::string> log_;

@@ -625,8 +625,9 @@ std::vector<RayPath> FastTracer::trace_paths(const std::vector<Ray>& rays, std::
                 *ctx_, spec_, {FIRD_SPEC_RECORD_WALK, FIRD_SPEC_DIAGNOSTICS}, "fird.trace.walk"));
         }
         kept_walk = std::move(walk_);
-        walk_ = vk::Buffer(*ctx_, (1 + 2 * std::uint64_t(gpu::kWalkCapacity)) * 16,
-                           vk::kStorageUsage, vk::MemoryUse::Readback, "fird.walk");
+        walk_ =
+            vk::Buffer(*ctx_, (1 + gpu::kWalkStepVec4s * std::uint64_t(gpu::kWalkCapacity)) * 16,
+                       vk::kStorageUsage, vk::MemoryUse::Readback, "fird.walk");
         walk->clear();
     }
     // One bounce per submission, as the fast path traces them: a reflection's ray
@@ -665,10 +666,21 @@ std::vector<RayPath> FastTracer::trace_paths(const std::vector<Ray>& rays, std::
         if (walking) {
             const auto* w = static_cast<const glm::vec4*>(walk_.data());
             const auto steps = std::min<std::uint32_t>(std::uint32_t(w[0].x), gpu::kWalkCapacity);
+            // Heights out of the device's frame (relative to origin_) into the scene's.
+            const auto z = [&](float device_z) { return float(double(device_z) + origin_.z); };
             for (std::uint32_t k = 0; k < steps; ++k) {
-                const glm::vec4 a = w[1 + 2 * k], b = w[2 + 2 * k];
-                walk->push_back({bounce, std::uint32_t(a.x), std::uint32_t(a.y), std::uint32_t(a.z),
-                                 float(double(a.w) + origin_.z), b.x, b.y});
+                const glm::vec4* r = &w[1 + gpu::kWalkStepVec4s * k];
+                walk->push_back({.bounce = bounce,
+                                 .level = std::uint32_t(r[0].x),
+                                 .x = std::uint32_t(r[0].y),
+                                 .y = std::uint32_t(r[0].z),
+                                 .max_height_mm = z(r[0].w),
+                                 .t = r[1].x,
+                                 .t_exit = r[1].y,
+                                 .ray_z_mm = z(r[1].z),
+                                 .ray_z_exit_mm = z(r[1].w),
+                                 .decision = WalkDecision(std::uint32_t(r[2].x)),
+                                 .t_next = r[2].y});
             }
         }
         const auto hits = hits_.download_as<glm::vec4>(*ctx_, 2 * live.size());

@@ -12,6 +12,7 @@
 #include <glm/vec4.hpp>
 
 #include "fastpath/mesh_raster.hpp"
+#include "fastpath/walk_step.hpp"
 #include "fird_shared.h"
 #include "model/evaluation_result.hpp"
 #include "model/scene.hpp"
@@ -45,18 +46,10 @@ struct TexelHits {
 // One ray's path on the fast path: its origin, each reflection's hit point, and the
 // point where it leaves the holder box.
 struct RayPath {
+    std::uint64_t ray_index = 0; // its index in the rayset (emission order), set by the caller
     std::vector<glm::dvec3> vertices;
     std::uint32_t reflections = 0;
     glm::dvec3 direction{0.0}; // the direction it leaves with
-};
-
-// One step of a ray's RQRM walk (the node it tests), as the trace recorded it.
-struct WalkStep {
-    std::uint32_t bounce = 0;   // reflections before it
-    std::uint32_t level = 0;    // quadtree level (0: a texel)
-    std::uint32_t x = 0, y = 0; // the node at that level
-    float max_height_mm = 0.0f;
-    float t = 0.0f, t_exit = 0.0f; // along the ray: where it is, where it leaves the node
 };
 
 // The work the fast path skips when a scene does not need it. Every switch is on in use;

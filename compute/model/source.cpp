@@ -120,12 +120,12 @@ bool ray_meets_box(const Ray& ray, const Holder& holder) {
     return clip_to_box(ray, holder.min_mm, holder.max_mm, t0, t1);
 }
 
-std::vector<Ray> sample_effective_rays(const Scene& s, std::uint32_t k) {
+std::vector<std::uint64_t> sample_effective_ray_indices(const Scene& s, std::uint32_t k) {
     // One index at random in each of m equal runs of the emission order, m growing until
     // k are found: the whole emission is covered (the stratified sampler emits in direction
     // order, so a prefix would hold the zenith's directions only), and not on a lattice
     // (evenly spaced indices pick a regular sublattice of its direction strata).
-    std::vector<Ray> found;
+    std::vector<std::uint64_t> found;
     for (std::uint64_t m = 4ull * k + 1; found.size() < k; m *= 2) {
         m = std::min<std::uint64_t>(m, s.trace.rays);
         found.clear();
@@ -135,14 +135,21 @@ std::vector<Ray> sample_effective_rays(const Scene& s, std::uint32_t k) {
                 std::min(s.trace.rays - 1,
                          std::uint64_t((double(j) + jitter) * double(s.trace.rays) / double(m)));
             const Ray r = emit_ray(s.source, s.trace.sampler, s.trace.seed, i, s.trace.rays);
-            if (ray_meets_box(r, s.holder)) found.push_back(r);
+            if (ray_meets_box(r, s.holder)) found.push_back(i);
         }
         if (m == s.trace.rays) break;
     }
     if (found.size() <= k) return found;
-    std::vector<Ray> rays; // k of them, evenly over the emission order
+    std::vector<std::uint64_t> indices; // k of them, evenly over the emission order
     for (std::uint32_t j = 0; j < k; ++j)
-        rays.push_back(found[std::size_t(std::uint64_t(j) * found.size() / k)]);
+        indices.push_back(found[std::size_t(std::uint64_t(j) * found.size() / k)]);
+    return indices;
+}
+
+std::vector<Ray> sample_effective_rays(const Scene& s, std::uint32_t k) {
+    std::vector<Ray> rays;
+    for (const std::uint64_t i : sample_effective_ray_indices(s, k))
+        rays.push_back(emit_ray(s.source, s.trace.sampler, s.trace.seed, i, s.trace.rays));
     return rays;
 }
 

@@ -36,6 +36,8 @@ inline Ray emit_ray(const SourceDesc& source, SamplerKind sampler, std::uint64_t
 
 // K of the scene's effective rays, spread evenly over its emission order: rays the fast
 // path's rayset holds too (the same counter-based stream), for paths shown or exported.
+// A ray's identity is its index in that order (ray i of scene.trace.rays under the seed).
+std::vector<std::uint64_t> sample_effective_ray_indices(const Scene& scene, std::uint32_t k);
 std::vector<Ray> sample_effective_rays(const Scene& scene, std::uint32_t k);
 
 // True when the forward half-line (t >= 0) meets the closed holder box.

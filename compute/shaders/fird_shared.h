@@ -128,9 +128,20 @@ FIRD_CONSTANT(uint, kTraceBindHits, 8u);
 FIRD_CONSTANT(uint, kTraceBindBuckets, 9u);    // rays appended per direction bucket
 FIRD_CONSTANT(uint, kTraceBindTexelHits, 10u); // reflections per texel (exports, views)
 FIRD_CONSTANT(uint, kTraceBindWalk, 11u);      // the picked ray's walk (FIRD_SPEC_RECORD_WALK)
-// Steps the walk buffer holds: walk[0].x counts them; step k is walk[1 + 2k] = (level,
-// node x, node y, node max height) and walk[2 + 2k] = (t, t at the node's exit, 0, 0).
+// Steps the walk buffer holds: walk[0].x counts them; step k is kWalkStepVec4s vec4s from
+// walk[1 + 3k]: (level, node x, node y, node max height), (t, t at the node's exit, the
+// ray's height at t, its height at the exit), (decision, t it moves to, 0, 0).
 FIRD_CONSTANT(uint, kWalkCapacity, 8192u);
+FIRD_CONSTANT(uint, kWalkStepVec4s, 3u);
+// A step's decision (RQRM, the paper's Algorithms 2-4), as the walk recorded it.
+FIRD_CONSTANT(uint, kWalkUndecided, 0u);       // the walk stopped here (its step limit)
+FIRD_CONSTANT(uint, kWalkDescend, 1u);         // the ray dips to the node's height inside it: down
+FIRD_CONSTANT(uint, kWalkAdvance, 2u);         // above the node: on to the neighbour (a sibling)
+FIRD_CONSTANT(uint, kWalkAscend, 3u);          // ... the neighbour lies in a new parent: up a level
+FIRD_CONSTANT(uint, kWalkLeave, 4u);           // past the holder or the reflector's top: no hit
+FIRD_CONSTANT(uint, kWalkHit, 5u);             // a texel's leaf test found the root
+FIRD_CONSTANT(uint, kWalkNoRoot, 6u);          // a texel's leaf test found no root: across it
+FIRD_CONSTANT(uint, kWalkOwnTexel, 7u);        // the texel a reflected ray starts from: across it
 FIRD_CONSTANT(uint, kTraceBindProfile, 12u);   // the walk's profile (FIRD_SPEC_PROFILE)
 FIRD_CONSTANT(uint, kTraceBindWalkStart, 13u); // uint: walk_start.comp's level
 // float[]: a B-spline's control heights (the refined mode reflects about its gradient).

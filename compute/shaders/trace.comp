@@ -66,11 +66,19 @@ void profile_walk() {
 // The count is the invocation's own (written out at the end of main), not read back
 // from the buffer between steps.
 uint g_walk_steps = 0u;
-void record_step(bool picked, int level, ivec2 cell, float h, float t, float t_exit) {
+void record_step(bool picked, int level, ivec2 cell, float h, float t, float t_exit, float z_in,
+                 float z_out) {
     if (kRecordWalk == 0u || !picked || g_walk_steps >= kWalkCapacity) return;
-    walk[1u + 2u * g_walk_steps] = vec4(float(level), vec2(cell), h);
-    walk[2u + 2u * g_walk_steps] = vec4(t, t_exit, 0.0, 0.0);
+    const uint at = 1u + kWalkStepVec4s * g_walk_steps;
+    walk[at] = vec4(float(level), vec2(cell), h);
+    walk[at + 1u] = vec4(t, t_exit, z_in, z_out);
+    walk[at + 2u] = vec4(float(kWalkUndecided), t, 0.0, 0.0);
     ++g_walk_steps;
+}
+// What the last recorded step decided, and the t it moves the ray to.
+void record_decision(bool picked, uint decision, float t_next) {
+    if (kRecordWalk == 0u || !picked || g_walk_steps == 0u || g_walk_steps > kWalkCapacity) return;
+    walk[1u + kWalkStepVec4s * (g_walk_steps - 1u) + 2u] = vec4(float(decision), t_next, 0.0, 0.0);
 }
 
 const int kMiss = 0;
@@ -273,13 +281,13 @@ int rqrm(Walk w, float t_start, ivec2 skip_texel, bool picked, out float t_hit,
             const float tx = t_faces.x, ty = t_faces.y;
             const float t_exit = min(min(tx, ty), t_end);
             const float h = texelFetch(pyramid, int(level_offset + uint(cell.y) * level_w + uint(cell.x))).r;
-            record_step(picked, level, cell, h, t, t_exit);
+            const float z_in = w.o.z + t * w.d.z;
+            const float z_out = w.o.z + max(t_exit, t) * w.d.z;
+            record_step(picked, level, cell, h, t, t_exit, z_in, z_out);
             if (kProfile != 0u) {
                 ++g_steps;
                 if (subgroupElect()) ++g_group_steps;
             }
-            const float z_in = w.o.z + t * w.d.z;
-            const float z_out = w.o.z + max(t_exit, t) * w.d.z;
             const bool below = !across && min(z_in, z_out) <= h;
             across = false;
             if (below && level == 0) {
@@ -293,9 +301,13 @@ int rqrm(Walk w, float t_start, ivec2 skip_texel, bool picked, out float t_hit,
             // advance to that height and go down one level; lines 11-13, no hit under
             // this node: move to the neighbour across the face the ray leaves through,
             // then go up a level.
-            if (!below && t_exit >= t_end) return kMiss;
+            if (!below && t_exit >= t_end) {
+                record_decision(picked, kWalkLeave, t_exit);
+                return kMiss;
+            }
             const float t_descend = (w.d.z < 0.0 && z_in > h) ? max(t, (h - w.o.z) * inv_dz) : t;
             t = below ? t_descend : t_exit;
+            record_decision(picked, below ? kWalkDescend : kWalkAdvance, t);
             const ivec2 ahead = texel_ahead(texel_pos(w, t) + bias, texel, heading);
             if (below) {
                 --level;
@@ -314,11 +326,15 @@ int rqrm(Walk w, float t_start, ivec2 skip_texel, bool picked, out float t_hit,
                 // Across the face(s) it leaves through (a corner: both).
                 const ivec2 across_face = mix(cell_lo - 1, cell_hi + 1, greaterThan(far_side, vec2(0.0)));
                 next = mix(next, across_face, bvec2(tx <= ty, ty <= tx));
-                if (any(lessThan(next, ivec2(0))) || any(greaterThanEqual(next, size))) return kMiss;
+                if (any(lessThan(next, ivec2(0))) || any(greaterThanEqual(next, size))) {
+                    record_decision(picked, kWalkLeave, t);
+                    return kMiss;
+                }
                 texel = next;
                 // Up a level only into a new parent: a face inside the parent leads to a
                 // sibling, and the parent would only send the ray down to it again.
                 if (level < top && any(notEqual(next >> (level + 1), cell >> 1))) {
+                    record_decision(picked, kWalkAscend, t);
                     const uint round_up = (1u << level) - 1u;
                     level_offset += level_w * ((P.hf_h + round_up) >> level);
                     level_w = (level_w + 1u) >> 1;
@@ -338,8 +354,10 @@ int rqrm(Walk w, float t_start, ivec2 skip_texel, bool picked, out float t_hit,
                 const float z_in = w.o.z + t * w.d.z;
                 t_hit = (w.d.z < 0.0 && z_in > h) ? max(t, (h - w.o.z) / w.d.z) : t;
                 hit_texel = texel;
+                record_decision(picked, kWalkHit, t_hit);
                 return kHit;
             }
+            record_decision(picked, kWalkOwnTexel, t);
         } else {
             // A reflected ray ignores roots within the offset of its start in every texel
             // (a hit on a texel edge whose reflection heads into the neighbour too).
@@ -348,8 +366,10 @@ int rqrm(Walk w, float t_start, ivec2 skip_texel, bool picked, out float t_hit,
             if (th >= 0.0) {
                 t_hit = th;
                 hit_texel = texel;
+                record_decision(picked, kWalkHit, t_hit);
                 return kHit;
             }
+            record_decision(picked, kWalkNoRoot, t);
         }
         across = true;
     }

@@ -1,6 +1,7 @@
 // The `fird` command's contract for bad input: one line, the usage, exit code 2.
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -652,21 +653,54 @@ TEST(CliScreenshot, WritesTheViewsAndRefusesBadValues) {
     EXPECT_NE(pick.out.find("--pick-ray"), std::string::npos) << pick.out;
 }
 
+// --pick-ray INDEX --json: the picked ray's path and its walk, each step with the keys
+// docs/workbench.md names; the first bounce's walk ends with a hit at the distance from
+// the ray's origin to the path's first hit vertex (the trace's hit record, not the walk's).
+TEST(CliScreenshot, JsonGivesThePickedRaysPathAndWalk) {
+    const std::string scene = std::string(FIRD_SOURCE_DIR) + "/scenes/test/focused_paraboloid.toml";
+    const std::string dir = ::testing::TempDir() + "/fird_screenshot_json";
+    // Ray 150000 of 2e5 runs nearly level from the source to the paraboloid's wall: its
+    // walk ascends, advances and descends on the way.
+    const auto r = run("screenshot " + scene + " --out " + dir +
+                       " --view viewport --size 320x200 --pick-ray 150000 --json");
+    ASSERT_EQ(r.code, 0) << r.out;
+    const auto j = nlohmann::json::parse(r.out.substr(r.out.find('{')));
+    ASSERT_TRUE(j.contains("picked_ray")) << r.out;
+    const auto& p = j["picked_ray"];
+    EXPECT_EQ(p["index"], 150000);
+    ASSERT_GE(p["path_mm"].size(), 3u);
+    ASSERT_FALSE(p["walk"].empty());
+    for (const auto& s : p["walk"])
+        for (const char* key : {"bounce", "level", "node", "t_mm", "t_exit_mm", "ray_z_mm",
+                                "ray_z_exit_mm", "node_max_mm", "decision", "t_next_mm", "why"})
+            EXPECT_TRUE(s.contains(key)) << key;
+    const auto& last = p["walk"].back();
+    EXPECT_EQ(last["bounce"], 0);
+    EXPECT_EQ(last["decision"], "hit");
+    double d = 0.0;
+    for (int k = 0; k < 3; ++k)
+        d += std::pow(p["path_mm"][1][k].get<double>() - p["origin_mm"][k].get<double>(), 2);
+    // Float t and float hit coordinates of ~10 mm: 1e-4 mm.
+    EXPECT_NEAR(last["t_next_mm"].get<double>(), std::sqrt(d), 1e-4);
+}
+
 #if FIRD_HAS_UI
 // A bad script line is refused naming the file and line, before any window opens.
 TEST(CliGui, ABadScriptLineIsAnErrorNamingFileAndLine) {
     const std::string path = ::testing::TempDir() + "/bad_session.fird";
-    for (const auto& [text, where] : std::vector<std::pair<std::string, std::string>>{
-             {"# ok\nfrobnicate\n", ":2:"},
-             {"open\n", ":1:"},
-             {"trace\nset sx fast\n", ":2:"},
-             {"wait -3\n", ":1:"},
-             {"optimize newton\n", ":1:"},
-             {"calibrate everything\n", ":1:"},
-             {"trace\ndrag 1 2 3\n", ":2:"},
-             {"drag 1 2 3 4 middle\n", ":1:"},
-             {"resize 100 650\n", ":1:"},
-             {"wait 1\nresize 1000 6.5e2x\n", ":2:"}}) {
+    for (const auto& [text, where] :
+         std::vector<std::pair<std::string, std::string>>{{"# ok\nfrobnicate\n", ":2:"},
+                                                          {"open\n", ":1:"},
+                                                          {"trace\nset sx fast\n", ":2:"},
+                                                          {"wait -3\n", ":1:"},
+                                                          {"optimize newton\n", ":1:"},
+                                                          {"calibrate everything\n", ":1:"},
+                                                          {"trace\ndrag 1 2 3\n", ":2:"},
+                                                          {"drag 1 2 3 4 middle\n", ":1:"},
+                                                          {"resize 100 650\n", ":1:"},
+                                                          {"wait 1\nresize 1000 6.5e2x\n", ":2:"},
+                                                          {"pick-ray 1.5\n", ":1:"},
+                                                          {"trace\npick-ray -3\n", ":2:"}}) {
         std::ofstream(path) << text;
         const auto r = run("gui --script " + path);
         EXPECT_NE(r.code, 0) << text;

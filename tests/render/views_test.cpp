@@ -45,11 +45,17 @@ class Views : public VulkanTest {
         // Pick the first sample ray that meets the reflector (some leave directly).
         Scene s = paraboloid();
         s.trace.rays = 20000;
-        const auto rays = sample_effective_rays(s, 60);
+        const auto indices = sample_effective_ray_indices(s, 60);
         const Surface surface = Surface::make(s.reflector, s.holder);
-        pick_ = 0;
-        while (pick_ < rays.size() && !first_surface_hit(surface, rays[pick_], 0.0).t)
-            ++pick_;
+        std::size_t k = 0;
+        while (k < indices.size() &&
+               !first_surface_hit(
+                    surface,
+                    emit_ray(s.source, s.trace.sampler, s.trace.seed, indices[k], s.trace.rays),
+                    0.0)
+                    .t)
+            ++k;
+        pick_ = indices.at(k);
         traced_ = std::make_unique<render::TracedScene>(
             render::trace_for_views(ctx(), s, {.paths = 60, .pick = pick_}));
     }
@@ -58,10 +64,10 @@ class Views : public VulkanTest {
         VulkanTest::TearDownTestSuite();
     }
     static std::unique_ptr<render::TracedScene> traced_;
-    static std::size_t pick_;
+    static std::uint64_t pick_; // a rayset index
 };
 std::unique_ptr<render::TracedScene> Views::traced_;
-std::size_t Views::pick_ = 0;
+std::uint64_t Views::pick_ = 0;
 
 TEST_F(Views, ViewportMatchesItsGolden) {
     render::ViewportRenderer renderer(ctx());
@@ -87,10 +93,9 @@ TEST_F(Views, FarFieldAndPlotsMatchTheirGoldens) {
 // texel where the reference tracer's exact surface is hit.
 TEST_F(Views, PickedRaysWalkVisitsNodesAlongItsPathAndEndsAtTheReferenceHit) {
     const Scene& s = traced_->scene;
-    const auto rays = sample_effective_rays(s, 60);
-    ASSERT_LT(pick_, rays.size());
-    const Ray& ray = rays[pick_];
-    const auto& walk = traced_->viewport.walk;
+    ASSERT_TRUE(traced_->viewport.picked);
+    const Ray ray = emit_ray(s.source, s.trace.sampler, s.trace.seed, pick_, s.trace.rays);
+    const auto& walk = traced_->viewport.picked->walk;
     ASSERT_FALSE(walk.empty());
     const double tx = (s.holder.max_mm.x - s.holder.min_mm.x) / s.trace.heightfield_w;
     const double ty = (s.holder.max_mm.y - s.holder.min_mm.y) / s.trace.heightfield_h;
@@ -120,7 +125,7 @@ TEST_F(Views, PickedRaysWalkVisitsNodesAlongItsPathAndEndsAtTheReferenceHit) {
     std::vector<glm::dvec3> ref;
     (void)trace_path(Surface::make(s.reflector, s.holder), s.holder, ray, s.trace.max_bounces,
                      s.trace.bounce_policy, &ref);
-    const RayPath& path = traced_->viewport.paths[pick_];
+    const RayPath& path = traced_->viewport.picked->path;
     ASSERT_GE(path.vertices.size(), 2u);
     EXPECT_LT(glm::length(path.vertices[1] - ref[1]), 0.05 * tx);
 }
