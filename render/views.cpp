@@ -43,7 +43,8 @@ plot::FarFieldPicture picture(const FarFieldContent& c, const FarFieldViewOption
     return {.title = c.title.empty() ? name : c.title + ": " + name,
             .signed_values = difference,
             .log_scale = o.log_scale,
-            .altitude_deg = o.altitude_deg ? *o.altitude_deg : plot::lit_altitude_band(c.obtained)};
+            .altitude_deg = o.altitude_deg ? *o.altitude_deg : plot::lit_altitude_band(c.obtained),
+            .azimuth_deg = o.azimuth_deg};
 }
 
 } // namespace
@@ -85,7 +86,11 @@ std::optional<FarFieldCellAt> farfield_cell_at(const std::vector<FarFieldViewMap
         const plot::Rect& r = m.placement.map;
         if (!(px >= r.x && px < r.x + r.w && py >= r.y && py < r.y + r.h)) continue;
         const std::uint32_t rows = m.placement.row1 - m.placement.row0;
-        const auto col = std::min(grid.width - 1, std::uint32_t((px - r.x) / r.w * grid.width));
+        const std::uint32_t columns = m.placement.column1 - m.placement.column0;
+        const auto col =
+            std::min(grid.width - 1,
+                     m.placement.column0 +
+                         std::min(columns - 1, std::uint32_t((px - r.x) / r.w * double(columns))));
         const auto row =
             m.placement.row0 + std::min(rows - 1, std::uint32_t((py - r.y) / r.h * double(rows)));
         return FarFieldCellAt{m.kind, row, col};

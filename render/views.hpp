@@ -23,6 +23,8 @@ struct FarFieldViewOptions {
     bool log_scale = false;
     // Altitudes shown (high, low, deg); empty: the lit band of the obtained far field.
     std::optional<std::pair<double, double>> altitude_deg;
+    // Azimuths shown (left, right, deg); empty: all of them.
+    std::optional<std::pair<double, double>> azimuth_deg;
     // One map alone (filling the area); empty: every map there is.
     std::optional<FarFieldMapKind> only;
     // The maps in this many columns, row by row (the polar curves only beside one column).

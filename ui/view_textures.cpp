@@ -91,8 +91,14 @@ render::FarFieldViewOptions farfield_view_options(const WorkbenchState& s,
     if (s.farfield.maps == 1) only = K::Desired;
     if (s.farfield.maps == 2) only = K::Obtained;
     if (s.farfield.maps == 3) only = K::Difference;
+    // The zoom narrows both axes about the brightest part of the lit band (an azimuth band
+    // that spans the whole circle is narrowed too: its brightest arc is shown).
+    const auto across = plot::lit_azimuth_band(c.obtained);
+    const auto azimuth = plot::brightest_azimuth_window(
+        c.obtained, across, (across.second - across.first) / std::max(1.0f, s.farfield.zoom));
     return {.log_scale = s.farfield.log_scale,
             .altitude_deg = farfield_band(s, c.obtained),
+            .azimuth_deg = azimuth,
             .only = only,
             .columns = columns};
 }
@@ -105,6 +111,8 @@ void update_farfield_image(const vk::Context& ctx, WorkbenchState& s, const Scen
                              o.log_scale ? 1.0 : 0.0,
                              o.altitude_deg ? o.altitude_deg->first : 0.0,
                              o.altitude_deg ? o.altitude_deg->second : 0.0,
+                             o.azimuth_deg ? o.azimuth_deg->first : 0.0,
+                             o.azimuth_deg ? o.azimuth_deg->second : 0.0,
                              o.only ? double(*o.only) : -1.0,
                              double(o.columns)};
     const std::uint64_t generation = value_hash(values);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numeric>
 
 #include <fmt/format.h>
 
@@ -37,6 +38,51 @@ std::pair<std::uint32_t, std::uint32_t> shown_rows(const FarField& f, const FarF
     return {r0, std::max(r0 + 1, std::min(r1, f.height))};
 }
 
+// Columns [c0, c1) of the far field shown for the options' azimuth window.
+std::pair<std::uint32_t, std::uint32_t> shown_columns(const FarField& f, const FarFieldPicture& o) {
+    if (!o.azimuth_deg) return {0, f.width};
+    const auto column = [&](double az_deg) {
+        return std::clamp((az_deg + 180.0) / 360.0 * f.width, 0.0, double(f.width));
+    };
+    const auto c0 = std::uint32_t(std::floor(column(o.azimuth_deg->first)));
+    const auto c1 = std::uint32_t(std::ceil(column(o.azimuth_deg->second)));
+    return {std::min(c0, f.width - 1), std::max(c0 + 1, std::min(c1, f.width))};
+}
+
+// Light per row (across == false) or per column of the far field.
+std::vector<double> light_profile(const FarField& f, bool across) {
+    std::vector<double> p(across ? f.width : f.height, 0.0);
+    for (std::uint32_t r = 0; r < f.height; ++r)
+        for (std::uint32_t c = 0; c < f.width; ++c)
+            p[across ? c : r] += std::abs(f.lm[std::size_t(r) * f.width + c]);
+    return p;
+}
+
+// [first, last) of the profile without `fraction` of its total, half from each end.
+std::pair<std::size_t, std::size_t> lit_range(const std::vector<double>& p, double fraction) {
+    const double total = std::accumulate(p.begin(), p.end(), 0.0);
+    std::size_t first = 0, last = p.size();
+    for (double s = 0.0; first < p.size() && s + p[first] <= 0.5 * fraction * total; ++first)
+        s += p[first];
+    for (double s = 0.0; last > first + 1 && s + p[last - 1] <= 0.5 * fraction * total; --last)
+        s += p[last - 1];
+    return {first, last};
+}
+
+// The start of the `span` consecutive entries in [first, last] holding the most light.
+std::size_t brightest_start(const std::vector<double>& p, std::size_t first, std::size_t last,
+                            std::size_t span) {
+    std::size_t best_start = first;
+    double best = -1.0;
+    for (std::size_t start = first; start + span - 1 <= last && start + span <= p.size(); ++start) {
+        double sum = 0.0;
+        for (std::size_t k = start; k < start + span; ++k)
+            sum += p[k];
+        if (sum > best) best = sum, best_start = start;
+    }
+    return best_start;
+}
+
 double colour_position(double v, double peak, const FarFieldPicture& o) {
     if (!(peak > 0.0)) return 0.0;
     if (!o.log_scale) return v / peak;
@@ -53,21 +99,11 @@ Rgb colour(double t, bool signed_values) {
 } // namespace
 
 std::pair<double, double> lit_altitude_band(const FarField& f, double fraction) {
-    std::vector<double> rows(f.height, 0.0);
-    double total = 0.0;
-    for (std::uint32_t r = 0; r < f.height; ++r)
-        for (std::uint32_t c = 0; c < f.width; ++c) {
-            rows[r] += std::abs(f.lm[std::size_t(r) * f.width + c]);
-            total += std::abs(f.lm[std::size_t(r) * f.width + c]);
-        }
-    if (!(total > 0.0)) return {90.0, -90.0};
-    std::uint32_t r0 = 0, r1 = f.height;
-    for (double s = 0.0; r0 < f.height && s + rows[r0] <= 0.5 * fraction * total; ++r0)
-        s += rows[r0];
-    for (double s = 0.0; r1 > r0 + 1 && s + rows[r1 - 1] <= 0.5 * fraction * total; --r1)
-        s += rows[r1 - 1];
+    const auto rows = light_profile(f, false);
+    if (!(std::accumulate(rows.begin(), rows.end(), 0.0) > 0.0)) return {90.0, -90.0};
+    const auto [r0, r1] = lit_range(rows, fraction);
     const double deg_per_row = 180.0 / f.height;
-    const double hi = 90.0 - r0 * deg_per_row, lo = 90.0 - r1 * deg_per_row;
+    const double hi = 90.0 - double(r0) * deg_per_row, lo = 90.0 - double(r1) * deg_per_row;
     const double margin = std::max(2.0, 0.1 * (hi - lo));
     return {std::min(90.0, hi + margin), std::max(-90.0, lo - margin)};
 }
@@ -76,56 +112,79 @@ std::pair<double, double>
 brightest_altitude_window(const FarField& f, std::pair<double, double> band, double height_deg) {
     const auto [hi, lo] = band;
     if (!(height_deg < hi - lo) || f.height == 0) return band;
-    // Light per row, then the window's sum at each start row within the band (rows of
-    // 180 / height deg; the window as many whole rows as its height covers).
+    // The window as many whole rows as its height covers, at the start row within the
+    // band whose rows hold the most light.
     const double deg_per_row = 180.0 / f.height;
     const auto row_of = [&](double alt) {
-        return std::clamp(int(std::floor((90.0 - alt) / deg_per_row)), 0, int(f.height) - 1);
+        return std::size_t(
+            std::clamp(int(std::floor((90.0 - alt) / deg_per_row)), 0, int(f.height) - 1));
     };
-    const int first = row_of(hi), last = row_of(lo);
-    const int span = std::max(1, int(std::round(height_deg / deg_per_row)));
-    std::vector<double> rows(f.height, 0.0);
-    for (std::uint32_t r = 0; r < f.height; ++r)
-        for (std::uint32_t c = 0; c < f.width; ++c)
-            rows[r] += std::abs(f.lm[std::size_t(r) * f.width + c]);
-    int best_start = first;
-    double best = -1.0;
-    for (int start = first; start + span - 1 <= last; ++start) {
-        double sum = 0.0;
-        for (int r = start; r < start + span; ++r)
-            sum += rows[std::size_t(r)];
-        if (sum > best) best = sum, best_start = start;
-    }
+    const std::size_t span = std::size_t(std::max(1, int(std::round(height_deg / deg_per_row))));
+    const std::size_t start =
+        brightest_start(light_profile(f, false), row_of(hi), row_of(lo), span);
     // The window's centre on the bright rows' centre, kept inside the band.
-    const double centre = 90.0 - (best_start + 0.5 * span) * deg_per_row;
+    const double centre = 90.0 - (double(start) + 0.5 * double(span)) * deg_per_row;
     const double half = 0.5 * height_deg;
     const double c = std::clamp(centre, lo + half, hi - half);
     return {c + half, c - half};
 }
 
+std::pair<double, double> lit_azimuth_band(const FarField& f, double fraction) {
+    const auto columns = light_profile(f, true);
+    if (!(std::accumulate(columns.begin(), columns.end(), 0.0) > 0.0)) return {-180.0, 180.0};
+    const auto [c0, c1] = lit_range(columns, fraction);
+    const double deg_per_column = 360.0 / f.width;
+    const double left = -180.0 + double(c0) * deg_per_column;
+    const double right = -180.0 + double(c1) * deg_per_column;
+    const double margin = std::max(4.0, 0.1 * (right - left));
+    return {std::max(-180.0, left - margin), std::min(180.0, right + margin)};
+}
+
+std::pair<double, double>
+brightest_azimuth_window(const FarField& f, std::pair<double, double> band, double width_deg) {
+    const auto [left, right] = band;
+    if (!(width_deg < right - left) || f.width == 0) return band;
+    const double deg_per_column = 360.0 / f.width;
+    const auto column_of = [&](double az) {
+        return std::size_t(
+            std::clamp(int(std::floor((az + 180.0) / deg_per_column)), 0, int(f.width) - 1));
+    };
+    const std::size_t span = std::size_t(std::max(1, int(std::round(width_deg / deg_per_column))));
+    const std::size_t start =
+        brightest_start(light_profile(f, true), column_of(left), column_of(right), span);
+    const double centre = -180.0 + (double(start) + 0.5 * double(span)) * deg_per_column;
+    const double half = 0.5 * width_deg;
+    const double c = std::clamp(centre, left + half, right - half);
+    return {c - half, c + half};
+}
+
 FarFieldMapPlacement farfield_map_placement(const Rect& a, const FarField& f,
                                             const FarFieldPicture& o) {
     const auto [r0, r1] = shown_rows(f, o);
+    const auto [c0, c1] = shown_columns(f, o);
     const Margins m = margins(a);
     return {{a.x + m.left, a.y + m.top,
              std::max(1.0, a.w - m.left - m.bar_gap - m.bar_w - m.bar_labels),
              std::max(1.0, a.h - m.top - m.bottom)},
             r0,
-            r1};
+            r1,
+            c0,
+            c1};
 }
 
 void draw_farfield(Canvas& cv, const Rect& a, const FarField& f, const FarFieldPicture& o) {
     const FarFieldMapPlacement placed = farfield_map_placement(a, f, o);
     const std::uint32_t r0 = placed.row0, r1 = placed.row1;
+    const std::uint32_t c0 = placed.column0, c1 = placed.column1, columns = c1 - c0;
     const double map_x = placed.map.x, map_y = placed.map.y;
     const double map_w = placed.map.w, map_h = placed.map.h;
     // One image pixel per screen pixel (at most one per cell): each shows the largest
     // |value| of the cells it covers.
-    const int iw = int(std::clamp<double>(std::min<double>(f.width, map_w), 1.0, 4096.0));
+    const int iw = int(std::clamp<double>(std::min<double>(columns, map_w), 1.0, 4096.0));
     const int ih = int(std::clamp<double>(std::min<double>(r1 - r0, map_h), 1.0, 4096.0));
     double peak = 0.0;
     for (std::uint32_t r = r0; r < r1; ++r)
-        for (std::uint32_t c = 0; c < f.width; ++c)
+        for (std::uint32_t c = c0; c < c1; ++c)
             peak = std::max(peak, std::abs(f.lm[std::size_t(r) * f.width + c]));
     std::vector<std::uint8_t> rgb(std::size_t(iw) * ih * 3);
     const std::uint32_t rows = r1 - r0;
@@ -133,8 +192,9 @@ void draw_farfield(Canvas& cv, const Rect& a, const FarField& f, const FarFieldP
         const auto ra = r0 + std::uint32_t(std::uint64_t(py) * rows / ih);
         const auto rb = std::max(ra + 1, r0 + std::uint32_t(std::uint64_t(py + 1) * rows / ih));
         for (int px = 0; px < iw; ++px) {
-            const auto ca = std::uint32_t(std::uint64_t(px) * f.width / iw);
-            const auto cb = std::max(ca + 1, std::uint32_t(std::uint64_t(px + 1) * f.width / iw));
+            const auto ca = c0 + std::uint32_t(std::uint64_t(px) * columns / iw);
+            const auto cb =
+                std::max(ca + 1, c0 + std::uint32_t(std::uint64_t(px + 1) * columns / iw));
             double v = 0.0;
             for (std::uint32_t r = ra; r < rb; ++r)
                 for (std::uint32_t c = ca; c < cb; ++c) {
@@ -153,8 +213,16 @@ void draw_farfield(Canvas& cv, const Rect& a, const FarField& f, const FarFieldP
     const Margins mg = margins(a);
     const auto width = [&](const std::string& t) { return cv.text_width(t, kFontPx); };
     const auto height = [&](const std::string&) { return kFontPx; };
-    const AxisMapping azimuth{Scale::Linear, -180.0, 180.0, map_x, map_x + map_w};
-    for (int step = 45; step <= 360; step *= 2) {
+    const double az_left = -180.0 + c0 * 360.0 / f.width, az_right = -180.0 + c1 * 360.0 / f.width;
+    const AxisMapping azimuth{Scale::Linear, az_left, az_right, map_x, map_x + map_w};
+    if (c1 - c0 < f.width) { // a window: round steps of it (compute/plot's axis_ticks)
+        for (const Tick& t : axis_ticks(azimuth, width, kFontPx)) {
+            const double x = azimuth(t.value);
+            cv.line({x, map_y + map_h}, {x, map_y + map_h + 4}, {kInk, 1.0});
+            cv.text(x, map_y + map_h + 16, t.label + "°", kFontPx, Align::Centre);
+        }
+    }
+    for (int step = 45; c1 - c0 == f.width && step <= 360; step *= 2) {
         std::vector<Tick> ticks;
         for (int deg = -180; deg <= 180; deg += step)
             ticks.push_back({double(deg), fmt::format("{}°", deg)});

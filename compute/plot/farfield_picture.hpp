@@ -17,16 +17,19 @@ struct FarFieldPicture {
     bool log_scale = false;     // colour by log10 over four decades below the peak
     // Altitudes shown, degrees (high, low); empty: the whole sphere.
     std::optional<std::pair<double, double>> altitude_deg;
+    // Azimuths shown, degrees (left, right, within -180..180); empty: all of them.
+    std::optional<std::pair<double, double>> azimuth_deg;
 };
 
 void draw_farfield(Canvas& canvas, const Rect& area, const FarField& farfield,
                    const FarFieldPicture& options);
 
-// Where draw_farfield puts the map in `area` and which rows [row0, row1) it shows (all
-// columns, azimuth -180 at the left): what a readout of the cell under a pixel needs.
+// Where draw_farfield puts the map in `area` and which rows [row0, row1) and columns
+// [column0, column1) it shows: what a readout of the cell under a pixel needs.
 struct FarFieldMapPlacement {
     Rect map;
     std::uint32_t row0 = 0, row1 = 0;
+    std::uint32_t column0 = 0, column1 = 0;
 };
 FarFieldMapPlacement farfield_map_placement(const Rect& area, const FarField& farfield,
                                             const FarFieldPicture& options);
@@ -46,5 +49,12 @@ std::pair<double, double> lit_altitude_band(const FarField& farfield, double fra
 std::pair<double, double> brightest_altitude_window(const FarField& farfield,
                                                     std::pair<double, double> band,
                                                     double height_deg);
+
+// The same across: the azimuth band (left, right, degrees) holding all but `fraction` of
+// the light, widened by a margin, and the window of `width_deg` inside it holding the most.
+std::pair<double, double> lit_azimuth_band(const FarField& farfield, double fraction = 1e-3);
+std::pair<double, double> brightest_azimuth_window(const FarField& farfield,
+                                                   std::pair<double, double> band,
+                                                   double width_deg);
 
 } // namespace fird::plot

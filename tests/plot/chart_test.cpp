@@ -165,5 +165,28 @@ TEST(FarFieldZoom, TheWindowCentresOnTheBrightestRows) {
     EXPECT_EQ(whole, band);
 }
 
+// Across as down: a beam between azimuths 40 and 60 deg with stray light at -120 deg; the
+// lit azimuth band reaches the stray light, a zoomed window of 40 deg holds the beam.
+TEST(FarFieldZoom, TheAzimuthWindowCentresOnTheBrightestColumns) {
+    const std::uint32_t W = 360, H = 18; // one column per degree
+    FarField f{W, H, std::vector<double>(std::size_t(W) * H, 0.0)};
+    const auto column = [&](double az) { return std::uint32_t(az + 180.0); };
+    for (double az = 40; az < 60; ++az)
+        for (std::uint32_t r = 0; r < H; ++r)
+            f.lm[std::size_t(r) * W + column(az)] = 1.0;
+    for (std::uint32_t r = 0; r < H; ++r)
+        f.lm[std::size_t(r) * W + column(-120)] = 0.02; // 0.1 % of the beam's light
+    const auto band = plot::lit_azimuth_band(f);
+    ASSERT_LT(band.first, -120.0); // the stray light is inside the lit band
+    ASSERT_GT(band.second, 60.0);
+    const auto [left, right] = plot::brightest_azimuth_window(f, band, 40.0);
+    EXPECT_NEAR(right - left, 40.0, 1e-9);
+    EXPECT_LE(left, 40.0);
+    EXPECT_GE(right, 60.0);
+    // Light all round: the band is the whole circle.
+    FarField round{W, H, std::vector<double>(std::size_t(W) * H, 1.0)};
+    EXPECT_EQ(plot::lit_azimuth_band(round), std::make_pair(-180.0, 180.0));
+}
+
 } // namespace
 } // namespace fird::test

@@ -148,6 +148,7 @@ TEST(FarFieldReadout, TheCellUnderAPixelIsTheCellDrawnThere) {
     // The cell at half the peak (a colour of its own: the peak's is the background's
     // white); the peak in another cell of the same band, the same in both far fields (so
     // the difference's peak is the cell's +0.5 and the desired's -0.5 elsewhere).
+    // (An azimuth window shown must hold both: colours scale to the peak in view.)
     const auto lit = [&](const glm::dvec3& d) {
         FarField f{W, H, std::vector<double>(std::size_t(W) * H, 0.0)};
         f.lm[farfield_cell(glm::normalize(d), W, H)] = 0.5;
@@ -176,16 +177,22 @@ TEST(FarFieldReadout, TheCellUnderAPixelIsTheCellDrawnThere) {
                                     {K::Difference, 1, K::Difference, 1}};
     for (const auto& [w, h] : {std::pair{340, 240}, std::pair{640, 900}, std::pair{1200, 900}})
         for (const Selection& sel : selections)
-            for (const auto& band : {std::optional<std::pair<double, double>>{},
-                                     std::optional<std::pair<double, double>>{{60.0, 0.0}}}) {
+            for (const auto& [band, across] :
+                 {std::pair<std::optional<std::pair<double, double>>,
+                            std::optional<std::pair<double, double>>>{},
+                  {std::pair{60.0, 0.0}, std::nullopt},
+                  {std::pair{60.0, 0.0}, std::pair{-160.0, 140.0}}}) {
                 // Three maps in three columns at 340 px are each too narrow to hold a cell.
                 if (w < 600 && sel.columns > 1) continue;
                 SCOPED_TRACE(testing::Message()
                              << w << " x " << h << ", " << sel.maps << " maps in " << sel.columns
-                             << " columns" << (band ? ", zoomed" : ""));
+                             << " columns" << (band ? ", zoomed" : "")
+                             << (across ? " across" : ""));
                 plot::Canvas cv{w, h};
-                const render::FarFieldViewOptions o{
-                    .altitude_deg = band, .only = sel.only, .columns = sel.columns};
+                const render::FarFieldViewOptions o{.altitude_deg = band,
+                                                    .azimuth_deg = across,
+                                                    .only = sel.only,
+                                                    .columns = sel.columns};
                 render::draw_farfield_view(cv, {0, 0, double(w), double(h)}, c, o);
                 const auto maps = render::farfield_view_maps({0, 0, double(w), double(h)}, c, o);
                 ASSERT_EQ(maps.size(), sel.maps);
