@@ -184,6 +184,13 @@ void chart_widget(const char* id, const plot::Chart& c, ImVec2 size) {
         dl->PushClipRect(ImVec2(left, top), ImVec2(right, bottom), true);
         for (const plot::Series& s : c.series)
             draw_series(dl, c, s, mx, my);
+        // Horizontal marks' labels, right-aligned: one that would cover an earlier one (two
+        // marks at nearly one value, as a final l2 at the noise floor) goes under its line.
+        std::vector<std::pair<float, float>> placed;
+        const auto free_at = [&](float from, float to) {
+            return std::none_of(placed.begin(), placed.end(),
+                                [&](const auto& p) { return from < p.second && p.first < to; });
+        };
         for (const plot::Mark& m : c.marks) {
             const ImU32 colour = ui_colour(m.colour);
             if (m.vertical && mx.inside(m.value)) {
@@ -194,7 +201,9 @@ void chart_widget(const char* id, const plot::Chart& c, ImVec2 size) {
                 const float y = float(my(m.value));
                 dashed_line(dl, ImVec2(left, y), ImVec2(right, y), colour, 1.3f);
                 const ImVec2 ts = ImGui::CalcTextSize(m.label.c_str());
-                dl->AddText(ImVec2(right - 4.0f - ts.x, y - ts.y), colour, m.label.c_str());
+                const float label_y = free_at(y - ts.y, y) ? y - ts.y : y + 1.0f;
+                placed.emplace_back(label_y, label_y + ts.y);
+                dl->AddText(ImVec2(right - 4.0f - ts.x, label_y), colour, m.label.c_str());
             }
         }
         dl->PopClipRect();
