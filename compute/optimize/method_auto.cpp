@@ -103,6 +103,7 @@ StopReason run_auto(Objective& f, const std::vector<Fidelity>& stages,
     const std::size_t n = space.size();
     const auto flat = flat_directions(f.scene().reflector, space.names);
     std::vector<bool> continuous(n, true), all(n, true);
+    const std::size_t together = lattice_moves_together(n);
     for (const FlatDirection& d : flat)
         for (std::size_t k = 0; k < n; ++k)
             if (space.names[k] == d.held) continuous[k] = false;
@@ -131,11 +132,11 @@ StopReason run_auto(Objective& f, const std::vector<Fidelity>& stages,
             const double l2 = f(y);
             if (l2 < entry_l2) entry = y, entry_l2 = l2;
         }
-        (void)run_lattice_descent(f, entry, all, true);
+        (void)run_lattice_descent(f, entry, all, together);
         x = best_x(f, entry);
     }
     f.begin_stage("confirm", stages.back());
-    const StopReason single = run_lattice_descent(f, x, all, false);
+    const StopReason single = run_lattice_descent(f, x, all, 1);
     // The scene's far field can tell apart what the lattice stage's coarser one could not
     // (a beam a step off focus lands in the same coarse cells): unless the confirmed l2 is
     // what noise alone leaves, its neighbourhood is polled again with pairs of steps too
@@ -150,7 +151,7 @@ StopReason run_auto(Objective& f, const std::vector<Fidelity>& stages,
         f.noise_pair(best, stream_seed(f.settings().seed, kConfirmNoiseStream, avoid));
     confirm = confirm_noise(best_l2, a, b);
     if (best_l2 <= confirm->limit_lm) return single;
-    return run_lattice_descent(f, best, all, true);
+    return run_lattice_descent(f, best, all, together);
 }
 
 } // namespace fird

@@ -30,18 +30,24 @@ struct NloptRun {
 };
 StopReason run_nlopt(Objective& objective, const NloptRun& run);
 
-// The lattice points one step from `centre` inside the box: each free parameter's two
-// neighbours, then (with `diagonal`) every pair of free parameters stepped together, in
-// the order the compass search polls them.
+// The lattice points one step from `centre` inside the box, with up to `together` free
+// parameters stepped at once: each free parameter's two neighbours, then (together >= 2)
+// every pair stepped together, then (>= 3) every triple, in the order the compass search
+// polls them.
 std::vector<std::vector<double>> lattice_neighbours(const ParameterSpace& space,
                                                     const std::vector<double>& centre,
-                                                    const std::vector<bool>& free, bool diagonal);
+                                                    const std::vector<bool>& free,
+                                                    std::size_t together);
+
+// How many parameters auto's lattice search steps together at most, for this many free
+// parameters (its neighbourhood: what the lattice verdict reports as polled or not).
+std::size_t lattice_moves_together(std::size_t free_parameters);
 
 // Compass search on the step lattice from x0 (snapped): poll every free parameter's two
-// neighbours one step away (and, with `diagonal`, where none improves, every pair of
-// parameters stepped together), move to the best that improves, stop when none does.
+// neighbours one step away, and where none improves, the steps of two parameters at once,
+// then of three (up to `together`); move to the best that improves, stop when none does.
 StopReason run_lattice_descent(Objective& objective, const std::vector<double>& x0,
-                               const std::vector<bool>& free, bool diagonal);
+                               const std::vector<bool>& free, std::size_t together);
 
 // The confirm stage's noise (auto): its best's l2, the l2 between two traces of that best
 // with independent rays at the stage's fidelity, and the most l2 noise alone explains.

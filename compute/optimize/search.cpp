@@ -102,12 +102,12 @@ LatticeCheck lattice_check(const Objective& f, const std::optional<ConfirmNoise>
     std::map<std::vector<double>, const Candidate*> traced;
     for (const Candidate& h : f.history())
         if (h.stage == index) traced[h.x] = &h;
-    const auto neighbours =
-        lattice_neighbours(space, c.x, std::vector<bool>(space.size(), true), true);
+    const auto neighbours = lattice_neighbours(space, c.x, std::vector<bool>(space.size(), true),
+                                               lattice_moves_together(space.size()));
     c.neighbours = neighbours.size();
     std::uint64_t singles_missed = 0;
     const std::size_t singles =
-        lattice_neighbours(space, c.x, std::vector<bool>(space.size(), true), false).size();
+        lattice_neighbours(space, c.x, std::vector<bool>(space.size(), true), 1).size();
     for (std::size_t i = 0; i < neighbours.size(); ++i) {
         const auto it = traced.find(neighbours[i]);
         if (it == traced.end()) {
@@ -125,14 +125,16 @@ LatticeCheck lattice_check(const Objective& f, const std::optional<ConfirmNoise>
                         "(the search stopped before moving on: {})",
                         c.better, c.neighbours, point_text(space, c.x), stop_reason_name(stopped));
     else if (c.not_polled.empty())
-        c.verdict = fmt::format("the best lattice point of its neighbourhood: all {} points one "
-                                "step away (alone or two parameters at once) traced in the {} "
-                                "stage, none lower",
-                                c.neighbours, stage.name);
+        c.verdict =
+            fmt::format("the best lattice point of its neighbourhood: all {} points one "
+                        "step away (alone, or two or three parameters at once) traced in the {} "
+                        "stage, none lower",
+                        c.neighbours, stage.name);
     else if (confirm && singles_missed == 0 && confirm->l2_lm <= confirm->limit_lm)
         c.verdict = fmt::format(
             "its l2 {:.6g} lm is what noise alone leaves at this fidelity (two independent "
-            "traces of it differ by {:.6g} lm; limit {:.6g} lm), so the {} pairs of steps were "
+            "traces of it differ by {:.6g} lm; limit {:.6g} lm), so the {} steps of several "
+            "parameters at once were "
             "not polled; none of the {} single steps is lower",
             confirm->l2_lm, confirm->noise_l2_lm, confirm->limit_lm, c.not_polled.size(), c.polled);
     else

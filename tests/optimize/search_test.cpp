@@ -5,6 +5,7 @@
 // something other than the fast path (a desired far field from the CPU reference tracer
 // or from the analytic answer) land on the known optimum; auto ends on the best point of
 // its lattice neighbourhood or says why; --refine goes below the step.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -20,6 +21,7 @@
 #include "model/surface_distance.hpp"
 #include "optimize/flat_directions.hpp"
 #include "optimize/history_csv.hpp"
+#include "optimize/methods.hpp"
 #include "optimize/parameter_space.hpp"
 #include "optimize/search.hpp"
 #include "photometry/farfield_photometry.hpp"
@@ -486,6 +488,37 @@ TEST(SearchModel, LatticeCountsPointsAndSnapping) {
     };
     EXPECT_TRUE(near(p.lattice_point(4), {0.25, -0.3}));
     EXPECT_TRUE(near(p.snap({0.3, 5.0}), {0.25, 0.4}));
+}
+
+// The lattice neighbourhood with up to three parameters stepped at once is the whole cube
+// of points one step away ({-1, 0, 1}^3 without the centre, enumerated here
+// independently), singles first, then pairs, then triples; at a corner of the box only
+// the points inside it.
+TEST(SearchModel, LatticeNeighboursAreTheCubeOneStepAwayInPollingOrder) {
+    ParameterSpace p{
+        .names = {"a", "b", "c"}, .lo = {0.0, 0.0, 0.0}, .hi = {4.0, 4.0, 4.0}, .step = {1, 1, 1}};
+    const std::vector<bool> free(3, true);
+    const std::vector<double> centre{2.0, 2.0, 2.0};
+    const auto all = lattice_neighbours(p, centre, free, 3);
+    std::set<std::vector<double>> cube;
+    for (int i = -1; i <= 1; ++i)
+        for (int j = -1; j <= 1; ++j)
+            for (int k = -1; k <= 1; ++k)
+                if (i || j || k) cube.insert({2.0 + i, 2.0 + j, 2.0 + k});
+    ASSERT_EQ(all.size(), 26u);
+    EXPECT_EQ(std::set<std::vector<double>>(all.begin(), all.end()), cube);
+    const auto moved = [&](const std::vector<double>& x) {
+        return std::count_if(x.begin(), x.end(), [](double v) { return v != 2.0; });
+    };
+    for (std::size_t n = 0; n < all.size(); ++n)
+        EXPECT_EQ(moved(all[n]), n < 6 ? 1 : n < 18 ? 2 : 3) << n;
+    EXPECT_EQ(lattice_neighbours(p, centre, free, 1).size(), 6u);
+    EXPECT_EQ(lattice_neighbours(p, centre, free, 2).size(), 18u);
+    // A fixed parameter is never stepped; a corner keeps the points inside the box.
+    EXPECT_EQ(lattice_neighbours(p, centre, {true, false, true}, 3).size(), 8u);
+    EXPECT_EQ(lattice_neighbours(p, {0.0, 0.0, 0.0}, free, 3).size(), 7u);
+    EXPECT_EQ(lattice_moves_together(3), 3u);
+    EXPECT_EQ(lattice_moves_together(6), 2u);
 }
 
 // The cup's flat direction: moving along it leaves the surface exactly as it was.
