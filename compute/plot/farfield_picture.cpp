@@ -98,64 +98,80 @@ Rgb colour(double t, bool signed_values) {
 
 } // namespace
 
+namespace {
+
+// One axis of the far field in degrees: entry i (a row or a column) spans
+// [first_deg + i * step_deg, first_deg + (i + 1) * step_deg); rows step down from +90,
+// columns up from -180.
+struct DegreeAxis {
+    bool across;                // columns (azimuth) or rows (altitude)
+    double first_deg, step_deg; // step_deg < 0 for rows
+    double low_deg, high_deg;   // the axis's ends
+    double min_margin_deg;      // the least margin a lit band gets
+    std::size_t entries;
+    std::size_t index(double deg) const {
+        return std::size_t(
+            std::clamp(int(std::floor((deg - first_deg) / step_deg)), 0, int(entries) - 1));
+    }
+    double edge(double i) const { return first_deg + i * step_deg; }
+};
+
+DegreeAxis altitude_axis(const FarField& f) {
+    return {false, 90.0, -180.0 / f.height, -90.0, 90.0, 2.0, f.height};
+}
+DegreeAxis azimuth_axis(const FarField& f) {
+    return {true, -180.0, 360.0 / f.width, -180.0, 180.0, 4.0, f.width};
+}
+
+// The band as (start, end) in the axis's order: (high, low) for rows, (left, right) for
+// columns.
+std::pair<double, double> lit_band(const FarField& f, const DegreeAxis& axis, double fraction) {
+    const auto profile = light_profile(f, axis.across);
+    const double start = axis.step_deg > 0 ? axis.low_deg : axis.high_deg;
+    const double end = axis.step_deg > 0 ? axis.high_deg : axis.low_deg;
+    if (!(std::accumulate(profile.begin(), profile.end(), 0.0) > 0.0)) return {start, end};
+    const auto [i0, i1] = lit_range(profile, fraction);
+    const double a = axis.edge(double(i0)), b = axis.edge(double(i1));
+    const double margin = std::max(axis.min_margin_deg, 0.1 * std::abs(b - a));
+    const double sign = axis.step_deg > 0 ? 1.0 : -1.0;
+    return {std::clamp(a - sign * margin, axis.low_deg, axis.high_deg),
+            std::clamp(b + sign * margin, axis.low_deg, axis.high_deg)};
+}
+
+// The window of `size_deg` inside `band` (in the axis's order) holding the most light, as
+// many whole entries as its size covers, centred on those entries and kept in the band.
+std::pair<double, double> brightest_window(const FarField& f, const DegreeAxis& axis,
+                                           std::pair<double, double> band, double size_deg) {
+    const auto [a, b] = band;
+    if (!(size_deg < std::abs(b - a)) || axis.entries == 0) return band;
+    const double step = std::abs(axis.step_deg);
+    const std::size_t span = std::size_t(std::max(1, int(std::round(size_deg / step))));
+    const std::size_t start =
+        brightest_start(light_profile(f, axis.across), axis.index(a), axis.index(b), span);
+    const double centre = axis.edge(double(start) + 0.5 * double(span));
+    const double half = 0.5 * size_deg;
+    const double c = std::clamp(centre, std::min(a, b) + half, std::max(a, b) - half);
+    return axis.step_deg > 0 ? std::pair{c - half, c + half} : std::pair{c + half, c - half};
+}
+
+} // namespace
+
 std::pair<double, double> lit_altitude_band(const FarField& f, double fraction) {
-    const auto rows = light_profile(f, false);
-    if (!(std::accumulate(rows.begin(), rows.end(), 0.0) > 0.0)) return {90.0, -90.0};
-    const auto [r0, r1] = lit_range(rows, fraction);
-    const double deg_per_row = 180.0 / f.height;
-    const double hi = 90.0 - double(r0) * deg_per_row, lo = 90.0 - double(r1) * deg_per_row;
-    const double margin = std::max(2.0, 0.1 * (hi - lo));
-    return {std::min(90.0, hi + margin), std::max(-90.0, lo - margin)};
+    return lit_band(f, altitude_axis(f), fraction);
 }
 
 std::pair<double, double>
 brightest_altitude_window(const FarField& f, std::pair<double, double> band, double height_deg) {
-    const auto [hi, lo] = band;
-    if (!(height_deg < hi - lo) || f.height == 0) return band;
-    // The window as many whole rows as its height covers, at the start row within the
-    // band whose rows hold the most light.
-    const double deg_per_row = 180.0 / f.height;
-    const auto row_of = [&](double alt) {
-        return std::size_t(
-            std::clamp(int(std::floor((90.0 - alt) / deg_per_row)), 0, int(f.height) - 1));
-    };
-    const std::size_t span = std::size_t(std::max(1, int(std::round(height_deg / deg_per_row))));
-    const std::size_t start =
-        brightest_start(light_profile(f, false), row_of(hi), row_of(lo), span);
-    // The window's centre on the bright rows' centre, kept inside the band.
-    const double centre = 90.0 - (double(start) + 0.5 * double(span)) * deg_per_row;
-    const double half = 0.5 * height_deg;
-    const double c = std::clamp(centre, lo + half, hi - half);
-    return {c + half, c - half};
+    return brightest_window(f, altitude_axis(f), band, height_deg);
 }
 
 std::pair<double, double> lit_azimuth_band(const FarField& f, double fraction) {
-    const auto columns = light_profile(f, true);
-    if (!(std::accumulate(columns.begin(), columns.end(), 0.0) > 0.0)) return {-180.0, 180.0};
-    const auto [c0, c1] = lit_range(columns, fraction);
-    const double deg_per_column = 360.0 / f.width;
-    const double left = -180.0 + double(c0) * deg_per_column;
-    const double right = -180.0 + double(c1) * deg_per_column;
-    const double margin = std::max(4.0, 0.1 * (right - left));
-    return {std::max(-180.0, left - margin), std::min(180.0, right + margin)};
+    return lit_band(f, azimuth_axis(f), fraction);
 }
 
 std::pair<double, double>
 brightest_azimuth_window(const FarField& f, std::pair<double, double> band, double width_deg) {
-    const auto [left, right] = band;
-    if (!(width_deg < right - left) || f.width == 0) return band;
-    const double deg_per_column = 360.0 / f.width;
-    const auto column_of = [&](double az) {
-        return std::size_t(
-            std::clamp(int(std::floor((az + 180.0) / deg_per_column)), 0, int(f.width) - 1));
-    };
-    const std::size_t span = std::size_t(std::max(1, int(std::round(width_deg / deg_per_column))));
-    const std::size_t start =
-        brightest_start(light_profile(f, true), column_of(left), column_of(right), span);
-    const double centre = -180.0 + (double(start) + 0.5 * double(span)) * deg_per_column;
-    const double half = 0.5 * width_deg;
-    const double c = std::clamp(centre, left + half, right - half);
-    return {c - half, c + half};
+    return brightest_window(f, azimuth_axis(f), band, width_deg);
 }
 
 FarFieldMapPlacement farfield_map_placement(const Rect& a, const FarField& f,
