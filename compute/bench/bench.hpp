@@ -78,6 +78,7 @@ struct CandidateRow {
     int reps = 0;
     double candidate_ms = 0.0; // wall time of Evaluator::evaluate
     double heightfield_ms = 0.0, trace_ms = 0.0, histogram_ms = 0.0, compare_ms = 0.0;
+    std::uint64_t submissions = 0; // host waits per candidate (median)
 };
 // rays 0: each scene's own.
 std::vector<CandidateRow> run_candidate_bench(const vk::Context& ctx,
@@ -85,7 +86,7 @@ std::vector<CandidateRow> run_candidate_bench(const vk::Context& ctx,
                                               std::uint64_t rays, int reps);
 std::string candidates_markdown(const std::vector<CandidateRow>& rows, const std::string& device);
 // candidates.csv: scene, rays, reps, candidate_ms, heightfield_ms, trace_ms, histogram_ms,
-// compare_ms (written whole or not at all).
+// compare_ms, submissions (written whole or not at all).
 void write_candidates_csv(const std::string& path, const std::vector<CandidateRow>& rows);
 
 } // namespace fird

@@ -34,9 +34,11 @@ std::vector<CandidateRow> run_candidate_bench(const vk::Context& ctx,
         if (s.target.kind != TargetDesc::Kind::None)
             ev.set_desired(desired_farfield(ctx, s, first.farfield_lm).farfield);
         CandidateRow row{.scene = s.name, .rays = s.trace.rays, .reps = reps};
-        std::vector<double> wall, hf, trace, hist, compare;
+        std::vector<double> wall, hf, trace, hist, compare, submissions;
         for (int k = 0; k < reps; ++k) {
+            const std::uint64_t submitted = ctx.submissions();
             const CandidateResult r = ev.evaluate(k % 2 ? a : b);
+            submissions.push_back(double(ctx.submissions() - submitted));
             wall.push_back(r.wall_ms);
             hf.push_back(r.run.timings.heightfield_ms);
             trace.push_back(r.run.timings.trace_ms);
@@ -48,6 +50,7 @@ std::vector<CandidateRow> run_candidate_bench(const vk::Context& ctx,
         row.trace_ms = median_ms(trace);
         row.histogram_ms = median_ms(hist);
         row.compare_ms = median_ms(compare);
+        row.submissions = std::uint64_t(median_ms(submissions));
         rows.push_back(row);
     }
     return rows;
@@ -56,22 +59,23 @@ std::vector<CandidateRow> run_candidate_bench(const vk::Context& ctx,
 std::string candidates_markdown(const std::vector<CandidateRow>& rows, const std::string& device) {
     std::string out = fmt::format(
         "Device: {}\n\n| scene | rays | candidate ms | height field ms | trace ms | histogram ms | "
-        "compare ms |\n|---|---|---|---|---|---|---|\n",
+        "compare ms | submissions |\n|---|---|---|---|---|---|---|---|\n",
         device);
     for (const CandidateRow& r : rows)
-        out += fmt::format("| {} | {:.0e} | {:.1f} | {:.1f} | {:.1f} | {:.1f} | {:.1f} |\n",
+        out += fmt::format("| {} | {:.0e} | {:.1f} | {:.1f} | {:.1f} | {:.1f} | {:.1f} | {} |\n",
                            r.scene, double(r.rays), r.candidate_ms, r.heightfield_ms, r.trace_ms,
-                           r.histogram_ms, r.compare_ms);
+                           r.histogram_ms, r.compare_ms, r.submissions);
     return out;
 }
 
 void write_candidates_csv(const std::string& path, const std::vector<CandidateRow>& rows) {
     std::ostringstream csv;
-    csv << "scene,rays,reps,candidate_ms,heightfield_ms,trace_ms,histogram_ms,compare_ms\n";
+    csv << "scene,rays,reps,candidate_ms,heightfield_ms,trace_ms,histogram_ms,compare_ms,"
+           "submissions\n";
     for (const CandidateRow& r : rows)
-        csv << fmt::format("\"{}\",{},{},{:.3f},{:.3f},{:.3f},{:.3f},{:.3f}\n", r.scene, r.rays,
+        csv << fmt::format("\"{}\",{},{},{:.3f},{:.3f},{:.3f},{:.3f},{:.3f},{}\n", r.scene, r.rays,
                            r.reps, r.candidate_ms, r.heightfield_ms, r.trace_ms, r.histogram_ms,
-                           r.compare_ms);
+                           r.compare_ms, r.submissions);
     write_text_file(path, csv.str());
 }
 

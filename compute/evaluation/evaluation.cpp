@@ -155,6 +155,7 @@ nlohmann::json evaluation_json(const Evaluation& e) {
                           {"total", e.timings.total_ms}}}};
     if (e.l2_lm) j["l2"] = *e.l2_lm;
     if (!e.bounces.empty()) j["profile"] = profile_json(e.bounces);
+    if (e.submissions) j["submissions"] = *e.submissions;
     return j;
 }
 

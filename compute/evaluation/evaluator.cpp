@@ -1,7 +1,9 @@
 #include "evaluator.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <stdexcept>
 #include <vector>
 
@@ -52,6 +54,10 @@ void Evaluator::set_desired(const FarField& desired) {
     desired_ = vk::Buffer(*ctx_, values.size() * 4, vk::kStorageUsage, vk::MemoryUse::Device,
                           "fird.evaluator.desired");
     desired_.upload(*ctx_, std::span<const float>(values));
+    l2_scratch_ = vk::Buffer(*ctx_, ReducePass::scratch_bytes(values.size()), vk::kStorageUsage,
+                             vk::MemoryUse::Device, "fird.evaluator.l2.scratch");
+    l2_sum_ = vk::Buffer(*ctx_, sizeof(float), vk::kStorageUsage, vk::MemoryUse::Readback,
+                         "fird.evaluator.l2.sum");
     double sum = 0.0;
     for (float v : values)
         sum += double(v) * double(v);
@@ -62,10 +68,18 @@ CandidateResult Evaluator::evaluate(const ReflectorDesc& reflector) {
     const auto t0 = std::chrono::steady_clock::now();
     CandidateResult r;
     tracer_.set_reflector(reflector);
-    r.run = tracer_.run();
+    // The compare joins the trace's last submission (compare() is the same reduction as a
+    // submission of its own): its sum of squared differences is read back with the tally.
+    std::function<void(VkCommandBuffer)> record_compare;
+    if (has_desired())
+        record_compare = [&](VkCommandBuffer cb) {
+            reduce_.record(cb, tracer_.farfield_lm(), &desired_, cells(), l2_scratch_, l2_sum_);
+        };
+    r.run = tracer_.run(record_compare);
     traced_ = true;
     r.farfield_lm = double(r.run.tally.farfield) * r.run.energy_per_ray_lm;
-    if (has_desired()) r.l2_lm = compare(&r.run.timings.compare_ms);
+    if (has_desired())
+        r.l2_lm = std::sqrt(std::max(0.0, double(*static_cast<const float*>(l2_sum_.data()))));
     r.wall_ms = ms_since(t0);
     return r;
 }
@@ -96,6 +110,7 @@ FarField Evaluator::farfield() const {
 Evaluation evaluate_fast(const vk::Context& ctx, const Scene& scene,
                          const FastEvaluationOptions& options) {
     const auto t0 = std::chrono::steady_clock::now();
+    const std::uint64_t submissions_before = ctx.submissions();
     Evaluator evaluator(ctx, scene, scene_fidelity(scene));
     evaluator.tracer().set_profile(options.profile);
     evaluator.tracer().set_rayset_kept(false); // one run: nothing reuses it
@@ -115,6 +130,7 @@ Evaluation evaluate_fast(const vk::Context& ctx, const Scene& scene,
         e.l2_lm = evaluator.compare(&e.timings.compare_ms);
         e.target_farfield = std::move(desired.farfield);
     }
+    if (options.profile) e.submissions = ctx.submissions() - submissions_before;
     e.timings.total_ms = ms_since(t0);
     return e;
 }

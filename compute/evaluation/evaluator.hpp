@@ -51,7 +51,8 @@ class Evaluator {
     double desired_norm_lm() const { return desired_norm_lm_.value_or(0.0); }
 
     // Traces the reflector (the height field is rebuilt only when it changed; the
-    // rayset is kept) and, with a desired far field, reduces l2 on the device.
+    // rayset is kept) and, with a desired far field, reduces l2 on the device in the same
+    // submission as the trace's last batch (one wait per evaluation).
     CandidateResult evaluate(const ReflectorDesc& reflector);
     // Fresh rays from `seed` for the next evaluations (nothing else is rebuilt).
     void set_seed(std::uint64_t seed);
@@ -78,6 +79,7 @@ class Evaluator {
     FastTracer tracer_;
     ReducePass reduce_;
     vk::Buffer desired_;
+    vk::Buffer l2_scratch_, l2_sum_; // evaluate()'s reduction: its levels, and the sum read back
     std::optional<double> desired_norm_lm_;
     bool traced_ = false;
 };

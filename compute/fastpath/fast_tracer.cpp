@@ -7,6 +7,7 @@
 
 #include <fmt/format.h>
 
+#include "bounce_args_comp.h"
 #include "bucket_scan_comp.h"
 #include "counts_to_lm_comp.h"
 #include "fastpath/scene_params.hpp"
@@ -30,8 +31,6 @@ constexpr std::uint64_t kRayBytes = 32;
 constexpr std::uint64_t kCountersBytes = std::uint64_t(gpu::kTallyCopies) * gpu::kCounterCount * 4;
 // The most device memory a kept rayset may take (1e7 emitted rays take at most 320 MB).
 constexpr std::uint64_t kRaysetCacheBytes = 1ull << 30;
-// Below this many rays a bounce's output is traced in the order it was appended.
-constexpr std::uint64_t kOrderMinRays = 1u << 16;
 
 struct ToLmPush {
     std::uint32_t count;
@@ -46,7 +45,7 @@ double ms_since(std::chrono::steady_clock::time_point t0) {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
 
-// trace.comp's bindings 0..kTraceBindControl: uniform texel buffers at 4-6, storage else.
+// trace.comp's bindings 0..kTraceBindLoop: uniform texel buffers at 4-6, storage else.
 // `variant` lists the specialization constants (FIRD_SPEC_RECORD_WALK, _PROFILE,
 // _DIAGNOSTICS) switched on over the scene's.
 vk::ComputePipeline trace_pipeline(const vk::Context& ctx,
@@ -56,7 +55,7 @@ vk::ComputePipeline trace_pipeline(const vk::Context& ctx,
         spec[std::size_t(id)] = 1;
     return vk::ComputePipeline(
         ctx, fird_spv_trace_comp,
-        {kSB, kSB, kSB, kSB, kTB, kTB, kTB, kSB, kSB, kSB, kSB, kSB, kSB, kSB, kSB},
+        {kSB, kSB, kSB, kSB, kTB, kTB, kTB, kSB, kSB, kSB, kSB, kSB, kSB, kSB, kSB, kSB},
         sizeof(gpu::TracePush), name, spec);
 }
 
@@ -80,11 +79,15 @@ FastTracer::FastTracer(const vk::Context& ctx, const Scene& scene, std::uint64_t
       trace_pipeline_(trace_pipeline(ctx, spec_, {}, "fird.trace")),
       to_lm_pipeline_(ctx, fird_spv_counts_to_lm_comp, {kSB, kSB}, sizeof(ToLmPush),
                       "fird.counts_to_lm"),
-      order_pipeline_(ctx, fird_spv_rayset_order_comp, {kSB, kSB, kSB, kSB},
+      order_pipeline_(ctx, fird_spv_rayset_order_comp, {kSB, kSB, kSB, kSB, kSB},
                       sizeof(gpu::RaysetOrderPush), "fird.rayset.order"),
       bucket_scan_pipeline_(ctx, fird_spv_bucket_scan_comp, {kSB}, 0, "fird.rayset.bucket_scan"),
       walk_start_pipeline_(ctx, fird_spv_walk_start_comp, {kSB, kSB, kSB}, 0, "fird.walk_start"),
-      timer_(ctx) {
+      bounce_args_pipeline_(ctx, fird_spv_bounce_args_comp, {kSB, kSB}, sizeof(gpu::BounceArgsPush),
+                            "fird.bounce_args"),
+      // A pair per pass of one submission: height field, rayset, its ordering, each
+      // bounce's trace and ordering, histogram and compare.
+      timer_(ctx, 5 + 2 * (scene.trace.max_bounces + 1)) {
     if (scene.trace.max_bounces > FIRD_MAX_REFLECTIONS)
         throw std::invalid_argument(fmt::format(
             "max_bounces above {} is not supported on the fast path", FIRD_MAX_REFLECTIONS));
@@ -166,6 +169,10 @@ FastTracer::FastTracer(const vk::Context& ctx, const Scene& scene, std::uint64_t
     farfield_counts_ =
         vk::Buffer(ctx, cells * 4, storage, vk::MemoryUse::Device, "fird.farfield.counts");
     farfield_lm_ = vk::Buffer(ctx, cells * 4, storage, vk::MemoryUse::Device, "fird.farfield.lm");
+    loop_ = vk::Buffer(ctx, gpu::kLoopWords * 4, storage | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT,
+                       vk::MemoryUse::Device, "fird.bounce_loop");
+    loop_readback_ = vk::Buffer(ctx, gpu::kLoopWords * 4, storage, vk::MemoryUse::Readback,
+                                "fird.bounce_loop.read");
 }
 
 void FastTracer::upload_params() {
@@ -212,50 +219,52 @@ void FastTracer::set_seed(std::uint64_t seed) {
     rayset_chunks_.clear(); // the next run generates (and keeps) the new seed's rays
 }
 
-double FastTracer::order_rays(const vk::Buffer& from, const vk::Buffer& to, std::uint64_t count,
-                              bool reflected) {
-    if (count == 0) return 0.0;
+void FastTracer::submit(double* untimed_ms, const std::function<void(VkCommandBuffer)>& record) {
     const auto t0 = std::chrono::steady_clock::now();
+    timed_.clear();
     ctx_->submit_and_wait([&](VkCommandBuffer cb) {
-        timer_.begin(cb);
-        const vk::Binding scan[] = {vk::storage(order_buckets_)};
-        bucket_scan_pipeline_.dispatch(cb, scan, nullptr, 1);
-        vk::barrier_all(cb);
-        const vk::Binding b[] = {vk::storage(params_buffer_), vk::storage(from), vk::storage(to),
-                                 vk::storage(order_buckets_)};
-        const gpu::RaysetOrderPush push{.count = std::uint32_t(count),
-                                        .reflected = reflected ? 1u : 0u};
-        order_pipeline_.dispatch(cb, b, &push, groups(count, FIRD_RAYSET_WORKGROUP_SIZE));
-        timer_.end(cb);
+        timer_.reset(cb);
+        record(cb);
     });
-    return timer_.supported() ? timer_.elapsed_ms() : ms_since(t0);
+    timer_.read();
+    for (const TimedPass& p : timed_) {
+        const double ms = timer_.elapsed_ms(p.pair);
+        *p.stage_ms += ms;
+        if (p.bounce_ms) *p.bounce_ms += ms;
+    }
+    timed_.clear();
+    if (!timer_.supported()) *untimed_ms += ms_since(t0);
 }
 
-void FastTracer::build_heightfield(FastRun& run) {
-    if (!heightfield_dirty_) {
-        run.heightfield_reused = true;
-        return;
-    }
+void FastTracer::timed(VkCommandBuffer cb, double* stage_ms, double* bounce_ms,
+                       const std::function<void()>& record) {
+    const std::uint32_t pair = timer_.begin(cb);
+    record();
+    timer_.end(cb, pair);
+    timed_.push_back({pair, stage_ms, bounce_ms});
+}
+
+double FastTracer::rasterize_mesh() {
+    if (!heightfield_dirty_ || !mesh_) return 0.0;
+    // The paper's z-buffer step for meshes (its own submissions: a render pass).
     const auto t0 = std::chrono::steady_clock::now();
-    // The paper's z-buffer step for meshes (its own submission: a render pass).
-    double raster_ms = 0.0;
-    if (mesh_) {
-        mesh_rasterizer_->rasterize(*mesh_, origin_, scene_.holder, params_.hf_w, params_.hf_h,
-                                    paper_tree_, gradients_);
-        // The texel corners are the centres of a grid one texel larger, half a texel out.
-        const double half_x = (scene_.holder.max_mm.x - scene_.holder.min_mm.x) / params_.hf_w / 2;
-        const double half_y = (scene_.holder.max_mm.y - scene_.holder.min_mm.y) / params_.hf_h / 2;
-        const Holder around{scene_.holder.min_mm - glm::dvec3(half_x, half_y, 0.0),
-                            scene_.holder.max_mm + glm::dvec3(half_x, half_y, 0.0)};
-        const vk::Buffer corner_gradients(
-            *ctx_, std::uint64_t(params_.hf_w + 1) * (params_.hf_h + 1) * 8, vk::kStorageUsage,
-            vk::MemoryUse::Device, "fird.mesh_raster.corner_gradients");
-        mesh_rasterizer_->rasterize(*mesh_, origin_, around, params_.hf_w + 1, params_.hf_h + 1,
-                                    corners_, corner_gradients);
-        raster_ms = ms_since(t0);
-    }
-    ctx_->submit_and_wait([&](VkCommandBuffer cb) {
-        timer_.begin(cb);
+    mesh_rasterizer_->rasterize(*mesh_, origin_, scene_.holder, params_.hf_w, params_.hf_h,
+                                paper_tree_, gradients_);
+    // The texel corners are the centres of a grid one texel larger, half a texel out.
+    const double half_x = (scene_.holder.max_mm.x - scene_.holder.min_mm.x) / params_.hf_w / 2;
+    const double half_y = (scene_.holder.max_mm.y - scene_.holder.min_mm.y) / params_.hf_h / 2;
+    const Holder around{scene_.holder.min_mm - glm::dvec3(half_x, half_y, 0.0),
+                        scene_.holder.max_mm + glm::dvec3(half_x, half_y, 0.0)};
+    const vk::Buffer corner_gradients(
+        *ctx_, std::uint64_t(params_.hf_w + 1) * (params_.hf_h + 1) * 8, vk::kStorageUsage,
+        vk::MemoryUse::Device, "fird.mesh_raster.corner_gradients");
+    mesh_rasterizer_->rasterize(*mesh_, origin_, around, params_.hf_w + 1, params_.hf_h + 1,
+                                corners_, corner_gradients);
+    return ms_since(t0);
+}
+
+void FastTracer::record_heightfield(VkCommandBuffer cb, FastRun& run) {
+    timed(cb, &run.timings.heightfield_ms, nullptr, [&] {
         constexpr std::uint32_t g = FIRD_HEIGHTFIELD_WORKGROUP_SIZE;
         if (!mesh_) {
             const vk::Binding hf[] = {vk::storage(params_buffer_), vk::storage(paper_tree_),
@@ -278,17 +287,93 @@ void FastTracer::build_heightfield(FastRun& run) {
             vk::storage(params_.hit_mode == gpu::kHitModePaper ? paper_tree_ : refined_tree_),
             vk::storage(walk_start_)};
         walk_start_pipeline_.dispatch(cb, ws, nullptr, 1);
-        vk::barrier_all(cb);
-        timer_.end(cb);
     });
-    run.timings.heightfield_ms =
-        timer_.supported() ? raster_ms + timer_.elapsed_ms() : ms_since(t0);
+    vk::barrier_all(cb);
+}
+
+void FastTracer::build_heightfield(FastRun& run) {
+    if (!heightfield_dirty_) {
+        run.heightfield_reused = true;
+        return;
+    }
+    run.timings.heightfield_ms += rasterize_mesh();
+    submit(&run.timings.heightfield_ms, [&](VkCommandBuffer cb) { record_heightfield(cb, run); });
     heightfield_dirty_ = false;
+}
+
+void FastTracer::record_run_start(VkCommandBuffer cb, bool clear_diagnostics) {
+    vkCmdFillBuffer(cb, farfield_counts_.get(), 0, VK_WHOLE_SIZE, 0);
+    if (clear_diagnostics && count_texel_hits_)
+        vkCmdFillBuffer(cb, texel_hits_.get(), 0, VK_WHOLE_SIZE, 0);
+    if (clear_diagnostics && trace_profile_pipeline_)
+        vkCmdFillBuffer(cb, profile_.get(), 0, VK_WHOLE_SIZE, 0);
+}
+
+void FastTracer::record_batch_start(VkCommandBuffer cb, std::optional<std::uint64_t> effective,
+                                    std::uint64_t emitted) {
+    vkCmdFillBuffer(cb, counters_.get(), 0, VK_WHOLE_SIZE, 0);
+    vkCmdFillBuffer(cb, loop_.get(), 0, VK_WHOLE_SIZE, 0);
+    if (effective) {
+        vkCmdFillBuffer(cb, counters_.get(), gpu::kCounterEffective * 4, 4,
+                        std::uint32_t(*effective));
+        vkCmdFillBuffer(cb, counters_.get(), gpu::kCounterDiscarded * 4, 4,
+                        std::uint32_t(emitted - *effective));
+    }
+    vk::barrier_all(cb);
+}
+
+void FastTracer::record_rayset(VkCommandBuffer cb, std::uint64_t first, std::uint64_t n,
+                               const vk::Buffer& rays, FastRun& run) {
+    if (!rayset_ordered_at_birth()) {
+        vkCmdFillBuffer(cb, order_buckets_.get(), 0, VK_WHOLE_SIZE, 0);
+        vk::barrier_all(cb);
+    }
+    timed(cb, &run.timings.rayset_ms, nullptr, [&] {
+        const vk::Binding b[] = {vk::storage(params_buffer_), vk::storage(rays),
+                                 vk::storage(counters_), vk::storage(order_buckets_)};
+        const gpu::RaysetPush push{.first_lo = std::uint32_t(first),
+                                   .first_hi = std::uint32_t(first >> 32),
+                                   .count = std::uint32_t(n),
+                                   .keep_all = skips_.discard_before_trace ? 0u : 1u};
+        rayset_pipeline_.dispatch(cb, b, &push, groups(n, FIRD_RAYSET_WORKGROUP_SIZE));
+    });
+    vk::barrier_all(cb);
+}
+
+void FastTracer::record_bounce_args(VkCommandBuffer cb, std::uint32_t stage, std::uint32_t bounce) {
+    const vk::Binding b[] = {vk::storage(counters_), vk::storage(loop_)};
+    const gpu::BounceArgsPush push{.stage = stage,
+                                   .bounce = bounce,
+                                   .trace_empty = skips_.skip_empty_bounces ? 0u : 1u,
+                                   .groups_max = ctx_->limits().max_workgroup_count[0]};
+    bounce_args_pipeline_.dispatch(cb, b, &push, 1);
+    vk::barrier_all(cb);
+}
+
+void FastTracer::record_order(VkCommandBuffer cb, const vk::Buffer& from, const vk::Buffer& to,
+                              bool reflected) {
+    const vk::Binding scan[] = {vk::storage(order_buckets_)};
+    bucket_scan_pipeline_.dispatch_indirect(cb, scan, nullptr, loop_, gpu::kLoopScanArgs * 4);
+    vk::barrier_all(cb);
+    const vk::Binding b[] = {vk::storage(params_buffer_), vk::storage(from), vk::storage(to),
+                             vk::storage(order_buckets_), vk::storage(loop_)};
+    const gpu::RaysetOrderPush push{.reflected = reflected ? 1u : 0u};
+    order_pipeline_.dispatch_indirect(cb, b, &push, loop_, gpu::kLoopOrderArgs * 4);
+    vk::barrier_all(cb);
+}
+
+void FastTracer::record_rayset_order(VkCommandBuffer cb, const vk::Buffer& from,
+                                     const vk::Buffer& to, FastRun& run) {
+    timed(cb, &run.timings.rayset_ms, nullptr, [&] {
+        record_bounce_args(cb, gpu::kArgsOrderRayset, 0);
+        record_order(cb, from, to, false);
+    });
 }
 
 void FastTracer::dispatch_trace(VkCommandBuffer cb, const vk::Buffer& in, const vk::Buffer& out,
                                 const vk::Buffer& counters, const vk::Buffer& farfield,
-                                const gpu::TracePush& push, bool record_walk) {
+                                const gpu::TracePush& push, bool record_walk,
+                                std::optional<std::uint32_t> groups) {
     const vk::Binding b[] = {
         vk::storage(params_buffer_),
         vk::storage(in),
@@ -304,7 +389,8 @@ void FastTracer::dispatch_trace(VkCommandBuffer cb, const vk::Buffer& in, const 
         vk::storage(walk_),
         vk::storage(profile_),
         vk::storage(walk_start_),
-        vk::storage(control_)};
+        vk::storage(control_),
+        vk::storage(loop_)};
     // The variant that does what the push constants ask and no more (the walk-recording
     // one also records hits; profile counts come from plain runs only).
     const bool diagnostics = push.record_hits != 0u || push.count_texel_hits != 0u;
@@ -316,57 +402,74 @@ void FastTracer::dispatch_trace(VkCommandBuffer cb, const vk::Buffer& in, const 
                                    : diagnostics             ? *trace_diagnostics_pipeline_
                                    : trace_profile_pipeline_ ? *trace_profile_pipeline_
                                                              : trace_pipeline_;
-    p.dispatch(cb, b, &push, groups(push.active_count, FIRD_TRACE_WORKGROUP_SIZE));
+    if (groups)
+        p.dispatch(cb, b, &push, *groups);
+    else
+        p.dispatch_indirect(cb, b, &push, loop_, gpu::kLoopTraceArgs * 4);
 }
 
-void FastTracer::trace_batch(const vk::Buffer& rays, std::uint64_t effective, FastRun& run,
-                             bool record_hits) {
-    auto* counters = static_cast<std::uint32_t*>(counters_.data());
+void FastTracer::record_bounces(VkCommandBuffer cb, const vk::Buffer& rays, FastRun& run,
+                                bool record_hits) {
+    // Every bounce is recorded, each sized on the device by the one before (bounce_args.comp):
+    // a bounce without active rays is an indirect dispatch of 0 groups, which costs next
+    // to nothing (the skip of empty bounces; with the skip off it runs one workgroup).
+    // Bounded by the scene's bounces, like the loop on the device it replaces.
+    record_bounce_args(cb, gpu::kArgsFirstBounce, 0);
     const vk::Buffer* in = &rays;
     const vk::Buffer* out = &rays_ping_;
-    std::uint64_t active = effective;
-    const std::uint32_t passes = params_.max_bounces + (params_.strict_policy ? 1u : 0u);
-    for (std::uint32_t bounce = 0; bounce < passes && (active > 0 || !skips_.skip_empty_bounces);
-         ++bounce) {
-        // No dispatch for a bounce with no active rays (the loop condition).
+    const std::uint32_t n = passes();
+    for (std::uint32_t bounce = 0; bounce < n; ++bounce) {
         // The rays reflected here are ordered by direction for the next bounce, as the
-        // rayset is, unless there are too few for the ordering to pay.
-        const bool order = bounce + 1 < passes && active >= kOrderMinRays;
-        const auto t0 = std::chrono::steady_clock::now();
-        ctx_->submit_and_wait([&](VkCommandBuffer cb) {
-            timer_.begin(cb);
-            vkCmdFillBuffer(cb, counters_.get(), gpu::kCounterActiveOut * 4, 4, 0);
-            if (order) vkCmdFillBuffer(cb, order_buckets_.get(), 0, VK_WHOLE_SIZE, 0);
-            vk::barrier_all(cb);
+        // rayset is, unless there are too few for the ordering to pay (kOrderMinRays,
+        // decided on the device: they are then copied as they are).
+        const bool order = bounce + 1 < n;
+        BounceProfile& profile = run.bounces[bounce];
+        timed(cb, &run.timings.trace_ms, &profile.trace_ms, [&] {
+            if (order) {
+                vkCmdFillBuffer(cb, order_buckets_.get(), 0, VK_WHOLE_SIZE, 0);
+                vk::barrier_all(cb);
+            }
             const gpu::TracePush push{.bounce = bounce,
                                       .final_check = bounce == params_.max_bounces ? 1u : 0u,
-                                      .active_count = std::uint32_t(active),
                                       .record_hits = record_hits && bounce == 0 ? 1u : 0u,
                                       .order_output = order ? 1u : 0u,
                                       .count_texel_hits = count_texel_hits_ ? 1u : 0u,
                                       .walk_to_box_top = skips_.end_walk_at_reflector_top ? 0u : 1u,
                                       .walk_from_root = skips_.start_walk_below_source ? 0u : 1u};
-            dispatch_trace(cb, *in, *out, counters_, farfield_counts_, push);
-            timer_.end(cb);
+            dispatch_trace(cb, *in, *out, counters_, farfield_counts_, push, false, std::nullopt);
+            vk::barrier_all(cb);
         });
-        const double trace_ms = timer_.supported() ? timer_.elapsed_ms() : ms_since(t0);
-        run.timings.trace_ms += trace_ms;
-        if (run.bounces.size() <= bounce) run.bounces.resize(bounce + 1);
-        run.bounces[bounce].rays += active;
-        run.bounces[bounce].trace_ms += trace_ms;
-        active = counters[gpu::kCounterActiveOut];
-        in = out;
-        if (order) {
-            // Into the other ping-pong buffer (this bounce's input is consumed).
-            const vk::Buffer* spare = (out == &rays_ping_) ? &rays_pong_ : &rays_ping_;
-            const double order_ms = order_rays(*out, *spare, active, true);
-            run.timings.trace_ms += order_ms;
-            run.bounces[bounce].order_ms += order_ms;
-            in = spare;
-        }
+        if (!order) break;
+        // Into the other ping-pong buffer (this bounce's input is consumed).
+        const vk::Buffer* spare = (out == &rays_ping_) ? &rays_pong_ : &rays_ping_;
+        timed(cb, &run.timings.trace_ms, &profile.order_ms, [&] {
+            record_bounce_args(cb, gpu::kArgsNextBounce, bounce + 1);
+            record_order(cb, *out, *spare, true);
+        });
+        in = spare;
         out = (in == &rays_ping_) ? &rays_pong_ : &rays_ping_;
     }
+}
+
+void FastTracer::record_to_lm(VkCommandBuffer cb, FastRun& run) {
+    const std::uint32_t cells = farfield_cells();
+    timed(cb, &run.timings.histogram_ms, nullptr, [&] {
+        const vk::Binding b[] = {vk::storage(farfield_counts_), vk::storage(farfield_lm_)};
+        const ToLmPush push{cells, float(run.energy_per_ray_lm)};
+        to_lm_pipeline_.dispatch(cb, b, &push, groups(cells, FIRD_REDUCE_WORKGROUP_SIZE));
+    });
+    vk::barrier_all(cb);
+}
+
+void FastTracer::record_batch_end(VkCommandBuffer cb) {
+    const VkBufferCopy region{.size = gpu::kLoopWords * 4};
+    vkCmdCopyBuffer(cb, loop_.get(), loop_readback_.get(), 1, &region);
+    vk::barrier_to_host(cb);
+}
+
+void FastTracer::tally_batch(FastRun& run) const {
     // Tally this batch's counters (32-bit on the device, summed over the copies in 64 bits).
+    const auto* counters = static_cast<const std::uint32_t*>(counters_.data());
     const auto total = [&](std::uint32_t slot) {
         std::uint64_t sum = 0;
         for (std::uint32_t c = 0; c < gpu::kTallyCopies; ++c)
@@ -382,19 +485,19 @@ void FastTracer::trace_batch(const vk::Buffer& rays, std::uint64_t effective, Fa
     run.aborted += total(gpu::kCounterAborted);
     for (std::uint32_t r = 0; r <= params_.max_bounces; ++r)
         t.by_reflections[r] += total(gpu::kCounterByReflections + r);
+    const auto* loop = static_cast<const std::uint32_t*>(loop_readback_.data());
+    for (std::size_t b = 0; b < run.bounces.size(); ++b)
+        run.bounces[b].rays += loop[gpu::kLoopBounceRays + b];
 }
 
-void FastTracer::finish(FastRun& run) {
-    const std::uint32_t cells = farfield_cells();
-    const auto t0 = std::chrono::steady_clock::now();
-    ctx_->submit_and_wait([&](VkCommandBuffer cb) {
-        timer_.begin(cb);
-        const vk::Binding b[] = {vk::storage(farfield_counts_), vk::storage(farfield_lm_)};
-        const ToLmPush push{cells, float(run.energy_per_ray_lm)};
-        to_lm_pipeline_.dispatch(cb, b, &push, groups(cells, FIRD_REDUCE_WORKGROUP_SIZE));
-        timer_.end(cb);
-    });
-    run.timings.histogram_ms = timer_.supported() ? timer_.elapsed_ms() : ms_since(t0);
+void FastTracer::finish(FastRun& run) const {
+    // Bounces after the last with rays traced nothing (where empty ones are skipped, they
+    // were dispatched with 0 groups): listed only when the skip is off, as before.
+    std::size_t traced = run.bounces.size();
+    if (skips_.skip_empty_bounces)
+        while (traced > 0 && run.bounces[traced - 1].rays == 0)
+            --traced;
+    run.bounces.resize(traced);
     const RayTally& t = run.tally;
     if (t.emitted != t.discarded + t.direct + t.farfield + t.lost)
         throw std::logic_error(
@@ -402,79 +505,94 @@ void FastTracer::finish(FastRun& run) {
                         t.discarded + t.direct + t.farfield + t.lost));
 }
 
-std::uint64_t FastTracer::generate_rayset(std::uint64_t first, std::uint64_t n,
-                                          const vk::Buffer& rays, FastRun& run) {
-    const auto t0 = std::chrono::steady_clock::now();
-    ctx_->submit_and_wait([&](VkCommandBuffer cb) {
-        timer_.begin(cb);
-        vkCmdFillBuffer(cb, counters_.get(), 0, VK_WHOLE_SIZE, 0);
-        if (!rayset_ordered_at_birth())
-            vkCmdFillBuffer(cb, order_buckets_.get(), 0, VK_WHOLE_SIZE, 0);
-        vk::barrier_all(cb);
-        const vk::Binding b[] = {vk::storage(params_buffer_), vk::storage(rays),
-                                 vk::storage(counters_), vk::storage(order_buckets_)};
-        const gpu::RaysetPush push{.first_lo = std::uint32_t(first),
-                                   .first_hi = std::uint32_t(first >> 32),
-                                   .count = std::uint32_t(n),
-                                   .keep_all = skips_.discard_before_trace ? 0u : 1u};
-        rayset_pipeline_.dispatch(cb, b, &push, groups(n, FIRD_RAYSET_WORKGROUP_SIZE));
-        timer_.end(cb);
-    });
-    run.timings.rayset_ms += timer_.supported() ? timer_.elapsed_ms() : ms_since(t0);
-    return static_cast<const std::uint32_t*>(counters_.data())[gpu::kCounterEffective];
-}
-
-FastRun FastTracer::run() {
+FastRun FastTracer::run(const std::function<void(VkCommandBuffer)>& then) {
     if (!reflector_) throw std::logic_error("FastTracer::run: no reflector set");
     const auto t0 = std::chrono::steady_clock::now();
     FastRun run;
     run.tally.emitted = scene_.trace.rays;
     run.tally.by_reflections.assign(params_.max_bounces + 1, 0);
+    run.bounces.assign(passes(), {});
     run.energy_per_ray_lm = scene_.source.flux_lm / double(scene_.trace.rays);
     if (!skips_.keep_rayset) rayset_chunks_.clear();
     if (!skips_.keep_heightfield) heightfield_dirty_ = true;
-    build_heightfield(run);
-    ctx_->submit_and_wait([&](VkCommandBuffer cb) {
-        vkCmdFillBuffer(cb, farfield_counts_.get(), 0, VK_WHOLE_SIZE, 0);
-        if (count_texel_hits_) vkCmdFillBuffer(cb, texel_hits_.get(), 0, VK_WHOLE_SIZE, 0);
-        if (trace_profile_pipeline_) vkCmdFillBuffer(cb, profile_.get(), 0, VK_WHOLE_SIZE, 0);
-    });
-    auto* counters = static_cast<std::uint32_t*>(counters_.data());
-    std::size_t batch = 0;
-    for (std::uint64_t first = 0; first < scene_.trace.rays; first += batch_capacity_, ++batch) {
+    run.heightfield_reused = !heightfield_dirty_;
+    run.timings.heightfield_ms += rasterize_mesh();
+    bool first_submission = true;
+    // The height field (when it changed) and the clears go into the first submission.
+    const auto record_start = [&](VkCommandBuffer cb) {
+        if (!first_submission) return;
+        if (heightfield_dirty_) record_heightfield(cb, run);
+        record_run_start(cb, true);
+    };
+    const auto submitted = [&] {
+        first_submission = false;
+        heightfield_dirty_ = false;
+    };
+    const std::uint64_t batches = (scene_.trace.rays + batch_capacity_ - 1) / batch_capacity_;
+    for (std::size_t batch = 0; batch < batches; ++batch) {
+        const std::uint64_t first = batch * batch_capacity_;
         const std::uint64_t n = std::min(batch_capacity_, scene_.trace.rays - first);
-        if (batch < rayset_chunks_.size()) {
-            // The rayset does not depend on the reflector (§5): reuse it.
-            const RaysetChunk& chunk = rayset_chunks_[batch];
-            std::memset(counters, 0, kCountersBytes);
-            counters[gpu::kCounterDiscarded] = std::uint32_t(n - chunk.effective);
-            run.rayset_reused = true;
-            trace_batch(chunk.rays, chunk.effective, run, false);
-            continue;
-        }
+        const bool last = batch + 1 == batches;
+        // The rayset does not depend on the reflector (§5): a kept batch is reused.
+        const bool reuse = batch < rayset_chunks_.size();
+        const bool sort = !reuse && !rayset_ordered_at_birth();
         // Kept for the next run (a buffer per batch), or generated again each run into the
         // ping-pong buffer the first bounce does not write (its input is consumed by then).
-        const auto keep = [&](std::uint64_t ray_count) -> const vk::Buffer& {
-            if (!cache_rayset_) return rays_pong_;
+        const auto keep = [&](std::uint64_t ray_count) -> const vk::Buffer* {
+            if (!cache_rayset_) return &rays_pong_;
             rayset_chunks_.push_back(
                 {vk::Buffer(*ctx_, std::max<std::uint64_t>(ray_count, 1) * kRayBytes,
                             vk::kStorageUsage, vk::MemoryUse::Device,
                             fmt::format("fird.rayset.{}", batch)),
                  0});
-            return rayset_chunks_.back().rays;
+            return &rayset_chunks_.back().rays;
         };
         const vk::Buffer* rays = nullptr;
-        std::uint64_t effective = 0;
-        if (rayset_ordered_at_birth()) {
-            rays = &keep(n); // emitted in direction order: generated in place
-            effective = generate_rayset(first, n, *rays, run);
+        bool generated = false; // the rayset pass ran in a submission of its own
+        if (reuse) {
+            run.rayset_reused = true;
+            rays = &rayset_chunks_[batch].rays;
+        } else if (!sort) {
+            rays = keep(n); // emitted in direction order: generated in place
+        } else if (cache_rayset_) {
+            // A kept sorted batch takes the memory of its effective rays alone, a count the
+            // host learns from the rayset pass: it is generated in a submission of its own
+            // (the first run of a rayset only; later runs reuse it).
+            submit(&run.timings.rayset_ms, [&](VkCommandBuffer cb) {
+                record_start(cb);
+                record_batch_start(cb, std::nullopt, n);
+                record_rayset(cb, first, n, rays_ping_, run);
+                vk::barrier_to_host(cb);
+            });
+            submitted();
+            generated = true;
+            rays =
+                keep(static_cast<const std::uint32_t*>(counters_.data())[gpu::kCounterEffective]);
         } else {
-            effective = generate_rayset(first, n, rays_ping_, run);
-            rays = &keep(effective); // then sorted by direction into place
-            run.timings.rayset_ms += order_rays(rays_ping_, *rays, effective, false);
+            rays = &rays_pong_; // sorted into it from the ping-pong buffer
         }
-        if (cache_rayset_) rayset_chunks_.back().effective = effective;
-        trace_batch(*rays, effective, run, false);
+        submit(&run.timings.trace_ms, [&](VkCommandBuffer cb) {
+            record_start(cb);
+            if (!generated)
+                record_batch_start(
+                    cb, reuse ? std::optional(rayset_chunks_[batch].effective) : std::nullopt, n);
+            if (!reuse && !generated) record_rayset(cb, first, n, sort ? rays_ping_ : *rays, run);
+            if (sort) record_rayset_order(cb, rays_ping_, *rays, run);
+            record_bounces(cb, *rays, run, false);
+            if (last) {
+                record_to_lm(cb, run);
+                if (then) {
+                    timed(cb, &run.timings.compare_ms, nullptr, [&] { then(cb); });
+                    vk::barrier_all(cb);
+                }
+            }
+            record_batch_end(cb);
+        });
+        submitted();
+        if (cache_rayset_ && !reuse)
+            rayset_chunks_.back().effective =
+                static_cast<const std::uint32_t*>(counters_.data())[gpu::kCounterEffective];
+        tally_batch(run);
     }
     finish(run);
     if (trace_profile_pipeline_) read_profile(run);
@@ -489,8 +607,10 @@ FastRun FastTracer::run_rays(const std::vector<Ray>& rays, std::vector<glm::dvec
     FastRun run;
     run.tally.emitted = rays.size();
     run.tally.by_reflections.assign(params_.max_bounces + 1, 0);
+    run.bounces.assign(passes(), {});
     run.energy_per_ray_lm = scene_.source.flux_lm / double(std::max<std::size_t>(rays.size(), 1));
-    build_heightfield(run);
+    run.heightfield_reused = !heightfield_dirty_;
+    run.timings.heightfield_ms += rasterize_mesh();
     // Upload all rays (the caller chose them; none are discarded here), in the frame.
     std::vector<float> packed(rays.size() * 8, 0.0f);
     for (std::size_t i = 0; i < rays.size(); ++i)
@@ -504,11 +624,16 @@ FastRun FastTracer::run_rays(const std::vector<Ray>& rays, std::vector<glm::dvec
     if (hits)
         hits_ = vk::Buffer(*ctx_, std::max<std::size_t>(rays.size(), 1) * 32, vk::kStorageUsage,
                            vk::MemoryUse::Readback, "fird.hits");
-    ctx_->submit_and_wait([&](VkCommandBuffer cb) {
-        vkCmdFillBuffer(cb, farfield_counts_.get(), 0, VK_WHOLE_SIZE, 0);
-        vkCmdFillBuffer(cb, counters_.get(), 0, VK_WHOLE_SIZE, 0);
+    submit(&run.timings.trace_ms, [&](VkCommandBuffer cb) {
+        if (heightfield_dirty_) record_heightfield(cb, run);
+        record_run_start(cb, false);
+        record_batch_start(cb, rays.size(), rays.size());
+        record_bounces(cb, uploaded, run, hits != nullptr);
+        record_to_lm(cb, run);
+        record_batch_end(cb);
     });
-    trace_batch(uploaded, rays.size(), run, hits != nullptr);
+    heightfield_dirty_ = false;
+    tally_batch(run);
     finish(run);
     if (hits) {
         const auto both = hits_.download_as<glm::vec4>(*ctx_, 2 * rays.size());
@@ -656,12 +781,12 @@ std::vector<RayPath> FastTracer::trace_paths(const std::vector<Ray>& rays, std::
         ctx_->submit_and_wait([&](VkCommandBuffer cb) {
             vkCmdFillBuffer(cb, counters.get(), 0, VK_WHOLE_SIZE, 0);
             if (walking) vkCmdFillBuffer(cb, walk_.get(), 0, 16, 0);
+            // The count the trace reads (the run's loop state is not needed after its run).
+            vkCmdFillBuffer(cb, loop_.get(), gpu::kLoopActive * 4, 4, std::uint32_t(live.size()));
             vk::barrier_all(cb);
-            const gpu::TracePush push{.bounce = bounce,
-                                      .active_count = std::uint32_t(live.size()),
-                                      .record_hits = 1u,
-                                      .walk_ray = walk_ray};
-            dispatch_trace(cb, in, out, counters, farfield, push, walking);
+            const gpu::TracePush push{.bounce = bounce, .record_hits = 1u, .walk_ray = walk_ray};
+            dispatch_trace(cb, in, out, counters, farfield, push, walking,
+                           groups(live.size(), FIRD_TRACE_WORKGROUP_SIZE));
         });
         if (walking) {
             const auto* w = static_cast<const glm::vec4*>(walk_.data());

@@ -4,6 +4,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <vector>
 
@@ -58,7 +59,7 @@ struct FastPathSkips {
     bool discard_before_trace = true;      // rays that cannot meet the holder are not traced
     bool keep_rayset = true;               // the rayset is kept while only the reflector changes
     bool keep_heightfield = true;          // the height field is kept while the reflector is
-    bool skip_empty_bounces = true;        // no dispatch for a bounce without active rays
+    bool skip_empty_bounces = true;        // no workgroup for a bounce without active rays
     bool end_walk_at_reflector_top = true; // a rising ray's walk ends at the highest point
     bool start_walk_below_source = true;   // the source's rays skip the descents they must make
 };
@@ -84,7 +85,12 @@ class FastTracer {
     void set_rayset_kept(bool kept);
 
     // Traces every ray of the scene; the far field stays on the device (farfield_lm()).
-    FastRun run();
+    // A batch's passes (height field when it changed, rayset when not kept, every bounce
+    // with the orderings between them, the histogram) are recorded into one command
+    // buffer and waited on once (more rays than one batch: one submission per batch).
+    // `then` records more work on the finished far field into the last one (the
+    // Evaluator's compare); its device time is timings.compare_ms.
+    FastRun run(const std::function<void(VkCommandBuffer)>& then = {});
 
     // Traces given rays (one batch) instead of the source's; hits receives, per input
     // ray, its first hit point (in the scene, out of the device's frame) and t (t < 0: no
@@ -130,26 +136,61 @@ class FastTracer {
     std::uint32_t farfield_cells() const { return params_.ff_w * params_.ff_h; }
 
   private:
+    // A trace pass over the rays in `in`: `groups` workgroups for the count in loop_, or
+    // (none) as many as the bounce loop's state asks for (an indirect dispatch).
     void dispatch_trace(VkCommandBuffer cb, const vk::Buffer& in, const vk::Buffer& out,
                         const vk::Buffer& counters, const vk::Buffer& farfield,
-                        const gpu::TracePush& push, bool record_walk = false);
-    void trace_batch(const vk::Buffer& rays, std::uint64_t effective, FastRun& run,
-                     bool record_hits);
-    void build_heightfield(FastRun& run);
-    void upload_params();
-    // Moves `count` rays from `from` to `to` ordered by direction (bucket_scan.comp and
-    // rayset_order.comp, on the bucket counts the producing pass left); returns ms.
-    double order_rays(const vk::Buffer& from, const vk::Buffer& to, std::uint64_t count,
-                      bool reflected);
+                        const gpu::TracePush& push, bool record_walk,
+                        std::optional<std::uint32_t> groups);
+    // Records, submits and waits once, then adds each timed pass's device time where it
+    // belongs. Where the device has no timestamps the submission's wall time goes to
+    // *untimed_ms.
+    void submit(double* untimed_ms, const std::function<void(VkCommandBuffer)>& record);
+    // Records `record` between a timestamp pair whose time is added to *stage_ms and, when
+    // given, to *bounce_ms (pointers into the run, stable while it records).
+    void timed(VkCommandBuffer cb, double* stage_ms, double* bounce_ms,
+               const std::function<void()>& record);
+    // The mesh reflector's raster (its own submissions: render passes) when the height
+    // field changed; returns its wall time.
+    double rasterize_mesh();
+    // The height field, quadtree and walk start when the reflector changed.
+    void record_heightfield(VkCommandBuffer cb, FastRun& run);
+    void build_heightfield(FastRun& run); // the same as a submission of its own
+    // Clears the far field (and the diagnostics' counts) for a run.
+    void record_run_start(VkCommandBuffer cb, bool clear_diagnostics);
+    // Clears a batch's counters and the bounce loop's state; `effective` (rays given, not
+    // generated) is set as the rayset pass would count it.
+    void record_batch_start(VkCommandBuffer cb, std::optional<std::uint64_t> effective,
+                            std::uint64_t emitted);
     // The rayset pass over rays [first, first + n): appends the effective ones to `rays`
-    // (and counts them per direction bucket unless they come ordered); returns how many.
-    std::uint64_t generate_rayset(std::uint64_t first, std::uint64_t n, const vk::Buffer& rays,
-                                  FastRun& run);
+    // (and counts them per direction bucket unless they come ordered).
+    void record_rayset(VkCommandBuffer cb, std::uint64_t first, std::uint64_t n,
+                       const vk::Buffer& rays, FastRun& run);
+    // Moves the rayset's effective rays from `from` to `to` ordered by direction.
+    void record_rayset_order(VkCommandBuffer cb, const vk::Buffer& from, const vk::Buffer& to,
+                             FastRun& run);
+    void record_bounce_args(VkCommandBuffer cb, std::uint32_t stage, std::uint32_t bounce);
+    // bucket_scan.comp and rayset_order.comp, their counts and mode from loop_.
+    void record_order(VkCommandBuffer cb, const vk::Buffer& from, const vk::Buffer& to,
+                      bool reflected);
+    // Every bounce of a batch whose rays are in `rays` (their count in the counters'
+    // kCounterEffective): the trace, and between bounces the ordering of the rays it
+    // reflected, sized on the device.
+    void record_bounces(VkCommandBuffer cb, const vk::Buffer& rays, FastRun& run, bool record_hits);
+    void record_to_lm(VkCommandBuffer cb, FastRun& run);
+    // The batch's readback: the loop's per-bounce counts beside the counters, for the host.
+    void record_batch_end(VkCommandBuffer cb);
+    // Adds the batch's counters and per-bounce rays (read back once, after its wait).
+    void tally_batch(FastRun& run) const;
+    // The bounces that traced rays (all of them where empty ones are not skipped); checks
+    // the energy balance.
+    void finish(FastRun& run) const;
     bool rayset_ordered_at_birth() const {
         return gpu::rayset_ordered_at_birth(params_.sampler_kind, params_.source_kind);
     }
-    void finish(FastRun& run);
+    std::uint32_t passes() const { return params_.max_bounces + (params_.strict_policy ? 1u : 0u); }
     void read_profile(FastRun& run) const; // the profiling pipeline's counts, per bounce
+    void upload_params();
 
     const vk::Context* ctx_;
     Scene scene_;
@@ -171,7 +212,8 @@ class FastTracer {
 
     std::array<std::uint32_t, FIRD_SPEC_COUNT> spec_; // the scene's fixed shader choices
     vk::ComputePipeline rayset_pipeline_, heightfield_pipeline_, maxmip_pipeline_, trace_pipeline_,
-        to_lm_pipeline_, order_pipeline_, bucket_scan_pipeline_, walk_start_pipeline_;
+        to_lm_pipeline_, order_pipeline_, bucket_scan_pipeline_, walk_start_pipeline_,
+        bounce_args_pipeline_;
     vk::Buffer params_buffer_, counters_, rays_ping_, rays_pong_, hits_, texel_hits_, walk_;
     std::optional<vk::ComputePipeline> trace_walk_pipeline_;    // built when a walk is asked for
     std::optional<vk::ComputePipeline> trace_profile_pipeline_; // built when profiling
@@ -184,7 +226,16 @@ class FastTracer {
     // As the trace reads them.
     vk::TexelView paper_view_, refined_view_, gradients_view_, corners_view_;
     vk::Buffer farfield_counts_, farfield_lm_;
+    // The bounce loop's state on the device (fird_shared.h, kLoop*: counts and indirect
+    // dispatch sizes) and its per-bounce counts as read back.
+    vk::Buffer loop_, loop_readback_;
     vk::GpuTimer timer_;
+    struct TimedPass {
+        std::uint32_t pair;
+        double* stage_ms;
+        double* bounce_ms;
+    };
+    std::vector<TimedPass> timed_;                  // the passes of the recording in progress
     std::optional<MeshRasterizer> mesh_rasterizer_; // mesh reflectors only
     std::optional<TriangleMesh> mesh_;              // the reflector's, loaded once per file
 };

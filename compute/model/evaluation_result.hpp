@@ -54,6 +54,9 @@ struct Evaluation {
     std::optional<double> l2_lm;
     StageTimings timings;
     std::vector<BounceProfile> bounces; // the fast path's, when profiled
+    // Submissions (host waits) the fast evaluation made, when profiled: the trace's and,
+    // with a target, the desired far field's and the compare's.
+    std::optional<std::uint64_t> submissions;
 };
 
 } // namespace fird

@@ -146,6 +146,8 @@ FIRD_CONSTANT(uint, kTraceBindProfile, 12u);   // the walk's profile (FIRD_SPEC_
 FIRD_CONSTANT(uint, kTraceBindWalkStart, 13u); // uint: walk_start.comp's level
 // float[]: a B-spline's control heights (the refined mode reflects about its gradient).
 FIRD_CONSTANT(uint, kTraceBindControl, 14u);
+// uint[kLoopWords]: the bounce loop's state; the pass traces loop[kLoopActive] rays.
+FIRD_CONSTANT(uint, kTraceBindLoop, 15u);
 // The profile, per bounce, kProfileFields uints: 64-bit sums as (low, high) pairs of the
 // rays traced, their walk steps (quadtree nodes tested), the lane-steps the subgroups
 // paid (subgroup size x the steps it ran: a lane waiting for the others pays too), the
@@ -227,19 +229,49 @@ FIRD_CONSTANT(uint, kRaysetOrderBuckets, 1u << (2u * kRaysetOrderBits));
 FIRD_CONSTANT(uint, kOrderBindRaysIn, 1u); // (binding 0: the scene parameters)
 FIRD_CONSTANT(uint, kOrderBindRaysOut, 2u);
 FIRD_CONSTANT(uint, kOrderBindBuckets, 3u); // uint[kRaysetOrderBuckets]: offsets (scanned counts)
+FIRD_CONSTANT(uint, kOrderBindLoop, 4u);    // the bounce loop's state (its count and mode)
 FIRD_CONSTANT(uint, kScanBindBuckets, 0u);  // bucket_scan.comp's only binding
 struct RaysetOrderPush {
-    uint count;
     uint reflected; // 1: rays after a bounce (reflected_bucket), 0: the rayset (direction_bucket)
+};
+// Below this many rays a bounce's output is traced in the order it was appended (the
+// ordering would cost more than it saves); rayset_order.comp then copies them as they are.
+FIRD_CONSTANT(uint, kOrderMinRays, 1u << 16);
+
+// ---- bounce_args.comp: the bounce loop's counts and dispatch sizes, kept on the device ----
+// The trace and the ordering read their ray counts from this uint buffer and are dispatched
+// indirectly from it, so the bounces of a batch are recorded together and the host waits
+// once (not once per bounce to read the count of rays that reflected).
+FIRD_CONSTANT(uint, kLoopTraceArgs, 0u);   // uint[3]: trace.comp's VkDispatchIndirectCommand
+FIRD_CONSTANT(uint, kLoopScanArgs, 4u);    // uint[3]: bucket_scan.comp's (1 or 0 groups)
+FIRD_CONSTANT(uint, kLoopOrderArgs, 8u);   // uint[3]: rayset_order.comp's
+FIRD_CONSTANT(uint, kLoopActive, 12u);     // rays in the input of the bounce traced next
+FIRD_CONSTANT(uint, kLoopOrderCount, 13u); // rays rayset_order.comp moves
+FIRD_CONSTANT(uint, kLoopSort, 14u);       // 1: it sorts them by direction; 0: it copies them
+FIRD_CONSTANT(uint, kLoopBounceRays, 16u); // + b: rays traced in bounce b (read back)
+FIRD_CONSTANT(uint, kLoopWords, 16u + FIRD_MAX_REFLECTIONS + 2u);
+FIRD_CONSTANT(uint, kBounceArgsBindCounters, 0u);
+FIRD_CONSTANT(uint, kBounceArgsBindLoop, 1u);
+FIRD_CONSTANT(uint, kArgsOrderRayset, 0u); // the rayset's effective rays, to be sorted
+FIRD_CONSTANT(uint, kArgsFirstBounce, 1u); // bounce 0 traces the rayset's effective rays
+FIRD_CONSTANT(uint, kArgsNextBounce, 2u);  // bounce `bounce` traces what the one before appended
+struct BounceArgsPush {
+    uint stage;       // kArgsOrderRayset, kArgsFirstBounce or kArgsNextBounce
+    uint bounce;      // the bounce traced next
+    uint trace_empty; // measurement only (skip_empty_bounces off): an empty bounce is
+                      // still dispatched (one workgroup, whose lanes find no ray)
+    uint groups_max;  // maxComputeWorkGroupCount[0]: dispatches are clamped to it (never
+                      // reached: a batch holds no more rays than one dispatch covers;
+                      // rays left untraced would break the host's energy balance check)
 };
 
 struct TracePush {
     uint bounce;           // reflections so far (0: rays from the source)
     uint final_check;      // strict policy: only test for another hit
-    uint active_count;     // rays in rays_in (read back by the host after the previous pass)
     uint record_hits;      // hits[2i] = (hit point, t) or t = -1 for input ray i, and
                            // hits[2i + 1] = (reflected direction, hit texel's index as bits)
-    uint order_output;     // count the appended rays per direction bucket (rayset_order.comp)
+    uint order_output;     // count the appended rays per direction bucket (rayset_order.comp),
+                           // where the bounce's input has kOrderMinRays rays or more
     uint count_texel_hits; // texel_hits[t] += reflections at texel t; [W H + t] first ones
     uint walk_ray;         // the input ray whose walk is recorded (FIRD_SPEC_RECORD_WALK)
     uint walk_to_box_top;  // measurement only (fird bench --skips): rising rays are walked

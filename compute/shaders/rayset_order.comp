@@ -4,7 +4,10 @@
 // walk the quadtree alike and share cache lines (on SIMD CPU drivers this halves Model
 // A's trace). rayset.comp counts the rays per bucket, bucket_scan.comp turns the counts
 // into offsets, and this pass moves each ray to its bucket. The order inside a bucket is
-// unspecified; the far field does not depend on the order (integer counts).
+// unspecified; the far field does not depend on the order (integer counts). Its count and
+// whether to sort come from the bounce loop's state (bounce_args.comp): a bounce's output
+// too small to pay for sorting is copied as it is, so the next bounce reads the same buffer
+// either way.
 #extension GL_GOOGLE_include_directive : require
 #include "common.glsl"
 
@@ -12,14 +15,19 @@ layout(local_size_x = FIRD_RAYSET_WORKGROUP_SIZE) in;
 layout(std430, binding = kOrderBindRaysIn) readonly buffer RaysIn { Ray rays_in[]; };
 layout(std430, binding = kOrderBindRaysOut) writeonly buffer RaysOut { Ray rays_out[]; };
 layout(std430, binding = kOrderBindBuckets) buffer Buckets { uint buckets[]; };
+layout(std430, binding = kOrderBindLoop) readonly buffer Loop { uint loop_state[]; };
 layout(push_constant) uniform Push { RaysetOrderPush pc; };
 
 #include "direction_bucket.glsl"
 
 void main() {
     const uint i = gl_GlobalInvocationID.x;
-    if (i >= pc.count) return;
+    if (i >= loop_state[kLoopOrderCount]) return;
     const Ray r = rays_in[i];
+    if (loop_state[kLoopSort] == 0u) {
+        rays_out[i] = r;
+        return;
+    }
     const uint bucket = pc.reflected != 0u ? reflected_bucket(r.origin.xyz, r.direction.xyz) : direction_bucket(r.direction.xyz);
     rays_out[atomicAdd(buckets[bucket], 1u)] = r;
 }

@@ -30,6 +30,7 @@ layout(std430, binding = kTraceBindWalk) buffer WalkSteps { vec4 walk[]; };
 layout(std430, binding = kTraceBindProfile) buffer Profile { uint profile[]; };
 layout(std430, binding = kTraceBindWalkStart) readonly buffer WalkStart { uint walk_start_level; };
 layout(std430, binding = kTraceBindControl) readonly buffer Control { float control[]; };
+layout(std430, binding = kTraceBindLoop) readonly buffer Loop { uint loop_state[]; };
 layout(push_constant) uniform Push { TracePush pc; };
 
 // Only in the profiling pipeline (folded away elsewhere): this invocation's walk steps and
@@ -394,7 +395,9 @@ uint far_field_cell(vec3 d) {
 // atomics even when a push constant turns it off for every lane.
 void main() {
     const uint i = gl_GlobalInvocationID.x;
-    if (i >= pc.active_count) return;
+    const uint active_rays = loop_state[kLoopActive];
+    if (i >= active_rays) return;
+    const bool order_output = pc.order_output != 0u && active_rays >= kOrderMinRays;
     const Ray ray = rays_in[i];
     if (kDiagnostics != 0u && pc.record_hits != 0u) {
         hits[2u * i] = vec4(0.0, 0.0, 0.0, -1.0);
@@ -491,6 +494,6 @@ void main() {
     if (append) {
         rays_out[slot] = next;
         // Counted for ordering the next bounce's rays by direction (rayset_order.comp).
-        if (pc.order_output != 0u) atomicAdd(buckets[reflected_bucket(next.origin.xyz, next.direction.xyz)], 1u);
+        if (order_output) atomicAdd(buckets[reflected_bucket(next.origin.xyz, next.direction.xyz)], 1u);
     }
 }

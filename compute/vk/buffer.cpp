@@ -125,17 +125,28 @@ void Buffer::download(const Context& ctx, std::span<std::byte> bytes, VkDeviceSi
     std::memcpy(bytes.data(), staging.data(), bytes.size());
 }
 
-void barrier_all(VkCommandBuffer cb) {
+namespace {
+// Every write so far (any stage) before the given stages' accesses.
+void writes_before(VkCommandBuffer cb, VkPipelineStageFlags2 stages, VkAccessFlags2 access) {
     const VkMemoryBarrier2 mb{.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER_2,
                               .srcStageMask = VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,
                               .srcAccessMask = VK_ACCESS_2_MEMORY_WRITE_BIT,
-                              .dstStageMask = VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,
-                              .dstAccessMask =
-                                  VK_ACCESS_2_MEMORY_READ_BIT | VK_ACCESS_2_MEMORY_WRITE_BIT};
+                              .dstStageMask = stages,
+                              .dstAccessMask = access};
     const VkDependencyInfo dep{.sType = VK_STRUCTURE_TYPE_DEPENDENCY_INFO,
                                .memoryBarrierCount = 1,
                                .pMemoryBarriers = &mb};
     vkCmdPipelineBarrier2(cb, &dep);
+}
+} // namespace
+
+void barrier_all(VkCommandBuffer cb) {
+    writes_before(cb, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,
+                  VK_ACCESS_2_MEMORY_READ_BIT | VK_ACCESS_2_MEMORY_WRITE_BIT);
+}
+
+void barrier_to_host(VkCommandBuffer cb) {
+    writes_before(cb, VK_PIPELINE_STAGE_2_HOST_BIT, VK_ACCESS_2_HOST_READ_BIT);
 }
 
 } // namespace fird::vk

@@ -74,5 +74,8 @@ inline constexpr VkBufferUsageFlags kStorageUsage = VK_BUFFER_USAGE_STORAGE_BUFF
 
 // A full memory barrier between compute/transfer/graphics work on the one queue.
 void barrier_all(VkCommandBuffer cb);
+// Makes the device's writes so far visible to the host's reads of mapped memory after the
+// submission's fence (the last command of a recording whose results the host reads).
+void barrier_to_host(VkCommandBuffer cb);
 
 } // namespace fird::vk

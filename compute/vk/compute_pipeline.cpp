@@ -76,6 +76,19 @@ ComputePipeline::ComputePipeline(const Context& ctx, std::span<const std::uint32
 void ComputePipeline::dispatch(VkCommandBuffer cb, std::span<const Binding> bindings,
                                const void* push, std::uint32_t groups_x, std::uint32_t groups_y,
                                std::uint32_t groups_z) const {
+    bind(cb, bindings, push);
+    if (groups_x && groups_y && groups_z) vkCmdDispatch(cb, groups_x, groups_y, groups_z);
+}
+
+void ComputePipeline::dispatch_indirect(VkCommandBuffer cb, std::span<const Binding> bindings,
+                                        const void* push, const Buffer& args,
+                                        VkDeviceSize offset) const {
+    bind(cb, bindings, push);
+    vkCmdDispatchIndirect(cb, args.get(), offset);
+}
+
+void ComputePipeline::bind(VkCommandBuffer cb, std::span<const Binding> bindings,
+                           const void* push) const {
     if (bindings.size() != types_.size())
         throw std::logic_error("ComputePipeline::dispatch: wrong number of bindings");
     std::vector<VkWriteDescriptorSet> writes;
@@ -99,7 +112,6 @@ void ComputePipeline::dispatch(VkCommandBuffer cb, std::span<const Binding> bind
                          static_cast<std::uint32_t>(writes.size()), writes.data());
     if (push_bytes_)
         vkCmdPushConstants(cb, layout_.get(), VK_SHADER_STAGE_COMPUTE_BIT, 0, push_bytes_, push);
-    if (groups_x && groups_y && groups_z) vkCmdDispatch(cb, groups_x, groups_y, groups_z);
 }
 
 } // namespace fird::vk

@@ -50,8 +50,15 @@ class ComputePipeline {
     void dispatch(VkCommandBuffer cb, std::span<const Binding> bindings, const void* push,
                   std::uint32_t groups_x, std::uint32_t groups_y = 1,
                   std::uint32_t groups_z = 1) const;
+    // The same, with the group counts read by the device from `args` at `offset` (a
+    // VkDispatchIndirectCommand written by an earlier pass; the buffer needs
+    // VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT). Counts of 0 dispatch nothing; counts past
+    // maxComputeWorkGroupCount are the writer's to prevent.
+    void dispatch_indirect(VkCommandBuffer cb, std::span<const Binding> bindings, const void* push,
+                           const Buffer& args, VkDeviceSize offset) const;
 
   private:
+    void bind(VkCommandBuffer cb, std::span<const Binding> bindings, const void* push) const;
     Owned<VkDescriptorSetLayout> set_layout_;
     Owned<VkPipelineLayout> layout_;
     Owned<VkPipeline> pipeline_;

@@ -243,6 +243,7 @@ struct Context::State {
     bool validation = false;
     bool debug_utils = false;
     std::atomic<std::uint64_t> validation_errors{0};
+    std::atomic<std::uint64_t> submissions{0}; // through submit_and_wait, from every thread
     VkPhysicalDeviceMemoryProperties memory{};
     // A command pool per thread that submits (pools are not thread-safe), and one lock
     // for the queue: the compute worker and the window's frames submit side by side.
@@ -423,6 +424,10 @@ std::uint64_t Context::validation_errors() const {
     return state_->validation_errors.load();
 }
 
+std::uint64_t Context::submissions() const {
+    return state_->submissions.load();
+}
+
 void Context::set_name(VkObjectType type, std::uint64_t handle, std::string_view text) const {
     if (!state_->set_object_name || handle == 0) return;
     const std::string name(text);
@@ -570,6 +575,7 @@ void Context::State::submit_with(ThreadSubmitter& t,
         const std::lock_guard lock(queue_mutex);
         FIRD_VK_CHECK(vkQueueSubmit2(queue, 1, &submit, fence));
     }
+    ++submissions;
     // Bounded wait: a submission that runs this long has hung the device (the context is
     // then unusable: the error ends the command).
     constexpr std::uint64_t kSubmitTimeoutNs = 600ull * 1000 * 1000 * 1000;

@@ -105,6 +105,9 @@ class Context {
     std::uint64_t max_batch_rays() const; // ContextOptions::max_batch_rays
     // Validation-layer errors reported since creation.
     std::uint64_t validation_errors() const;
+    // Command buffers submitted through submit_and_wait since creation (each one a host
+    // wait): what an evaluation costs in round trips (fird trace --json --profile).
+    std::uint64_t submissions() const;
 
     // Attach a debug name, so validation messages say which buffer or pipeline.
     void set_name(VkObjectType type, std::uint64_t handle, std::string_view name) const;

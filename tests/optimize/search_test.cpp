@@ -196,6 +196,36 @@ TEST_F(SearchRules, AStepWiderThanHalfTheBoundsStillSearches) {
     }
 }
 
+// A candidate's compare joins its trace's submission: evaluate() waits once (the rayset
+// kept, the height field rebuilt for the new reflector), and its l2 is the one the compare
+// gives as a submission of its own, to the last bit (the same reduction of the same far
+// fields), and the l2 summed on the host from the far fields read back, to float rounding.
+TEST_F(SearchRules, AnEvaluationIsOneSubmissionAndItsCompareTheStandaloneOne) {
+    const Scene s = scene("mirror_search.toml");
+    Evaluator ev(ctx(), s, scene_fidelity(s));
+    const DesiredFarField desired = desired_farfield(ctx(), s, 0.0);
+    ev.set_desired(desired.farfield);
+    (void)ev.evaluate(s.reflector); // the rayset generated and kept
+    ReflectorDesc other = s.reflector;
+    other.parameters["sx"] = 0.1;
+    const std::uint64_t before = ctx().submissions();
+    const CandidateResult r = ev.evaluate(other);
+    EXPECT_EQ(ctx().submissions() - before, 1u);
+    EXPECT_FALSE(r.run.heightfield_reused);
+    EXPECT_TRUE(r.run.rayset_reused);
+    ASSERT_TRUE(r.l2_lm.has_value());
+    EXPECT_EQ(*r.l2_lm, ev.compare());
+    const FarField f = ev.farfield();
+    double sum = 0.0;
+    for (std::size_t i = 0; i < f.lm.size(); ++i) {
+        const double d = f.lm[i] - float(desired.farfield.lm[i]); // the device holds floats
+        sum += d * d;
+    }
+    // The device sums 16,200 float squares in a tree: relative rounding below 1e-5.
+    EXPECT_NEAR(*r.l2_lm, std::sqrt(sum), 1e-5 * std::sqrt(sum));
+    EXPECT_GT(*r.l2_lm, 0.0);
+}
+
 // A relative photometric target scaled to each candidate's own flux would be matched by
 // a reflector that sends next to no light (l2 -> 0 as its flux -> 0). Scaled once per
 // search, it is not: the dark candidate scores about ||desired||.
