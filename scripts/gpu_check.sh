@@ -140,15 +140,16 @@ lines = [f"# FIRD GPU check{' (--quick: a hundredth of the rays)' if quick else 
          f"Device: {device or 'unknown'}. Test suite with validation: {suite}. "
          f"Wall time of the check: {elapsed} s.", "",
          "| model | rays | evaluation ms | height field ms | trace ms | histogram ms | compare ms | "
-         "paper: height map / search / error ms | ray-bounces/s | candidate ms at "
-         f"{'1e4' if quick else '1e6'} rays | in batches of 16 |",
-         "|---|---|---|---|---|---|---|---|---|---|---|"]
+         "paper: height map / search / error ms | submissions per evaluation | ray-bounces/s | "
+         f"candidate ms at {'1e4' if quick else '1e6'} rays | in batches of 16 |",
+         "|---|---|---|---|---|---|---|---|---|---|---|---|"]
 for m in "ABC":
     c, c1 = candidates(f"cand_{m}"), candidates(f"cand1e6_{m}")
     lines.append(
         f"| {m} | {c['rays'] if c else 'failed'} | {number(c, 'candidate_ms')} | "
         f"{number(c, 'heightfield_ms')} | {number(c, 'trace_ms')} | {number(c, 'histogram_ms')} | "
-        f"{number(c, 'compare_ms')} | {' / '.join(map(str, paper[m]))} | {bounces_per_s(m)} | "
+        f"{number(c, 'compare_ms')} | {' / '.join(map(str, paper[m]))} | "
+        f"{number(c, 'submissions', '{:.0f}')} | {bounces_per_s(m)} | "
         f"{number(c1, 'candidate_ms', '{:.2f}')} | not yet (Evaluator::evaluate_batch) |")
 try:
     t = open(os.path.join(work, "search_A.out")).read()
