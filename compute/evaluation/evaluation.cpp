@@ -156,6 +156,7 @@ nlohmann::json evaluation_json(const Evaluation& e) {
     if (e.l2_lm) j["l2"] = *e.l2_lm;
     if (!e.bounces.empty()) j["profile"] = profile_json(e.bounces);
     if (e.submissions) j["submissions"] = *e.submissions;
+    if (e.device_memory_allocations) j["device_memory_allocations"] = *e.device_memory_allocations;
     return j;
 }
 

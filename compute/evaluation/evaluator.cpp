@@ -111,6 +111,7 @@ Evaluation evaluate_fast(const vk::Context& ctx, const Scene& scene,
                          const FastEvaluationOptions& options) {
     const auto t0 = std::chrono::steady_clock::now();
     const std::uint64_t submissions_before = ctx.submissions();
+    const std::uint64_t allocations_before = ctx.memory_allocations().total;
     Evaluator evaluator(ctx, scene, scene_fidelity(scene));
     evaluator.tracer().set_profile(options.profile);
     evaluator.tracer().set_rayset_kept(false); // one run: nothing reuses it
@@ -130,7 +131,10 @@ Evaluation evaluate_fast(const vk::Context& ctx, const Scene& scene,
         e.l2_lm = evaluator.compare(&e.timings.compare_ms);
         e.target_farfield = std::move(desired.farfield);
     }
-    if (options.profile) e.submissions = ctx.submissions() - submissions_before;
+    if (options.profile) {
+        e.submissions = ctx.submissions() - submissions_before;
+        e.device_memory_allocations = ctx.memory_allocations().total - allocations_before;
+    }
     e.timings.total_ms = ms_since(t0);
     return e;
 }

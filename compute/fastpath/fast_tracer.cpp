@@ -116,7 +116,9 @@ FastTracer::FastTracer(const vk::Context& ctx, const Scene& scene, std::uint64_t
     const auto storage = vk::kStorageUsage;
     params_buffer_ =
         vk::Buffer(ctx, sizeof(gpu::SceneParams), storage, vk::MemoryUse::Upload, "fird.params");
-    counters_ = vk::Buffer(ctx, kCountersBytes, storage, vk::MemoryUse::Readback, "fird.counters");
+    counters_ = vk::Buffer(ctx, kCountersBytes, storage, vk::MemoryUse::Device, "fird.counters");
+    counters_readback_ =
+        vk::Buffer(ctx, kCountersBytes, storage, vk::MemoryUse::Readback, "fird.counters.read");
     // The rayset is kept between runs (§5) when it fits the cache budget; otherwise
     // each batch is generated again into a ping-pong buffer (constant memory).
     const std::uint64_t batches = (scene.trace.rays + batch_capacity_ - 1) / batch_capacity_;
@@ -462,14 +464,16 @@ void FastTracer::record_to_lm(VkCommandBuffer cb, FastRun& run) {
 }
 
 void FastTracer::record_batch_end(VkCommandBuffer cb) {
-    const VkBufferCopy region{.size = gpu::kLoopWords * 4};
-    vkCmdCopyBuffer(cb, loop_.get(), loop_readback_.get(), 1, &region);
+    const VkBufferCopy loop{.size = gpu::kLoopWords * 4};
+    vkCmdCopyBuffer(cb, loop_.get(), loop_readback_.get(), 1, &loop);
+    const VkBufferCopy counters{.size = kCountersBytes};
+    vkCmdCopyBuffer(cb, counters_.get(), counters_readback_.get(), 1, &counters);
     vk::barrier_to_host(cb);
 }
 
 void FastTracer::tally_batch(FastRun& run) const {
     // Tally this batch's counters (32-bit on the device, summed over the copies in 64 bits).
-    const auto* counters = static_cast<const std::uint32_t*>(counters_.data());
+    const auto* counters = static_cast<const std::uint32_t*>(counters_readback_.data());
     const auto total = [&](std::uint32_t slot) {
         std::uint64_t sum = 0;
         for (std::uint32_t c = 0; c < gpu::kTallyCopies; ++c)
@@ -562,12 +566,12 @@ FastRun FastTracer::run(const std::function<void(VkCommandBuffer)>& then) {
                 record_start(cb);
                 record_batch_start(cb, std::nullopt, n);
                 record_rayset(cb, first, n, rays_ping_, run);
-                vk::barrier_to_host(cb);
+                record_batch_end(cb);
             });
             submitted();
             generated = true;
-            rays =
-                keep(static_cast<const std::uint32_t*>(counters_.data())[gpu::kCounterEffective]);
+            rays = keep(static_cast<const std::uint32_t*>(
+                counters_readback_.data())[gpu::kCounterEffective]);
         } else {
             rays = &rays_pong_; // sorted into it from the ping-pong buffer
         }
@@ -590,8 +594,8 @@ FastRun FastTracer::run(const std::function<void(VkCommandBuffer)>& then) {
         });
         submitted();
         if (cache_rayset_ && !reuse)
-            rayset_chunks_.back().effective =
-                static_cast<const std::uint32_t*>(counters_.data())[gpu::kCounterEffective];
+            rayset_chunks_.back().effective = static_cast<const std::uint32_t*>(
+                counters_readback_.data())[gpu::kCounterEffective];
         tally_batch(run);
     }
     finish(run);
@@ -680,8 +684,9 @@ void FastTracer::read_profile(FastRun& run) const {
 void FastTracer::set_count_texel_hits(bool on) {
     count_texel_hits_ = on;
     const std::uint64_t bytes = on ? std::uint64_t(params_.hf_w) * params_.hf_h * 8 : 16;
+    // Device-local: the trace adds to it atomically; read_texel_hits copies it out.
     texel_hits_ =
-        vk::Buffer(*ctx_, bytes, vk::kStorageUsage, vk::MemoryUse::Readback, "fird.texel_hits");
+        vk::Buffer(*ctx_, bytes, vk::kStorageUsage, vk::MemoryUse::Device, "fird.texel_hits");
 }
 
 TexelHits FastTracer::read_texel_hits() const {

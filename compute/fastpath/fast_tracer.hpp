@@ -178,7 +178,8 @@ class FastTracer {
     // reflected, sized on the device.
     void record_bounces(VkCommandBuffer cb, const vk::Buffer& rays, FastRun& run, bool record_hits);
     void record_to_lm(VkCommandBuffer cb, FastRun& run);
-    // The batch's readback: the loop's per-bounce counts beside the counters, for the host.
+    // The batch's readback, one small copy each: the counters and the loop's per-bounce
+    // counts, for the host.
     void record_batch_end(VkCommandBuffer cb);
     // Adds the batch's counters and per-bounce rays (read back once, after its wait).
     void tally_batch(FastRun& run) const;
@@ -229,6 +230,9 @@ class FastTracer {
     // The bounce loop's state on the device (fird_shared.h, kLoop*: counts and indirect
     // dispatch sizes) and its per-bounce counts as read back.
     vk::Buffer loop_, loop_readback_;
+    // The counters as read back: the tally's and the append allocator's atomics stay in
+    // device-local memory (counters_), copied here at the end of each batch's submission.
+    vk::Buffer counters_readback_;
     vk::GpuTimer timer_;
     struct TimedPass {
         std::uint32_t pair;

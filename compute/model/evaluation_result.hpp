@@ -57,6 +57,8 @@ struct Evaluation {
     // Submissions (host waits) the fast evaluation made, when profiled: the trace's and,
     // with a target, the desired far field's and the compare's.
     std::optional<std::uint64_t> submissions;
+    // vkAllocateMemory calls the evaluation made, when profiled.
+    std::optional<std::uint64_t> device_memory_allocations;
 };
 
 } // namespace fird

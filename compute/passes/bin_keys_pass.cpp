@@ -26,8 +26,9 @@ std::vector<std::uint32_t> BinKeysPass::run(const vk::Context& ctx,
     vk::Buffer key_buffer(ctx, keys.size() * sizeof(std::uint32_t), vk::kStorageUsage,
                           vk::MemoryUse::Device, "fird.bin_keys.keys");
     key_buffer.upload(ctx, std::span<const std::uint32_t>(keys));
+    // Device-local: the pass adds to it atomically; download_as copies it out.
     vk::Buffer bins(ctx, (bin_count + 1ull) * sizeof(std::uint32_t), vk::kStorageUsage,
-                    vk::MemoryUse::Readback, "fird.bin_keys.bins");
+                    vk::MemoryUse::Device, "fird.bin_keys.bins");
     ctx.submit_and_wait([&](VkCommandBuffer cb) {
         vkCmdFillBuffer(cb, bins.get(), 0, VK_WHOLE_SIZE, 0);
         vk::barrier_all(cb);

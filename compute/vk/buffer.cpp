@@ -5,28 +5,9 @@
 #include <stdexcept>
 #include <utility>
 
-#include <sys/mman.h>
-
 #include "check.hpp"
 
 namespace fird::vk {
-namespace {
-
-// On a CPU driver (lavapipe) device memory is the process's own anonymous memory, and a
-// large buffer's first touch costs one page fault per 4 KiB page: 0.4-0.5 s of a
-// 1e7-ray evaluation went to faulting in the rayset and the ping-pong buffers. Asking
-// the kernel for transparent huge pages (one fault per 2 MiB) where it honours the
-// advice (the "madvise" setting, Debian's default) removes nearly all of it. Only the
-// 2 MiB-aligned interior of the mapping is advised; a refused advice changes nothing.
-void advise_huge_pages(void* mapped, VkDeviceSize size) {
-    constexpr std::uintptr_t kHuge = std::uintptr_t(2) << 20;
-    const auto begin = reinterpret_cast<std::uintptr_t>(mapped);
-    const std::uintptr_t first = (begin + kHuge - 1) & ~(kHuge - 1);
-    const std::uintptr_t last = (begin + size) & ~(kHuge - 1);
-    if (last > first) (void)madvise(reinterpret_cast<void*>(first), last - first, MADV_HUGEPAGE);
-}
-
-} // namespace
 
 Buffer::Buffer(const Context& ctx, VkDeviceSize size_bytes, VkBufferUsageFlags usage, MemoryUse use,
                std::string_view name)
@@ -59,36 +40,18 @@ Buffer::Buffer(const Context& ctx, VkDeviceSize size_bytes, VkBufferUsageFlags u
         break;
     }
     const std::uint32_t type = ctx.find_memory_type(req.memoryTypeBits, required, preferred);
-    const VkMemoryAllocateInfo alloc{.sType = VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO,
-                                     .allocationSize = req.size,
-                                     .memoryTypeIndex = type};
-    VkDeviceMemory memory = VK_NULL_HANDLE;
-    charge_ = ctx.allocate_memory(alloc, name, &memory);
-    memory_ = Owned<VkDeviceMemory>(dev, memory);
-    ctx.name(memory, VK_OBJECT_TYPE_DEVICE_MEMORY, name);
-    FIRD_VK_CHECK(vkBindBufferMemory(dev, buffer, memory, 0));
-
-    VkPhysicalDeviceMemoryProperties props;
-    vkGetPhysicalDeviceMemoryProperties(ctx.physical_device(), &props);
-    const auto flags = props.memoryTypes[type].propertyFlags;
-    const auto host = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
-    if ((flags & host) == host) {
-        FIRD_VK_CHECK(vkMapMemory(dev, memory, 0, VK_WHOLE_SIZE, 0, &mapped_));
-        if (ctx.summary().type == "cpu") advise_huge_pages(mapped_, req.size);
-    }
+    memory_ = ctx.allocate_memory(req, type, name);
+    FIRD_VK_CHECK(
+        vkBindBufferMemory(dev, buffer, memory_.allocation.memory(), memory_.allocation.offset()));
 }
 
-Buffer::~Buffer() = default; // memory is unmapped implicitly by vkFreeMemory
-Buffer::Buffer(Buffer&& o) noexcept
-    : buffer_(std::move(o.buffer_)), memory_(std::move(o.memory_)), charge_(std::move(o.charge_)),
-      size_(o.size_), mapped_(std::exchange(o.mapped_, nullptr)) {}
+Buffer::~Buffer() = default;
+Buffer::Buffer(Buffer&&) noexcept = default;
 Buffer& Buffer::operator=(Buffer&& o) noexcept {
-    if (this != &o) {
+    if (this != &o) { // the old buffer goes before its memory, as in the destructor
         buffer_ = std::move(o.buffer_);
         memory_ = std::move(o.memory_);
-        charge_ = std::move(o.charge_);
         size_ = o.size_;
-        mapped_ = std::exchange(o.mapped_, nullptr);
     }
     return *this;
 }
@@ -96,8 +59,8 @@ Buffer& Buffer::operator=(Buffer&& o) noexcept {
 void Buffer::upload(const Context& ctx, std::span<const std::byte> bytes, VkDeviceSize offset) {
     if (bytes.empty()) return;
     if (offset + bytes.size() > size_) throw std::out_of_range("Buffer::upload past the end");
-    if (mapped_) {
-        std::memcpy(static_cast<std::byte*>(mapped_) + offset, bytes.data(), bytes.size());
+    if (mapped()) {
+        std::memcpy(static_cast<std::byte*>(data()) + offset, bytes.data(), bytes.size());
         return;
     }
     Buffer staging(ctx, bytes.size(), VK_BUFFER_USAGE_TRANSFER_SRC_BIT, MemoryUse::Upload,
@@ -112,8 +75,8 @@ void Buffer::upload(const Context& ctx, std::span<const std::byte> bytes, VkDevi
 void Buffer::download(const Context& ctx, std::span<std::byte> bytes, VkDeviceSize offset) const {
     if (bytes.empty()) return;
     if (offset + bytes.size() > size_) throw std::out_of_range("Buffer::download past the end");
-    if (mapped_) {
-        std::memcpy(bytes.data(), static_cast<const std::byte*>(mapped_) + offset, bytes.size());
+    if (mapped()) {
+        std::memcpy(bytes.data(), static_cast<const std::byte*>(data()) + offset, bytes.size());
         return;
     }
     Buffer staging(ctx, bytes.size(), VK_BUFFER_USAGE_TRANSFER_DST_BIT, MemoryUse::Readback,

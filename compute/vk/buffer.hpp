@@ -1,4 +1,5 @@
-// Buffers with their own memory; upload and readback through the shared queue.
+// Buffers in ranges of the context's memory blocks; upload and readback through the shared
+// queue.
 #pragma once
 
 #include <cstddef>
@@ -27,11 +28,15 @@ class Buffer {
     ~Buffer();
     Buffer(Buffer&&) noexcept;
     Buffer& operator=(Buffer&&) noexcept;
+    Buffer(const Buffer&) = delete;
+    Buffer& operator=(const Buffer&) = delete;
 
     VkBuffer get() const { return buffer_.get(); }
     VkDeviceSize size() const { return size_; }
-    bool mapped() const { return mapped_ != nullptr; }
-    void* data() const { return mapped_; }
+    bool mapped() const { return memory_.allocation.mapped() != nullptr; }
+    void* data() const { return memory_.allocation.mapped(); }
+    // Where its memory lies (tests check that no two live buffers overlap).
+    const MemoryAllocation& memory() const { return memory_.allocation; }
 
     // Copies bytes in or out; uses a temporary staging buffer when not host-visible.
     void upload(const Context& ctx, std::span<const std::byte> bytes, VkDeviceSize offset = 0);
@@ -47,11 +52,11 @@ class Buffer {
     }
 
   private:
+    // The memory before the buffer: the buffer is destroyed first, so its range is never
+    // handed to another buffer while this one still exists.
+    Context::Memory memory_;
     Owned<VkBuffer> buffer_;
-    Owned<VkDeviceMemory> memory_;
-    MemoryCharge charge_;
     VkDeviceSize size_ = 0;
-    void* mapped_ = nullptr;
 };
 
 // A typed view of a whole buffer for uniform texel buffer bindings: on CPU drivers its

@@ -262,14 +262,18 @@ struct Context::State {
     std::uint64_t max_device_memory = 0;
     std::uint64_t max_batch_rays = 0;
     std::atomic<std::uint64_t> device_memory{0};
+    // Every buffer's and image's memory (freed before the device).
+    std::unique_ptr<MemoryBlocks> memory_blocks;
     PFN_vkSetDebugUtilsObjectNameEXT set_object_name = nullptr;
 
     ThreadSubmitter& submitter_for_this_thread(const Context& ctx);
+    void set_name(VkObjectType type, std::uint64_t handle, std::string_view text) const;
     // Records, submits on the shared queue and waits (bounded) with t's buffer and fence.
     void submit_with(ThreadSubmitter& t, const std::function<void(VkCommandBuffer)>& record);
 
     ~State() {
         command_pools.clear();
+        memory_blocks.reset();
         if (device) vkDestroyDevice(device, nullptr);
         if (messenger) {
             auto destroy_messenger = reinterpret_cast<PFN_vkDestroyDebugUtilsMessengerEXT>(
@@ -386,6 +390,14 @@ Context Context::create(const ContextOptions& options) {
     FIRD_VK_CHECK(vkCreateDevice(s->physical, &device_info, nullptr, &s->device));
     vkGetDeviceQueue(s->device, s->queue_family, 0, &s->queue);
 
+    const State* named = s.get(); // the state outlives its blocks
+    s->memory_blocks = std::make_unique<MemoryBlocks>(
+        s->device, s->memory, s->limits.max_memory_allocation_size,
+        MemoryBlocksOptions{.advise_huge_pages = s->summary.type == "cpu",
+                            .name_memory = [named](VkDeviceMemory m, std::string_view text) {
+                                named->set_name(VK_OBJECT_TYPE_DEVICE_MEMORY,
+                                                reinterpret_cast<std::uint64_t>(m), text);
+                            }});
     s->max_device_memory = options.max_device_memory_bytes;
     s->max_batch_rays = options.max_batch_rays;
     Context ctx(std::move(s));
@@ -429,14 +441,19 @@ std::uint64_t Context::submissions() const {
 }
 
 void Context::set_name(VkObjectType type, std::uint64_t handle, std::string_view text) const {
-    if (!state_->set_object_name || handle == 0) return;
+    state_->set_name(type, handle, text);
+}
+
+void Context::State::set_name(VkObjectType type, std::uint64_t handle,
+                              std::string_view text) const {
+    if (!set_object_name || handle == 0) return;
     const std::string name(text);
     const VkDebugUtilsObjectNameInfoEXT info{.sType =
                                                  VK_STRUCTURE_TYPE_DEBUG_UTILS_OBJECT_NAME_INFO_EXT,
                                              .objectType = type,
                                              .objectHandle = handle,
                                              .pObjectName = name.c_str()};
-    FIRD_VK_CHECK(state_->set_object_name(state_->device, &info));
+    FIRD_VK_CHECK(set_object_name(device, &info));
 }
 
 Context::State::ThreadSubmitter& Context::State::submitter_for_this_thread(const Context& ctx) {
@@ -486,16 +503,20 @@ void Context::release_memory(std::uint64_t bytes) const {
     state_->device_memory -= bytes;
 }
 
+MemoryAllocationCounts Context::memory_allocations() const {
+    return state_->memory_blocks->counts();
+}
+
 std::uint64_t Context::device_memory_in_use() const {
     return state_->device_memory.load();
 }
 
-MemoryCharge Context::allocate_memory(const VkMemoryAllocateInfo& info, std::string_view name,
-                                      VkDeviceMemory* memory) const {
-    const std::uint64_t bytes = info.allocationSize;
+Context::Memory Context::allocate_memory(const VkMemoryRequirements& req, std::uint32_t type,
+                                         std::string_view name, bool dedicated) const {
+    const std::uint64_t bytes = req.size;
     const std::uint64_t before = state_->device_memory.fetch_add(bytes);
-    MemoryCharge charge(this, bytes);
-    const auto out_of_memory = [&](const char* whose, VkResult r) {
+    Memory out{.charge = MemoryCharge(this, bytes)};
+    const auto out_of_memory = [&](const std::string& whose, VkResult r) {
         return VulkanError(
             fmt::format("out of device memory ({}): {} needs {} MB with {} MB in use; lower the "
                         "rays (--rays), the height field or the far field, or raise "
@@ -504,14 +525,17 @@ MemoryCharge Context::allocate_memory(const VkMemoryAllocateInfo& info, std::str
             r);
     };
     if (state_->max_device_memory && before + bytes > state_->max_device_memory)
-        throw out_of_memory(
-            fmt::format("the limit of {} MB", state_->max_device_memory >> 20).c_str(),
-            VK_ERROR_OUT_OF_DEVICE_MEMORY);
-    const VkResult r = vkAllocateMemory(state_->device, &info, nullptr, memory);
-    if (r == VK_ERROR_OUT_OF_DEVICE_MEMORY || r == VK_ERROR_OUT_OF_HOST_MEMORY)
-        throw out_of_memory("the device's", r);
-    FIRD_VK_CHECK(r);
-    return charge;
+        throw out_of_memory(fmt::format("the limit of {} MB", state_->max_device_memory >> 20),
+                            VK_ERROR_OUT_OF_DEVICE_MEMORY);
+    try {
+        out.allocation = state_->memory_blocks->allocate(req, type, dedicated, name);
+    } catch (const VulkanError& e) {
+        if (e.result() == VK_ERROR_OUT_OF_DEVICE_MEMORY ||
+            e.result() == VK_ERROR_OUT_OF_HOST_MEMORY)
+            throw out_of_memory("the device's", e.result());
+        throw;
+    }
+    return out;
 }
 
 std::uint64_t Context::max_batch_rays() const {

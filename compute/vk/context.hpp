@@ -13,6 +13,7 @@
 
 #include <vulkan/vulkan.h>
 
+#include "memory_blocks.hpp"
 #include "owned.hpp"
 
 namespace fird::vk {
@@ -108,6 +109,9 @@ class Context {
     // Command buffers submitted through submit_and_wait since creation (each one a host
     // wait): what an evaluation costs in round trips (fird trace --json --profile).
     std::uint64_t submissions() const;
+    // vkAllocateMemory objects alive now and made since creation (every buffer's and
+    // image's memory comes from one): fird trace --json --profile reports the evaluation's.
+    MemoryAllocationCounts memory_allocations() const;
 
     // Attach a debug name, so validation messages say which buffer or pipeline.
     void set_name(VkObjectType type, std::uint64_t handle, std::string_view name) const;
@@ -125,10 +129,19 @@ class Context {
     // external synchronization of a queue): take it for your own vkQueueSubmit.
     std::unique_lock<std::mutex> lock_queue() const;
 
-    // vkAllocateMemory within the budget. Out of memory (the budget's or the device's) is
-    // a VulkanError that names the allocation and says what to lower.
-    MemoryCharge allocate_memory(const VkMemoryAllocateInfo& info, std::string_view name,
-                                 VkDeviceMemory* memory) const;
+    // Memory for one buffer or image within the budget, suballocated from a shared block
+    // (memory_blocks.hpp) unless `dedicated`. The budget is charged the request's own
+    // size, not its block's slack: --max-device-memory bounds what FIRD's work needs, the
+    // same figure whatever the block size (a limit below one block would otherwise fail
+    // every trace); the slack is bounded by one empty block kept per memory type plus
+    // the holes between ranges. Out of memory (the budget's or the device's) is a
+    // VulkanError that names the allocation and says what to lower.
+    struct Memory {
+        MemoryAllocation allocation;
+        MemoryCharge charge;
+    };
+    Memory allocate_memory(const VkMemoryRequirements& req, std::uint32_t type,
+                           std::string_view name, bool dedicated = false) const;
     std::uint64_t device_memory_in_use() const;
 
     std::uint32_t find_memory_type(std::uint32_t type_bits, VkMemoryPropertyFlags required,

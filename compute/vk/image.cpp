@@ -30,15 +30,15 @@ Image::Image(const Context& ctx, std::uint32_t width, std::uint32_t height, VkFo
 
     VkMemoryRequirements req;
     vkGetImageMemoryRequirements(dev, image, &req);
-    const VkMemoryAllocateInfo alloc{
-        .sType = VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO,
-        .allocationSize = req.size,
-        .memoryTypeIndex =
-            ctx.find_memory_type(req.memoryTypeBits, 0, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT)};
-    VkDeviceMemory memory = VK_NULL_HANDLE;
-    charge_ = ctx.allocate_memory(alloc, name, &memory);
-    memory_ = Owned<VkDeviceMemory>(dev, memory);
-    FIRD_VK_CHECK(vkBindImageMemory(dev, image, memory, 0));
+    // Images get memory of their own, not a block's range: they are few (render targets,
+    // the workbench's textures, a mesh's corner raster), sized by the window or the height
+    // field, and an image beside a buffer in one block would have to keep
+    // bufferImageGranularity apart from it (optimal tiling); drivers also prefer render
+    // targets in dedicated memory.
+    const std::uint32_t type =
+        ctx.find_memory_type(req.memoryTypeBits, 0, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
+    memory_ = ctx.allocate_memory(req, type, name, true);
+    FIRD_VK_CHECK(vkBindImageMemory(dev, image, memory_.allocation.memory(), 0));
 
     const bool depth = format == VK_FORMAT_D32_SFLOAT;
     const VkImageViewCreateInfo view_info{
@@ -106,10 +106,12 @@ void Texture::upload(const Context& ctx, const std::uint8_t* rgba) {
     const VkDeviceSize bytes = VkDeviceSize(width()) * height() * 4;
     Buffer staging(ctx, bytes, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, MemoryUse::Upload,
                    "fird.texture.staging");
-    staging.upload(ctx, std::span<const std::byte>(reinterpret_cast<const std::byte*>(rgba), bytes));
+    staging.upload(ctx,
+                   std::span<const std::byte>(reinterpret_cast<const std::byte*>(rgba), bytes));
     ctx.submit_and_wait([&](VkCommandBuffer cb) {
         transition(cb, image_,
-                   initialized_ ? VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL : VK_IMAGE_LAYOUT_UNDEFINED,
+                   initialized_ ? VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL
+                                : VK_IMAGE_LAYOUT_UNDEFINED,
                    VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL);
         const VkBufferImageCopy region{
             .imageSubresource = {.aspectMask = VK_IMAGE_ASPECT_COLOR_BIT, .layerCount = 1},

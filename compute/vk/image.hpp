@@ -1,4 +1,4 @@
-// 2D images with their own memory and a view (render targets, height textures).
+// 2D images with memory of their own and a view (render targets, height textures).
 #pragma once
 
 #include <cstdint>
@@ -22,9 +22,8 @@ class Image {
     std::uint32_t height() const { return height_; }
 
   private:
+    Context::Memory memory_; // before the image: destroyed after it
     Owned<VkImage> image_;
-    Owned<VkDeviceMemory> memory_;
-    MemoryCharge charge_;
     Owned<VkImageView> view_;
     VkFormat format_ = VK_FORMAT_UNDEFINED;
     std::uint32_t width_ = 0;
