@@ -34,10 +34,14 @@ TracedScene trace_for_views(const vk::Context& ctx, const Scene& input, const Tr
     t.farfield.obtained = t.evaluator->farfield();
     t.farfield.title = s.name;
     if (s.target.kind != TargetDesc::Kind::None) {
-        DesiredFarField d = desired_farfield(ctx, s, r.farfield_lm);
-        t.evaluator->set_desired(d.farfield);
+        const bool reuse = o.target_farfield && s.target.kind == TargetDesc::Kind::Reflector &&
+                           o.target_farfield->width == t.farfield.obtained.width &&
+                           o.target_farfield->height == t.farfield.obtained.height;
+        FarField desired =
+            reuse ? *o.target_farfield : desired_farfield(ctx, s, r.farfield_lm).farfield;
+        t.evaluator->set_desired(desired);
         t.farfield.l2_lm = t.evaluator->compare();
-        t.farfield.desired = std::move(d.farfield);
+        t.farfield.desired = std::move(desired);
     }
     FastTracer& tracer = t.evaluator->tracer();
     ViewportContent& v = t.viewport;

@@ -23,6 +23,9 @@ struct TraceForViews {
     std::optional<std::uint64_t> rayset_rays;
     std::uint32_t paths = 300;
     std::optional<std::uint64_t> pick; // a ray (its rayset index) whose walk is recorded
+    // A target reflector's far field traced before at these rays (a search's best views
+    // reuse the first one's instead of tracing the unchanging target each time).
+    std::optional<FarField> target_farfield;
 };
 
 struct TracedScene {

@@ -43,7 +43,9 @@ plot::FarFieldPicture picture(const FarFieldContent& c, const FarFieldViewOption
     return {.title = c.title.empty() ? name : c.title + ": " + name,
             .signed_values = difference,
             .log_scale = o.log_scale,
-            .altitude_deg = o.altitude_deg ? *o.altitude_deg : plot::lit_altitude_band(c.obtained),
+            .altitude_deg = o.altitude_deg
+                                ? *o.altitude_deg
+                                : plot::lit_altitude_band(plot::light_profiles(c.obtained)),
             .azimuth_deg = o.azimuth_deg};
 }
 
@@ -152,7 +154,7 @@ void draw_profile_plots(plot::Canvas& cv, const plot::Rect& a, const FarFieldCon
                        .x = {alt ? "altitude θ (deg)" : "azimuth φ (deg)", plot::Scale::Linear},
                        .y = {alt ? "lm per row" : "lm per column", plot::Scale::Linear}};
         if (alt) {
-            const auto band = plot::lit_altitude_band(c.obtained);
+            const auto band = plot::lit_altitude_band(plot::light_profiles(c.obtained));
             ch.x.min = band.second;
             ch.x.max = band.first;
         }

@@ -31,10 +31,10 @@ void farfield_panel(Frame& f) {
         return;
     }
     const auto& ff = f.snapshot->traced.farfield;
-    ImGui::Text("obtained %.3f lm", ff.obtained.total_lm());
+    ImGui::Text("obtained %.3f lm", f.snapshot->obtained_lm);
     if (ff.desired) {
         ImGui::SameLine();
-        ImGui::Text("| desired %.3f lm | l2 %.5g lm", ff.desired->total_lm(),
+        ImGui::Text("| desired %.3f lm | l2 %.5g lm", f.snapshot->desired_lm,
                     ff.l2_lm.value_or(0.0));
     }
     // The maps in the columns that keep each readable; below their least height they keep
@@ -49,18 +49,19 @@ void farfield_panel(Frame& f) {
         w -= ImGui::GetStyle().ScrollbarSize;
         grid = render::farfield_view_grid(w, avail.y, n);
     }
-    const render::FarFieldViewOptions options = farfield_view_options(s, ff, grid.columns);
+    const render::FarFieldViewOptions options = farfield_view_options(s, *f.snapshot, grid.columns);
     const auto iw = std::uint32_t(std::max(200.0f, w)),
                ih = std::uint32_t(std::max(120.0, grid.height));
-    update_farfield_image(f.ctx, s, *f.snapshot, options, iw, ih);
+    update_farfield_image(f.ctx, s, f.snapshot, options, iw, ih);
     const ImVec2 origin = ImGui::GetCursorScreenPos();
     // The maps own their mouse (an invisible button over the image): the wheel zooms the
     // band, a double click shows it whole, and nothing drags the window.
     ImGui::InvisibleButton("##maps", ImVec2(float(iw), float(ih)));
     ImGui::SetItemUsingMouseWheel();
-    ImGui::GetWindowDrawList()->AddImage(static_cast<ImTextureID>(s.farfield_image.texture.get()),
-                                         origin,
-                                         ImVec2(origin.x + float(iw), origin.y + float(ih)));
+    if (s.farfield_image.texture) // none until the first redraw has finished
+        ImGui::GetWindowDrawList()->AddImage(
+            static_cast<ImTextureID>(s.farfield_image.texture.get()), origin,
+            ImVec2(origin.x + float(iw), origin.y + float(ih)));
     if (ImGui::IsItemHovered()) {
         const float wheel = ImGui::GetIO().MouseWheel;
         if (wheel != 0.0f)

@@ -82,8 +82,7 @@ void scene_panel(Frame& f) {
                            static_cast<unsigned long long>(t.tally.emitted),
                            static_cast<unsigned long long>(t.tally.emitted - t.tally.discarded),
                            static_cast<unsigned long long>(t.tally.farfield));
-        ImGui::Text("far field %.2f lm of %.2f lm", t.farfield.obtained.total_lm(),
-                    scene.source.flux_lm);
+        ImGui::Text("far field %.2f lm of %.2f lm", f.snapshot->obtained_lm, scene.source.flux_lm);
         if (t.farfield.l2_lm) ImGui::Text("l2 to the target %.5g lm", *t.farfield.l2_lm);
     }
     if (f.worker.busy()) ImGui::TextDisabled("working...");

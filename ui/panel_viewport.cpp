@@ -210,8 +210,10 @@ void viewport_panel(Frame& f) {
     ImGui::InvisibleButton("##view", ImVec2(float(w), float(h)),
                            ImGuiButtonFlags_MouseButtonLeft | ImGuiButtonFlags_MouseButtonRight);
     ImGui::SetItemUsingMouseWheel();
-    ImGui::GetWindowDrawList()->AddImage(static_cast<ImTextureID>(s.viewport_image.texture.get()),
-                                         origin, ImVec2(origin.x + float(w), origin.y + float(h)));
+    if (s.viewport_image.texture) // none until the first redraw has finished
+        ImGui::GetWindowDrawList()->AddImage(
+            static_cast<ImTextureID>(s.viewport_image.texture.get()), origin,
+            ImVec2(origin.x + float(w), origin.y + float(h)));
     const ImGuiIO& io = ImGui::GetIO();
     if (ImGui::IsItemActive() && ImGui::IsMouseDragging(ImGuiMouseButton_Left)) {
         v.camera.azimuth_deg -= 0.4 * io.MouseDelta.x;

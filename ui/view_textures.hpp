@@ -1,6 +1,7 @@
-// The views drawn into textures the panels show: the viewport rendered on the device and
-// read back, the far fields and plots drawn by cairo. Redrawn only when what they show,
-// or their size, changed.
+// The views drawn into textures the panels show: the viewport rendered on the device
+// straight into its texture, the far fields drawn by cairo on a thread of their own and
+// uploaded. Redrawn only when what they show, or their size, changed; a redraw is
+// submitted without waiting and shown when done (state.wait_for_views: at once).
 #pragma once
 
 #include <cstdint>
@@ -13,9 +14,9 @@
 
 namespace fird::ui {
 
-// Replaces the texture's pixels (a new texture when the size changed).
-void upload(const vk::Context& ctx, ViewTexture& t, const std::vector<std::uint8_t>& rgba,
-            std::uint32_t width, std::uint32_t height, std::uint64_t generation);
+// Shows the redraws that have finished (waiting for them when `wait`). True when a view
+// still has a redraw in flight.
+bool show_finished_views(WorkbenchState& state, bool wait);
 
 // `picked`: the picked ray's path and walk (shown_pick), drawn up to the current step.
 void update_viewport_image(const vk::Context& ctx, render::ViewportRenderer& renderer,
@@ -23,13 +24,13 @@ void update_viewport_image(const vk::Context& ctx, render::ViewportRenderer& ren
                            const PickedRay* picked, std::uint32_t width, std::uint32_t height);
 // The far-field view the panel shows: the state's scale, zoom and maps, in `columns`.
 render::FarFieldViewOptions farfield_view_options(const WorkbenchState& state,
-                                                  const render::FarFieldContent& content,
-                                                  int columns);
+                                                  const SceneSnapshot& snapshot, int columns);
 void update_farfield_image(const vk::Context& ctx, WorkbenchState& state,
-                           const SceneSnapshot& snapshot,
+                           const std::shared_ptr<const SceneSnapshot>& snapshot,
                            const render::FarFieldViewOptions& options, std::uint32_t width,
                            std::uint32_t height);
 // The altitude band the far-field view shows at the state's zoom.
-std::pair<double, double> farfield_band(const WorkbenchState& state, const FarField& farfield);
+std::pair<double, double> farfield_band(const WorkbenchState& state,
+                                        const plot::FarFieldProfiles& profiles);
 
 } // namespace fird::ui

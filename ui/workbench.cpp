@@ -191,7 +191,8 @@ int run_workbench(const WorkbenchOptions& options) {
                                    .device_name = options.device_name,
                                    .device_extensions = {VK_KHR_SWAPCHAIN_EXTENSION_NAME},
                                    .max_batch_rays = options.max_batch_rays ? options.max_batch_rays
-                                                                            : kWorkbenchBatchRays};
+                                                                            : kWorkbenchBatchRays,
+                                   .yield_between_passes = true};
     for (std::uint32_t i = 0; i < ext_count; ++i)
         ctx_options.instance_extensions.emplace_back(exts[i]);
     const auto ctx = vk::Context::create(ctx_options);
@@ -227,6 +228,10 @@ int run_workbench(const WorkbenchOptions& options) {
     ImGui_ImplGlfw_InitForVulkan(window, true);
     int exit_code = 0;
     std::vector<double> frame_ms;
+    // Where a frame's time goes (for --stats): building it (panels, view redraws and their
+    // uploads) and submitting and presenting it (which waits behind the worker's compute
+    // on a device with one queue).
+    std::vector<double> build_ms, present_ms;
     std::uint64_t rays = 0, evaluations = 0;
     // At exit, for --stats: each panel's rectangle and the window in window pixels, the
     // viewport's camera (how a layout or a drag is checked from outside).
@@ -273,6 +278,14 @@ int run_workbench(const WorkbenchOptions& options) {
                     const ScriptHost host{
                         .screenshot =
                             [&](const std::string& path) {
+                                // The views as they are now: the frame built again with
+                                // their redraws waited for.
+                                ImGui::Render();
+                                ImGui::NewFrame();
+                                session.state.wait_for_views = true;
+                                Frame current = session.frame();
+                                build_frame(current);
+                                session.state.wait_for_views = false;
                                 ImGui::Render();
                                 const ImDrawData* d = ImGui::GetDrawData();
                                 const auto w = std::uint32_t(d->DisplaySize.x),
@@ -291,11 +304,14 @@ int run_workbench(const WorkbenchOptions& options) {
                 }
             }
             ImGui::Render();
+            const auto built = std::chrono::steady_clock::now();
             const ImDrawData* data = ImGui::GetDrawData();
             if (data->DisplaySize.x > 0 && data->DisplaySize.y > 0)
                 present(ctx, wd, renderer, data, rebuild);
             const auto t1 = std::chrono::steady_clock::now();
             frame_ms.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
+            build_ms.push_back(std::chrono::duration<double, std::milli>(built - t0).count());
+            present_ms.push_back(std::chrono::duration<double, std::milli>(t1 - built).count());
             if (n == 0)
                 first_frame_ms = std::chrono::duration<double, std::milli>(t1 - started).count();
             if (script && !more) break;
@@ -332,6 +348,10 @@ int run_workbench(const WorkbenchOptions& options) {
     if (options.stats)
         std::printf("%s\n", nlohmann::json{{"frame_ms_p50", percentile(frame_ms, 0.5)},
                                            {"frame_ms_p99", percentile(frame_ms, 0.99)},
+                                           {"build_ms_p50", percentile(build_ms, 0.5)},
+                                           {"build_ms_p99", percentile(build_ms, 0.99)},
+                                           {"present_ms_p50", percentile(present_ms, 0.5)},
+                                           {"present_ms_p99", percentile(present_ms, 0.99)},
                                            {"frames", frame_ms.size()},
                                            {"first_frame_ms", first_frame_ms},
                                            {"rays_traced", rays},
@@ -363,6 +383,7 @@ std::vector<std::uint8_t> render_workbench_offscreen(const std::string& device_n
     {
         ImGuiRenderer renderer(ctx, 1);
         Session session(ctx);
+        session.state.wait_for_views = true; // the picture shows the views as they are
         if (!open_scene(session.state, scene)) throw std::runtime_error(session.state.editor.error);
         // One full trace, no preview.
         session.state.editor.preview_rays = session.state.editor.scene->trace.rays;

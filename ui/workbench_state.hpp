@@ -6,6 +6,7 @@
 #include <array>
 #include <cstdint>
 #include <deque>
+#include <future>
 #include <map>
 #include <memory>
 #include <optional>
@@ -15,8 +16,10 @@
 #include "camera.hpp"
 #include "layout.hpp"
 #include "model/scene.hpp"
+#include "offscreen_target.hpp"
 #include "viewport.hpp"
 #include "vk/image.hpp"
+#include "vk/submission.hpp"
 
 namespace fird::ui {
 
@@ -54,11 +57,31 @@ struct FarFieldState {
     int maps = 0;      // shown: 0 all, 1 desired, 2 obtained, 3 difference (one fills the panel)
 };
 
-// A texture with the generation of the content it shows (redrawn when that changes).
+// A redraw of a view in flight: recorded and submitted without waiting, shown once the
+// device has finished it, so that a frame never waits behind the worker's compute for a
+// picture (on a device with one queue, every submission queues behind the one before).
+struct ViewRedraw {
+    std::unique_ptr<vk::Texture> texture;  // drawn into
+    std::unique_ptr<vk::Buffer> staging;   // pixels drawn on the host (the far field)
+    std::uint64_t generation = 0, key = 0; // what it draws
+    // Textures frames showed before: freed when this finishes (its first transition waits
+    // on all work submitted before it, those frames included).
+    std::vector<std::unique_ptr<vk::Texture>> retired;
+    vk::Submission submission;
+};
+
+// A view's picture: the texture frames show, what it was drawn from, and its redraw.
 struct ViewTexture {
-    std::unique_ptr<vk::Texture> texture;
-    std::uint64_t generation = ~0ull;
-    std::uint32_t width = 0, height = 0;
+    std::unique_ptr<vk::Texture> texture;              // shown (none before the first redraw ends)
+    std::uint64_t generation = ~0ull, key = 0;         // the snapshot and view options it shows
+    std::unique_ptr<vk::Texture> spare;                // shown before: the next redraw's target
+    std::vector<std::unique_ptr<vk::Texture>> retired; // to free with the next redraw
+    std::unique_ptr<render::OffscreenTarget> target;   // the viewport's render target
+    // The far field's picture being drawn on the host (a thread of its own), and what.
+    std::future<std::vector<std::uint8_t>> drawing;
+    std::uint64_t drawing_generation = 0, drawing_key = 0;
+    std::uint32_t drawing_width = 0, drawing_height = 0;
+    std::optional<ViewRedraw> redraw; // last: waited for before the rest is freed
 };
 
 // Mouse input a script plays (drag): applied to Dear ImGui's input before a frame, in
@@ -99,7 +122,9 @@ struct WorkbenchState {
     bool quit = false;
     // Texture contents as last drawn.
     ViewTexture viewport_image, farfield_image;
-    std::uint64_t drawn_camera_hash = 0;
+    // Views are redrawn while frames go on (shown when done); an offscreen picture of the
+    // workbench waits for them instead, so that it shows the current state.
+    bool wait_for_views = false;
     // Where the viewport image was drawn (screen pixels): a script's pick-ray uses it.
     float viewport_x = 0, viewport_y = 0, viewport_w = 0, viewport_h = 0;
 };

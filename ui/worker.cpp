@@ -117,6 +117,10 @@ void Worker::publish(render::TracedScene traced, const std::map<std::string, dou
     s->parameters = parameters;
     s->rays = rays;
     s->preview = preview;
+    const auto& ff = s->traced.farfield;
+    s->obtained_profiles = plot::light_profiles(ff.obtained);
+    s->obtained_lm = ff.obtained.total_lm();
+    s->desired_lm = ff.desired ? ff.desired->total_lm() : 0.0;
     const std::lock_guard lock(mutex_);
     s->generation = ++generation_;
     snapshot_ = std::move(s);
@@ -175,6 +179,7 @@ void Worker::run(const SearchJob& job) {
     request.settings.method = job.method;
     if (job.method != SearchMethod::Auto) request.settings.rays = {request.settings.rays.back()};
     auto last_view = std::chrono::steady_clock::now() - std::chrono::hours(1);
+    std::optional<FarField> view_target; // the target reflector at kBestViewRays
     double best = HUGE_VAL;
     std::uint32_t best_stage = ~0u;
     request.on_candidate = [&](const Candidate& c, const StageSummary& s) {
@@ -196,11 +201,14 @@ void Worker::run(const SearchJob& job) {
         last_view = now;
         const auto params = space.named(c.x);
         // Its paths are rays of the scene's rayset, as the full trace's (a pick follows).
-        publish(
-            render::trace_for_views(
-                *ctx_, job.scene,
-                {.parameters = params, .rays = kBestViewRays, .rayset_rays = job.scene.trace.rays}),
-            params, kBestViewRays, true);
+        render::TracedScene view = render::trace_for_views(*ctx_, job.scene,
+                                                           {.parameters = params,
+                                                            .rays = kBestViewRays,
+                                                            .rayset_rays = job.scene.trace.rays,
+                                                            .target_farfield = view_target});
+        if (job.scene.target.kind == TargetDesc::Kind::Reflector && !view_target)
+            view_target = view.farfield.desired; // the target does not change in a search
+        publish(std::move(view), params, kBestViewRays, true);
     };
     SearchOutcome outcome = run_search(*ctx_, job.scene, request);
     if (!job.out_dir.empty()) {

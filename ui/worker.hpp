@@ -18,6 +18,7 @@
 
 #include "calibrate/calibration.hpp"
 #include "optimize/search.hpp"
+#include "plot/farfield_picture.hpp"
 #include "traced_scene.hpp"
 
 namespace fird::ui {
@@ -29,6 +30,10 @@ struct SceneSnapshot {
     std::uint64_t rays = 0;
     bool preview = false; // a quick low-ray trace; the full one follows
     std::uint64_t generation = 0;
+    // Sums over the far field, taken once by the worker: a frame reads them instead of
+    // summing 1.6 million cells again (the zoom's bands, the flux in the panels' text).
+    plot::FarFieldProfiles obtained_profiles;
+    double obtained_lm = 0.0, desired_lm = 0.0;
 };
 
 struct SearchProgress {

@@ -450,6 +450,9 @@ void FastTracer::record_bounces(VkCommandBuffer cb, const vk::Buffer& rays, Fast
         });
         in = spare;
         out = (in == &rays_ping_) ? &rays_pong_ : &rays_ping_;
+        // A window sharing the device draws between bounces (the bounce loop is sized on
+        // the device, so the pieces need nothing from the host).
+        ctx_->yield_queue(cb);
     }
 }
 
@@ -582,6 +585,7 @@ FastRun FastTracer::run(const std::function<void(VkCommandBuffer)>& then) {
                     cb, reuse ? std::optional(rayset_chunks_[batch].effective) : std::nullopt, n);
             if (!reuse && !generated) record_rayset(cb, first, n, sort ? rays_ping_ : *rays, run);
             if (sort) record_rayset_order(cb, rays_ping_, *rays, run);
+            ctx_->yield_queue(cb);
             record_bounces(cb, *rays, run, false);
             if (last) {
                 record_to_lm(cb, run);

@@ -49,15 +49,6 @@ std::pair<std::uint32_t, std::uint32_t> shown_columns(const FarField& f, const F
     return {std::min(c0, f.width - 1), std::max(c0 + 1, std::min(c1, f.width))};
 }
 
-// Light per row (across == false) or per column of the far field.
-std::vector<double> light_profile(const FarField& f, bool across) {
-    std::vector<double> p(across ? f.width : f.height, 0.0);
-    for (std::uint32_t r = 0; r < f.height; ++r)
-        for (std::uint32_t c = 0; c < f.width; ++c)
-            p[across ? c : r] += std::abs(f.lm[std::size_t(r) * f.width + c]);
-    return p;
-}
-
 // [first, last) of the profile without `fraction` of its total, half from each end.
 std::pair<std::size_t, std::size_t> lit_range(const std::vector<double>& p, double fraction) {
     const double total = std::accumulate(p.begin(), p.end(), 0.0);
@@ -104,10 +95,10 @@ namespace {
 // [first_deg + i * step_deg, first_deg + (i + 1) * step_deg); rows step down from +90,
 // columns up from -180.
 struct DegreeAxis {
-    bool across;                // columns (azimuth) or rows (altitude)
-    double first_deg, step_deg; // step_deg < 0 for rows
-    double low_deg, high_deg;   // the axis's ends
-    double min_margin_deg;      // the least margin a lit band gets
+    const std::vector<double>& profile; // the light per entry
+    double first_deg, step_deg;         // step_deg < 0 for rows
+    double low_deg, high_deg;           // the axis's ends
+    double min_margin_deg;              // the least margin a lit band gets
     std::size_t entries;
     std::size_t index(double deg) const {
         return std::size_t(
@@ -116,17 +107,21 @@ struct DegreeAxis {
     double edge(double i) const { return first_deg + i * step_deg; }
 };
 
-DegreeAxis altitude_axis(const FarField& f) {
-    return {false, 90.0, -180.0 / f.height, -90.0, 90.0, 2.0, f.height};
+DegreeAxis altitude_axis(const FarFieldProfiles& p) {
+    const auto rows = p.per_row.size();
+    return {p.per_row, 90.0, -180.0 / double(std::max<std::size_t>(rows, 1)), -90.0, 90.0,
+            2.0,       rows};
 }
-DegreeAxis azimuth_axis(const FarField& f) {
-    return {true, -180.0, 360.0 / f.width, -180.0, 180.0, 4.0, f.width};
+DegreeAxis azimuth_axis(const FarFieldProfiles& p) {
+    const auto columns = p.per_column.size();
+    return {p.per_column, -180.0, 360.0 / double(std::max<std::size_t>(columns, 1)), -180.0, 180.0,
+            4.0,          columns};
 }
 
 // The band as (start, end) in the axis's order: (high, low) for rows, (left, right) for
 // columns.
-std::pair<double, double> lit_band(const FarField& f, const DegreeAxis& axis, double fraction) {
-    const auto profile = light_profile(f, axis.across);
+std::pair<double, double> lit_band(const DegreeAxis& axis, double fraction) {
+    const std::vector<double>& profile = axis.profile;
     const double start = axis.step_deg > 0 ? axis.low_deg : axis.high_deg;
     const double end = axis.step_deg > 0 ? axis.high_deg : axis.low_deg;
     if (!(std::accumulate(profile.begin(), profile.end(), 0.0) > 0.0)) return {start, end};
@@ -140,14 +135,13 @@ std::pair<double, double> lit_band(const FarField& f, const DegreeAxis& axis, do
 
 // The window of `size_deg` inside `band` (in the axis's order) holding the most light, as
 // many whole entries as its size covers, centred on those entries and kept in the band.
-std::pair<double, double> brightest_window(const FarField& f, const DegreeAxis& axis,
-                                           std::pair<double, double> band, double size_deg) {
+std::pair<double, double> brightest_window(const DegreeAxis& axis, std::pair<double, double> band,
+                                           double size_deg) {
     const auto [a, b] = band;
     if (!(size_deg < std::abs(b - a)) || axis.entries == 0) return band;
     const double step = std::abs(axis.step_deg);
     const std::size_t span = std::size_t(std::max(1, int(std::round(size_deg / step))));
-    const std::size_t start =
-        brightest_start(light_profile(f, axis.across), axis.index(a), axis.index(b), span);
+    const std::size_t start = brightest_start(axis.profile, axis.index(a), axis.index(b), span);
     const double centre = axis.edge(double(start) + 0.5 * double(span));
     const double half = 0.5 * size_deg;
     const double c = std::clamp(centre, std::min(a, b) + half, std::max(a, b) - half);
@@ -156,22 +150,35 @@ std::pair<double, double> brightest_window(const FarField& f, const DegreeAxis& 
 
 } // namespace
 
-std::pair<double, double> lit_altitude_band(const FarField& f, double fraction) {
-    return lit_band(f, altitude_axis(f), fraction);
+FarFieldProfiles light_profiles(const FarField& f) {
+    FarFieldProfiles p{std::vector<double>(f.height, 0.0), std::vector<double>(f.width, 0.0)};
+    for (std::uint32_t r = 0; r < f.height; ++r)
+        for (std::uint32_t c = 0; c < f.width; ++c) {
+            const double lm = std::abs(f.lm[std::size_t(r) * f.width + c]);
+            p.per_row[r] += lm;
+            p.per_column[c] += lm;
+        }
+    return p;
 }
 
-std::pair<double, double>
-brightest_altitude_window(const FarField& f, std::pair<double, double> band, double height_deg) {
-    return brightest_window(f, altitude_axis(f), band, height_deg);
+std::pair<double, double> lit_altitude_band(const FarFieldProfiles& p, double fraction) {
+    return lit_band(altitude_axis(p), fraction);
 }
 
-std::pair<double, double> lit_azimuth_band(const FarField& f, double fraction) {
-    return lit_band(f, azimuth_axis(f), fraction);
+std::pair<double, double> brightest_altitude_window(const FarFieldProfiles& p,
+                                                    std::pair<double, double> band,
+                                                    double height_deg) {
+    return brightest_window(altitude_axis(p), band, height_deg);
 }
 
-std::pair<double, double>
-brightest_azimuth_window(const FarField& f, std::pair<double, double> band, double width_deg) {
-    return brightest_window(f, azimuth_axis(f), band, width_deg);
+std::pair<double, double> lit_azimuth_band(const FarFieldProfiles& p, double fraction) {
+    return lit_band(azimuth_axis(p), fraction);
+}
+
+std::pair<double, double> brightest_azimuth_window(const FarFieldProfiles& p,
+                                                   std::pair<double, double> band,
+                                                   double width_deg) {
+    return brightest_window(azimuth_axis(p), band, width_deg);
 }
 
 FarFieldMapPlacement farfield_map_placement(const Rect& a, const FarField& f,

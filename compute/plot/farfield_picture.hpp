@@ -5,6 +5,7 @@
 #include <optional>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "farfield/farfield.hpp"
 #include "plot/chart.hpp"
@@ -39,21 +40,31 @@ FarFieldMapPlacement farfield_map_placement(const Rect& area, const FarField& fa
 void write_farfield_png(const std::string& path, const FarField& farfield,
                         const FarFieldPicture& options);
 
+// The light per row (altitude) and per column (azimuth) of a far field: what a zoomed
+// view's bands are found from. Computed once per far field (the workbench keeps it with
+// each trace), so that a frame does not sum a 1800 x 900 map again.
+struct FarFieldProfiles {
+    std::vector<double> per_row, per_column; // |lm| summed; rows from +90 deg down
+};
+FarFieldProfiles light_profiles(const FarField& farfield);
+
 // The altitude band (high, low, degrees) that holds all but `fraction` of the light,
 // widened by a margin: where a zoomed view should look.
-std::pair<double, double> lit_altitude_band(const FarField& farfield, double fraction = 1e-3);
+std::pair<double, double> lit_altitude_band(const FarFieldProfiles& profiles,
+                                            double fraction = 1e-3);
 
 // The window of `height_deg` altitude inside `band` (high, low) that holds the most light:
 // where a view zoomed into the band looks (on the bright part, not on the middle of the
 // band, which stray light far from it can stretch).
-std::pair<double, double> brightest_altitude_window(const FarField& farfield,
+std::pair<double, double> brightest_altitude_window(const FarFieldProfiles& profiles,
                                                     std::pair<double, double> band,
                                                     double height_deg);
 
 // The same across: the azimuth band (left, right, degrees) holding all but `fraction` of
 // the light, widened by a margin, and the window of `width_deg` inside it holding the most.
-std::pair<double, double> lit_azimuth_band(const FarField& farfield, double fraction = 1e-3);
-std::pair<double, double> brightest_azimuth_window(const FarField& farfield,
+std::pair<double, double> lit_azimuth_band(const FarFieldProfiles& profiles,
+                                           double fraction = 1e-3);
+std::pair<double, double> brightest_azimuth_window(const FarFieldProfiles& profiles,
                                                    std::pair<double, double> band,
                                                    double width_deg);
 

@@ -261,6 +261,7 @@ struct Context::State {
     std::mutex queue_mutex;
     std::uint64_t max_device_memory = 0;
     std::uint64_t max_batch_rays = 0;
+    bool yield_between_passes = false;
     std::atomic<std::uint64_t> device_memory{0};
     // Every buffer's and image's memory (freed before the device).
     std::unique_ptr<MemoryBlocks> memory_blocks;
@@ -270,6 +271,8 @@ struct Context::State {
     void set_name(VkObjectType type, std::uint64_t handle, std::string_view text) const;
     // Records, submits on the shared queue and waits (bounded) with t's buffer and fence.
     void submit_with(ThreadSubmitter& t, const std::function<void(VkCommandBuffer)>& record);
+    void begin_recording(ThreadSubmitter& t);
+    void submit_and_wait_for(ThreadSubmitter& t); // ends t's buffer, submits, waits
 
     ~State() {
         command_pools.clear();
@@ -400,6 +403,7 @@ Context Context::create(const ContextOptions& options) {
                             }});
     s->max_device_memory = options.max_device_memory_bytes;
     s->max_batch_rays = options.max_batch_rays;
+    s->yield_between_passes = options.yield_between_passes;
     Context ctx(std::move(s));
     ctx.name(ctx.state_->queue, VK_OBJECT_TYPE_QUEUE, "fird.queue");
     return ctx;
@@ -579,6 +583,12 @@ void Context::submit_and_wait(const std::function<void(VkCommandBuffer)>& record
 
 void Context::State::submit_with(ThreadSubmitter& t,
                                  const std::function<void(VkCommandBuffer)>& record) {
+    begin_recording(t);
+    record(t.command_buffer);
+    submit_and_wait_for(t);
+}
+
+void Context::State::begin_recording(ThreadSubmitter& t) {
     // The buffer and fence are idle here: the last submission from this thread was waited
     // on (or never submitted: recording threw), so both can be reset.
     const VkFence fence = t.fence.get();
@@ -587,9 +597,11 @@ void Context::State::submit_with(ThreadSubmitter& t,
     const VkCommandBufferBeginInfo begin{.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO,
                                          .flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT};
     FIRD_VK_CHECK(vkBeginCommandBuffer(t.command_buffer, &begin));
-    record(t.command_buffer);
-    FIRD_VK_CHECK(vkEndCommandBuffer(t.command_buffer));
+}
 
+void Context::State::submit_and_wait_for(ThreadSubmitter& t) {
+    const VkFence fence = t.fence.get();
+    FIRD_VK_CHECK(vkEndCommandBuffer(t.command_buffer));
     const VkCommandBufferSubmitInfo cb_info{.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_SUBMIT_INFO,
                                             .commandBuffer = t.command_buffer};
     const VkSubmitInfo2 submit{.sType = VK_STRUCTURE_TYPE_SUBMIT_INFO_2,
@@ -607,6 +619,14 @@ void Context::State::submit_with(ThreadSubmitter& t,
     if (waited == VK_TIMEOUT)
         throw VulkanError("vkWaitForFences: the device did not finish within 600 s", VK_TIMEOUT);
     FIRD_VK_CHECK(waited);
+}
+
+void Context::yield_queue(VkCommandBuffer cb) const {
+    if (!state_->yield_between_passes) return;
+    State::ThreadSubmitter& t = state_->submitter_for_this_thread(*this);
+    if (!t.busy || t.command_buffer != cb) return; // not this thread's recording: go on
+    state_->submit_and_wait_for(t);
+    state_->begin_recording(t); // the same buffer: the caller's handle stays valid
 }
 
 std::uint32_t Context::find_memory_type(std::uint32_t type_bits, VkMemoryPropertyFlags required,

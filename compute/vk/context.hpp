@@ -36,6 +36,9 @@ struct ContextOptions {
     // compute work waits for one small batch, not a whole evaluation (lavapipe runs a
     // queue's submissions one after another).
     std::uint64_t max_batch_rays = 0;
+    // Submit long work in pieces (yield_queue between passes: an evaluation's bounces), so
+    // that a window's frame waits behind one pass, not a whole batch; results are the same.
+    bool yield_between_passes = false;
 };
 
 class Context;
@@ -124,6 +127,10 @@ class Context {
     // submits it on the shared queue and waits on a fence. Safe from several threads.
     // Throws VulkanError on device loss.
     void submit_and_wait(const std::function<void(VkCommandBuffer)>& record) const;
+    // Inside submit_and_wait's `record`: with ContextOptions::yield_between_passes, submits
+    // what `cb` holds so far, waits, and lets the recording go on in the same buffer (the
+    // queue is free for others in between). Otherwise nothing.
+    void yield_queue(VkCommandBuffer cb) const;
 
     // Held around every submission and present on the shared queue (Vulkan requires
     // external synchronization of a queue): take it for your own vkQueueSubmit.

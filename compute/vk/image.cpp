@@ -108,19 +108,34 @@ void Texture::upload(const Context& ctx, const std::uint8_t* rgba) {
                    "fird.texture.staging");
     staging.upload(ctx,
                    std::span<const std::byte>(reinterpret_cast<const std::byte*>(rgba), bytes));
-    ctx.submit_and_wait([&](VkCommandBuffer cb) {
-        transition(cb, image_,
-                   initialized_ ? VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL
-                                : VK_IMAGE_LAYOUT_UNDEFINED,
-                   VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL);
-        const VkBufferImageCopy region{
-            .imageSubresource = {.aspectMask = VK_IMAGE_ASPECT_COLOR_BIT, .layerCount = 1},
-            .imageExtent = {width(), height(), 1}};
-        vkCmdCopyBufferToImage(cb, staging.get(), image_.get(),
-                               VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &region);
-        transition(cb, image_, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
-                   VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
-    });
+    ctx.submit_and_wait([&](VkCommandBuffer cb) { record_upload(cb, staging); });
+}
+
+void Texture::record_upload(VkCommandBuffer cb, const Buffer& staging) {
+    transition(cb, image_,
+               initialized_ ? VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL : VK_IMAGE_LAYOUT_UNDEFINED,
+               VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL);
+    const VkBufferImageCopy region{
+        .imageSubresource = {.aspectMask = VK_IMAGE_ASPECT_COLOR_BIT, .layerCount = 1},
+        .imageExtent = {width(), height(), 1}};
+    vkCmdCopyBufferToImage(cb, staging.get(), image_.get(), VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1,
+                           &region);
+    transition(cb, image_, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+               VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+    initialized_ = true;
+}
+
+void Texture::record_copy(VkCommandBuffer cb, const Image& source) {
+    transition(cb, image_,
+               initialized_ ? VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL : VK_IMAGE_LAYOUT_UNDEFINED,
+               VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL);
+    const VkImageSubresourceLayers layers{.aspectMask = VK_IMAGE_ASPECT_COLOR_BIT, .layerCount = 1};
+    const VkImageCopy region{
+        .srcSubresource = layers, .dstSubresource = layers, .extent = {width(), height(), 1}};
+    vkCmdCopyImage(cb, source.get(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, image_.get(),
+                   VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &region);
+    transition(cb, image_, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+               VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
     initialized_ = true;
 }
 

@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <string_view>
 
+#include "buffer.hpp"
 #include "context.hpp"
 #include "owned.hpp"
 
@@ -44,6 +45,12 @@ class Texture {
     Texture(const Context& ctx, std::uint32_t width, std::uint32_t height, std::string_view name);
     // Replaces the whole image with RGBA rows (top first); waits for the copy.
     void upload(const Context& ctx, const std::uint8_t* rgba);
+    // Records the same from `staging` (RGBA rows, top first; it must outlive the
+    // submission). Like every transition it waits on all work submitted before it on the
+    // queue, so frames still sampling the image finish first.
+    void record_upload(VkCommandBuffer cb, const Buffer& staging);
+    // Records a copy of `source` (this size, RGBA8, in TRANSFER_SRC_OPTIMAL) into the image.
+    void record_copy(VkCommandBuffer cb, const Image& source);
     const Image& image() const { return image_; }
     VkSampler sampler() const { return sampler_.get(); }
     std::uint32_t width() const { return image_.width(); }

@@ -372,6 +372,42 @@ TEST_F(VulkanTest, BounceRaysAgreeWithTheTallyAndEachBatchIsOneSubmission) {
     expect_walks_match_tally(r, s);
 }
 
+// A context that yields the queue between passes (the workbench's, so that its frames
+// wait behind one bounce rather than a whole batch) submits each batch in pieces, one
+// before the first bounce and one after each bounce that orders its rays for the next, and
+// traces the same far field count for count: the pieces are the same commands, in the
+// same order, cut between submissions.
+TEST_F(VulkanTest, AContextThatYieldsBetweenBouncesTracesTheSameFarField) {
+    const auto yielding = vk::Context::create({.validation = true, .yield_between_passes = true});
+    for (const char* name : {"model_a.toml", "model_b.toml"}) {
+        SCOPED_TRACE(name);
+        Scene s = scene(name);
+        s.trace.rays = 30000;
+        const auto trace = [&](const vk::Context& c) {
+            FastTracer t(c, s, 4, 7000);
+            t.set_reflector(s.reflector);
+            (void)t.run(); // the rayset generated and kept
+            const std::uint64_t before = c.submissions();
+            const FastRun r = t.run();
+            return std::tuple(t.read_farfield(), r.tally.by_reflections, c.submissions() - before,
+                              r.bounces.size());
+        };
+        const auto [whole_ff, whole_tally, whole_submissions, bounces] = trace(ctx());
+        const auto [split_ff, split_tally, split_submissions, split_bounces] = trace(yielding);
+        EXPECT_EQ(split_ff, whole_ff);
+        EXPECT_EQ(split_tally, whole_tally);
+        const std::uint64_t batches = (s.trace.rays + 6999) / 7000;
+        EXPECT_EQ(whole_submissions, batches);
+        // One piece before the bounces, one after each pass but the last (whose rays are not
+        // ordered for another), and the rest of the batch.
+        const std::uint64_t passes =
+            s.trace.max_bounces + (s.trace.bounce_policy == BouncePolicy::Strict ? 1 : 0);
+        EXPECT_EQ(split_submissions, batches * (passes + 1));
+        EXPECT_EQ(split_bounces, bounces);
+    }
+    EXPECT_EQ(yielding.validation_errors(), 0u);
+}
+
 // The source's rays start their walk below the root (walk_start.comp) where the
 // descents they skip are ones the walk from the root must make: the same far field
 // count for count, in fewer steps, for a source inside the holder (Model B) and one half

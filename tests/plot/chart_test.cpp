@@ -154,14 +154,15 @@ TEST(FarFieldZoom, TheWindowCentresOnTheBrightestRows) {
             f.lm[std::size_t(row(alt)) * W + c] = 1.0;
     for (std::uint32_t c = 0; c < W; ++c)
         f.lm[std::size_t(row(-59)) * W + c] = 0.01; // stray: 1 % of the band's rows' light
-    const auto band = plot::lit_altitude_band(f);
+    const auto profiles = plot::light_profiles(f);
+    const auto band = plot::lit_altitude_band(profiles);
     ASSERT_LT(band.second, -55.0); // the stray light is inside the lit band
-    const auto [hi, lo] = plot::brightest_altitude_window(f, band, 20.0);
+    const auto [hi, lo] = plot::brightest_altitude_window(profiles, band, 20.0);
     EXPECT_NEAR(hi - lo, 20.0, 1e-9);
     EXPECT_GE(hi, 40.0);
     EXPECT_LE(lo, 30.0);
     // A window as tall as the band is the band.
-    const auto whole = plot::brightest_altitude_window(f, band, band.first - band.second);
+    const auto whole = plot::brightest_altitude_window(profiles, band, band.first - band.second);
     EXPECT_EQ(whole, band);
 }
 
@@ -176,16 +177,17 @@ TEST(FarFieldZoom, TheAzimuthWindowCentresOnTheBrightestColumns) {
             f.lm[std::size_t(r) * W + column(az)] = 1.0;
     for (std::uint32_t r = 0; r < H; ++r)
         f.lm[std::size_t(r) * W + column(-120)] = 0.02; // 0.1 % of the beam's light
-    const auto band = plot::lit_azimuth_band(f);
+    const auto profiles = plot::light_profiles(f);
+    const auto band = plot::lit_azimuth_band(profiles);
     ASSERT_LT(band.first, -120.0); // the stray light is inside the lit band
     ASSERT_GT(band.second, 60.0);
-    const auto [left, right] = plot::brightest_azimuth_window(f, band, 40.0);
+    const auto [left, right] = plot::brightest_azimuth_window(profiles, band, 40.0);
     EXPECT_NEAR(right - left, 40.0, 1e-9);
     EXPECT_LE(left, 40.0);
     EXPECT_GE(right, 60.0);
     // Light all round: the band is the whole circle.
     FarField round{W, H, std::vector<double>(std::size_t(W) * H, 1.0)};
-    EXPECT_EQ(plot::lit_azimuth_band(round), std::make_pair(-180.0, 180.0));
+    EXPECT_EQ(plot::lit_azimuth_band(plot::light_profiles(round)), std::make_pair(-180.0, 180.0));
 }
 
 } // namespace

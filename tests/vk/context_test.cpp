@@ -1,9 +1,11 @@
 // Device selection and error reporting of the Vulkan core.
+#include <chrono>
 #include <gtest/gtest.h>
 
 #include "vk/buffer.hpp"
 #include "vk/check.hpp"
 #include "vk/context.hpp"
+#include "vk/submission.hpp"
 #include "vulkan_fixture.hpp"
 
 namespace fird::test {
@@ -51,6 +53,36 @@ TEST_F(VulkanTest, UploadDownloadRoundTrip) {
     vk::Buffer b(ctx(), values.size() * 4, vk::kStorageUsage, vk::MemoryUse::Device, "test.rt");
     b.upload(ctx(), std::span<const std::uint32_t>(values));
     EXPECT_EQ(b.download_as<std::uint32_t>(ctx(), values.size()), values);
+}
+
+// A submission the host does not wait for: done() only polls, and once it says so (or
+// wait() returns) what it wrote is there; a second one behind it on the queue sees the
+// first's writes (the queue's submission order), and neither counts as a host round trip
+// of submit_and_wait.
+TEST_F(VulkanTest, ASubmissionRunsWithoutTheHostWaitingAndIsPolled) {
+    vk::Buffer b(ctx(), 4096, vk::kStorageUsage | VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
+                 vk::MemoryUse::Readback, "test.submission");
+    const std::uint64_t before = ctx().submissions();
+    vk::Submission fill(
+        ctx(), [&](VkCommandBuffer cb) { vkCmdFillBuffer(cb, b.get(), 0, 4096, 0x01020304u); },
+        "test.fill");
+    vk::Submission half(
+        ctx(),
+        [&](VkCommandBuffer cb) {
+            vk::barrier_all(cb);
+            vkCmdFillBuffer(cb, b.get(), 2048, 2048, 0x0a0b0c0du);
+            vk::barrier_to_host(cb);
+        },
+        "test.fill_half");
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+    while (!half.done())
+        ASSERT_LT(std::chrono::steady_clock::now(), deadline) << "the submission never finished";
+    fill.wait();
+    const auto* words = static_cast<const std::uint32_t*>(b.data());
+    for (std::size_t i = 0; i < 1024; ++i)
+        ASSERT_EQ(words[i], i < 512 ? 0x01020304u : 0x0a0b0c0du) << "word " << i;
+    EXPECT_EQ(ctx().submissions(), before);
+    EXPECT_TRUE(vk::Submission().done()); // nothing submitted: nothing to wait for
 }
 
 } // namespace
