@@ -110,10 +110,11 @@ PY
   fi
 fi
 device_name="$("$fird" "${dev[@]}" info 2>/dev/null | sed -n 's/^chosen: //p' | head -1)"
+compute_queue="$("$fird" "${dev[@]}" info 2>/dev/null | sed -n 's/^compute queue: //p' | head -1)"
 
-/usr/bin/python3 - "$work" "$out" "$quick" "$suite" "$frames" "$device_name" "$(($(date +%s) - start_s))" <<'EOF'
+/usr/bin/python3 - "$work" "$out" "$quick" "$suite" "$frames" "$device_name" "$(($(date +%s) - start_s))" "$compute_queue" <<'EOF'
 import csv, json, os, sys
-work, out, quick, suite, frames, device, elapsed = sys.argv[1:]
+work, out, quick, suite, frames, device, elapsed, compute_queue = sys.argv[1:]
 quick = quick == "1"
 paper = {"A": (56, 976, 277), "B": (34, 2963, 278), "C": (86, 2406, 263)}
 
@@ -137,7 +138,8 @@ def bounces_per_s(m):
         return "failed"
 
 lines = [f"# FIRD GPU check{' (--quick: a hundredth of the rays)' if quick else ''}", "",
-         f"Device: {device or 'unknown'}. Test suite with validation: {suite}. "
+         f"Device: {device or 'unknown'}. Compute queue: {compute_queue or 'unknown'}. "
+         f"Test suite with validation: {suite}. "
          f"Wall time of the check: {elapsed} s.", "",
          "| model | rays | evaluation ms | height field ms | trace ms | histogram ms | compare ms | "
          "paper: height map / search / error ms | submissions per evaluation | ray-bounces/s | "

@@ -130,7 +130,7 @@ void present(const vk::Context& ctx, ImGui_ImplVulkanH_Window& wd, ImGuiRenderer
                                 .pSwapchains = &wd.Swapchain,
                                 .pImageIndices = &wd.FrameIndex};
     {
-        const auto queue = ctx.lock_queue(); // the worker submits on this queue too
+        const auto queue = ctx.lock_queue(); // the worker too, unless it has a queue of its own
         FIRD_VK_CHECK(vkQueueSubmit(ctx.queue(), 1, &submit, fd.Fence));
         r = vkQueuePresentKHR(ctx.queue(), &info);
     }
@@ -143,10 +143,10 @@ void present(const vk::Context& ctx, ImGui_ImplVulkanH_Window& wd, ImGuiRenderer
 }
 
 // (Re)creates the swapchain. Dear ImGui's helper waits for the device idle, which uses
-// every queue: it must not run while the worker submits, so it holds the queue lock.
+// every queue: it must not run while the worker submits, so it holds every queue's lock.
 void resize_swapchain(const vk::Context& ctx, ImGui_ImplVulkanH_Window& wd, int width, int height,
                       std::uint32_t min_images) {
-    const auto queue = ctx.lock_queue();
+    const auto queues = ctx.lock_all_queues();
     ImGui_ImplVulkanH_CreateOrResizeWindow(ctx.instance(), ctx.physical_device(), ctx.device(), &wd,
                                            ctx.queue_family(), nullptr, width, height, min_images);
 }
@@ -335,8 +335,8 @@ int run_workbench(const WorkbenchOptions& options) {
                   {"target_mm", {c.target.x, c.target.y, c.target.z}}};
         {
             // The worker may still be finishing a submission: waiting for the device uses
-            // every queue, so it takes the queue lock like a submission does.
-            const auto queue = ctx.lock_queue();
+            // every queue, so it takes every queue's lock like a submission does.
+            const auto queues = ctx.lock_all_queues();
             FIRD_VK_CHECK(vkDeviceWaitIdle(ctx.device()));
         }
     }

@@ -30,6 +30,9 @@ nlohmann::json device_report(const vk::Context& ctx) {
               {"driver_info", s.driver_info},
               {"api_version", version_text(s.api_version)}}},
             {"validation", ctx.validation_enabled()},
+            // Whether compute has a queue of its own (the workbench's frames do not wait
+            // behind it) or shares the one queue.
+            {"work_queue", ctx.separate_work_queue() ? "own" : "shared"},
             {"limits",
              {{"max_compute_workgroup_size",
                {l.max_workgroup_size[0], l.max_workgroup_size[1], l.max_workgroup_size[2]}},
@@ -60,6 +63,9 @@ std::string device_report_text(const nlohmann::json& r) {
     out += fmt::format("chosen: {} ({})\n", c["name"].get<std::string>(),
                        c["driver_info"].get<std::string>());
     out += fmt::format("validation layers: {}\n", r["validation"].get<bool>() ? "on" : "off");
+    out += fmt::format("compute queue: {}\n", r["work_queue"].get<std::string>() == "own"
+                                                  ? "its own (frames do not wait behind it)"
+                                                  : "shared with the frames");
     out += fmt::format("max compute workgroup size: {} x {} x {} ({} invocations)\n",
                        l["max_compute_workgroup_size"][0].get<unsigned>(),
                        l["max_compute_workgroup_size"][1].get<unsigned>(),

@@ -89,6 +89,14 @@ std::vector<std::string> device_extensions(VkPhysicalDevice pd) {
 
 // A queue family that does both graphics and compute: the view and the compute
 // pipeline share one device and one queue, so no ownership transfers are needed.
+std::uint32_t work_queues_for(VkPhysicalDevice pd, std::uint32_t family) {
+    std::uint32_t n = 0;
+    vkGetPhysicalDeviceQueueFamilyProperties(pd, &n, nullptr);
+    std::vector<VkQueueFamilyProperties> families(n);
+    vkGetPhysicalDeviceQueueFamilyProperties(pd, &n, families.data());
+    return std::min<std::uint32_t>(2, families[family].queueCount);
+}
+
 std::int64_t universal_queue_family(VkPhysicalDevice pd) {
     std::uint32_t n = 0;
     vkGetPhysicalDeviceQueueFamilyProperties(pd, &n, nullptr);
@@ -235,7 +243,8 @@ struct Context::State {
     VkDebugUtilsMessengerEXT messenger = VK_NULL_HANDLE;
     VkPhysicalDevice physical = VK_NULL_HANDLE;
     VkDevice device = VK_NULL_HANDLE;
-    VkQueue queue = VK_NULL_HANDLE;
+    VkQueue queue = VK_NULL_HANDLE;      // frames and their redraws (and all work, if alone)
+    VkQueue work_queue = VK_NULL_HANDLE; // submit_and_wait's: a second queue when there is one
     std::uint32_t queue_family = 0;
     DeviceSummary summary;
     DeviceLimits limits;
@@ -259,6 +268,8 @@ struct Context::State {
     std::mutex pools_mutex;
     std::map<std::thread::id, ThreadSubmitter> command_pools;
     std::mutex queue_mutex;
+    std::mutex work_queue_mutex; // unused when the work shares the frames' queue
+    std::mutex& work_mutex() { return work_queue == queue ? queue_mutex : work_queue_mutex; }
     std::uint64_t max_device_memory = 0;
     std::uint64_t max_batch_rays = 0;
     bool yield_between_passes = false;
@@ -378,11 +389,16 @@ Context Context::create(const ContextOptions& options) {
                                          .timelineSemaphore = VK_TRUE};
     VkPhysicalDeviceFeatures2 features{.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2,
                                        .pNext = &f12};
-    const float priority = 1.0f;
+    // Two queues of the one universal family when it has them (discrete GPUs have 8-16):
+    // the worker's compute on the second, so that a window's frames on the first never
+    // queue behind it (issue 24 item 4). One family: resources need no ownership
+    // transfers, and every hand-over between the queues is a fence the host waited on.
+    const std::uint32_t queue_count = work_queues_for(s->physical, s->queue_family);
+    const float priorities[2] = {1.0f, 1.0f};
     const VkDeviceQueueCreateInfo queue_info{.sType = VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO,
                                              .queueFamilyIndex = s->queue_family,
-                                             .queueCount = 1,
-                                             .pQueuePriorities = &priority};
+                                             .queueCount = queue_count,
+                                             .pQueuePriorities = priorities};
     const VkDeviceCreateInfo device_info{.sType = VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO,
                                          .pNext = &features,
                                          .queueCreateInfoCount = 1,
@@ -392,6 +408,7 @@ Context Context::create(const ContextOptions& options) {
                                          .ppEnabledExtensionNames = extensions.data()};
     FIRD_VK_CHECK(vkCreateDevice(s->physical, &device_info, nullptr, &s->device));
     vkGetDeviceQueue(s->device, s->queue_family, 0, &s->queue);
+    vkGetDeviceQueue(s->device, s->queue_family, queue_count - 1, &s->work_queue);
 
     const State* named = s.get(); // the state outlives its blocks
     s->memory_blocks = std::make_unique<MemoryBlocks>(
@@ -406,6 +423,8 @@ Context Context::create(const ContextOptions& options) {
     s->yield_between_passes = options.yield_between_passes;
     Context ctx(std::move(s));
     ctx.name(ctx.state_->queue, VK_OBJECT_TYPE_QUEUE, "fird.queue");
+    if (ctx.separate_work_queue())
+        ctx.name(ctx.state_->work_queue, VK_OBJECT_TYPE_QUEUE, "fird.queue.work");
     return ctx;
 }
 
@@ -550,6 +569,16 @@ std::unique_lock<std::mutex> Context::lock_queue() const {
     return std::unique_lock(state_->queue_mutex);
 }
 
+QueueLocks Context::lock_all_queues() const {
+    QueueLocks locks{std::unique_lock(state_->queue_mutex), {}};
+    if (separate_work_queue()) locks.work = std::unique_lock(state_->work_queue_mutex);
+    return locks;
+}
+
+bool Context::separate_work_queue() const {
+    return state_->work_queue != state_->queue;
+}
+
 void Context::submit_and_wait(const std::function<void(VkCommandBuffer)>& record) const {
     State::ThreadSubmitter& t = state_->submitter_for_this_thread(*this);
     if (t.busy) { // a submission from inside another's recording: buffers of its own
@@ -608,8 +637,8 @@ void Context::State::submit_and_wait_for(ThreadSubmitter& t) {
                                .commandBufferInfoCount = 1,
                                .pCommandBufferInfos = &cb_info};
     {
-        const std::lock_guard lock(queue_mutex);
-        FIRD_VK_CHECK(vkQueueSubmit2(queue, 1, &submit, fence));
+        const std::lock_guard lock(work_mutex());
+        FIRD_VK_CHECK(vkQueueSubmit2(work_queue, 1, &submit, fence));
     }
     ++submissions;
     // Bounded wait: a submission that runs this long has hung the device (the context is
@@ -622,7 +651,8 @@ void Context::State::submit_and_wait_for(ThreadSubmitter& t) {
 }
 
 void Context::yield_queue(VkCommandBuffer cb) const {
-    if (!state_->yield_between_passes) return;
+    // On a queue of its own the work delays no frame: nothing to yield.
+    if (!state_->yield_between_passes || separate_work_queue()) return;
     State::ThreadSubmitter& t = state_->submitter_for_this_thread(*this);
     if (!t.busy || t.command_buffer != cb) return; // not this thread's recording: go on
     state_->submit_and_wait_for(t);

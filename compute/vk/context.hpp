@@ -43,6 +43,12 @@ struct ContextOptions {
 
 class Context;
 
+// Locks on every queue (the frames' and the work's, when apart): what vkDeviceWaitIdle or
+// a swapchain's re-creation needs, since they use every queue.
+struct QueueLocks {
+    std::unique_lock<std::mutex> frames, work;
+};
+
 // The bytes one allocation holds against the context's budget, given back when it dies.
 class MemoryCharge {
   public:
@@ -124,17 +130,21 @@ class Context {
     }
 
     // Records commands into a one-time command buffer (from this thread's own pool),
-    // submits it on the shared queue and waits on a fence. Safe from several threads.
-    // Throws VulkanError on device loss.
+    // submits it on the work queue (queue() unless separate_work_queue()) and waits on a fence.
+    // Safe from several threads. Throws VulkanError on device loss.
     void submit_and_wait(const std::function<void(VkCommandBuffer)>& record) const;
     // Inside submit_and_wait's `record`: with ContextOptions::yield_between_passes, submits
     // what `cb` holds so far, waits, and lets the recording go on in the same buffer (the
     // queue is free for others in between). Otherwise nothing.
     void yield_queue(VkCommandBuffer cb) const;
 
-    // Held around every submission and present on the shared queue (Vulkan requires
-    // external synchronization of a queue): take it for your own vkQueueSubmit.
+    // Held around every submission and present on queue() (Vulkan requires external
+    // synchronization of a queue): take it for your own vkQueueSubmit there.
     std::unique_lock<std::mutex> lock_queue() const;
+    QueueLocks lock_all_queues() const;
+    // Whether submit_and_wait's work runs on a queue of its own (a second queue of the
+    // universal family, where the device has one), apart from queue()'s frames.
+    bool separate_work_queue() const;
 
     // Memory for one buffer or image within the budget, suballocated from a shared block
     // (memory_blocks.hpp) unless `dedicated`. The budget is charged the request's own

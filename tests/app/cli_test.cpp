@@ -60,6 +60,8 @@ TEST(Cli, InfoJsonHasTheLimitsThatMatter) {
          {"max_compute_workgroup_size", "max_compute_workgroup_count", "max_storage_buffer_range",
           "subgroup_size", "float32_atomic_add", "timestamps"})
         EXPECT_TRUE(j["limits"].contains(key)) << key;
+    const std::string queue = j["work_queue"].get<std::string>();
+    EXPECT_TRUE(queue == "own" || queue == "shared") << queue;
 }
 
 TEST(Cli, UnknownDeviceNameExitsOneWithOneLine) {

@@ -1,6 +1,7 @@
 // Device selection and error reporting of the Vulkan core.
 #include <chrono>
 #include <gtest/gtest.h>
+#include <vector>
 
 #include "vk/buffer.hpp"
 #include "vk/check.hpp"
@@ -83,6 +84,38 @@ TEST_F(VulkanTest, ASubmissionRunsWithoutTheHostWaitingAndIsPolled) {
         ASSERT_EQ(words[i], i < 512 ? 0x01020304u : 0x0a0b0c0du) << "word " << i;
     EXPECT_EQ(ctx().submissions(), before);
     EXPECT_TRUE(vk::Submission().done()); // nothing submitted: nothing to wait for
+}
+
+// The worker's work gets a queue of its own exactly where the universal family has a
+// second one (lavapipe has one queue, shared; discrete GPUs have 8-16), and what the work
+// queue wrote is what a later submission on the frames' queue reads: the hand-over is a
+// fence the host waited on.
+TEST_F(VulkanTest, WorkGetsAQueueOfItsOwnWhereTheFamilyHasTwoAndHandsOverThroughTheHost) {
+    std::uint32_t n = 0;
+    vkGetPhysicalDeviceQueueFamilyProperties(ctx().physical_device(), &n, nullptr);
+    std::vector<VkQueueFamilyProperties> families(n);
+    vkGetPhysicalDeviceQueueFamilyProperties(ctx().physical_device(), &n, families.data());
+    ASSERT_LT(ctx().queue_family(), n);
+    EXPECT_EQ(ctx().separate_work_queue(), families[ctx().queue_family()].queueCount >= 2);
+
+    const VkBufferUsageFlags usage =
+        vk::kStorageUsage | VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+    vk::Buffer written(ctx(), 1024, usage, vk::MemoryUse::Device, "test.work_queue.written");
+    vk::Buffer read(ctx(), 1024, usage, vk::MemoryUse::Readback, "test.frames_queue.read");
+    ctx().submit_and_wait(
+        [&](VkCommandBuffer cb) { vkCmdFillBuffer(cb, written.get(), 0, 1024, 0x5a5a1234u); });
+    const vk::Submission copy(
+        ctx(),
+        [&](VkCommandBuffer cb) {
+            const VkBufferCopy region{.size = 1024};
+            vkCmdCopyBuffer(cb, written.get(), read.get(), 1, &region);
+            vk::barrier_to_host(cb);
+        },
+        "test.frames_queue.copy");
+    copy.wait();
+    const auto* words = static_cast<const std::uint32_t*>(read.data());
+    for (std::size_t i = 0; i < 256; ++i)
+        ASSERT_EQ(words[i], 0x5a5a1234u) << "word " << i;
 }
 
 } // namespace
