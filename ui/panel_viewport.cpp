@@ -203,7 +203,7 @@ void viewport_panel(Frame& f) {
     const ImVec2 avail = ImGui::GetContentRegionAvail();
     const auto w = std::uint32_t(std::max(64.0f, avail.x)),
                h = std::uint32_t(std::max(64.0f, avail.y - ImGui::GetTextLineHeightWithSpacing()));
-    update_viewport_image(f.ctx, f.renderer, s, *f.snapshot, picked, w, h);
+    update_viewport_image(f.ctx, f.renderer, s, f.snapshot, picked, w, h);
     const ImVec2 origin = ImGui::GetCursorScreenPos();
     s.viewport_x = origin.x, s.viewport_y = origin.y, s.viewport_w = float(w),
     s.viewport_h = float(h);

@@ -78,8 +78,11 @@ bool wanted(const ViewTexture& t, std::uint64_t generation, std::uint64_t key) {
 void start_redraw(const vk::Context& ctx, ViewTexture& t, std::uint32_t w, std::uint32_t h,
                   std::uint64_t generation, std::uint64_t key,
                   const std::function<void(VkCommandBuffer, vk::Texture&)>& record,
-                  std::unique_ptr<vk::Buffer> staging = nullptr) {
-    ViewRedraw r{.staging = std::move(staging), .generation = generation, .key = key};
+                  std::unique_ptr<vk::Buffer> staging, std::shared_ptr<const void> reads) {
+    ViewRedraw r{.staging = std::move(staging),
+                 .generation = generation,
+                 .key = key,
+                 .reads = std::move(reads)};
     if (t.spare && t.spare->width() == w && t.spare->height() == h)
         r.texture = std::move(t.spare);
     else
@@ -102,8 +105,9 @@ bool show_finished_views(WorkbenchState& s, bool wait) {
 }
 
 void update_viewport_image(const vk::Context& ctx, render::ViewportRenderer& renderer,
-                           WorkbenchState& s, const SceneSnapshot& snap, const PickedRay* picked,
-                           std::uint32_t w, std::uint32_t h) {
+                           WorkbenchState& s, const std::shared_ptr<const SceneSnapshot>& snapshot,
+                           const PickedRay* picked, std::uint32_t w, std::uint32_t h) {
+    const SceneSnapshot& snap = *snapshot;
     w = std::max(w, 64u), h = std::max(h, 64u);
     ViewTexture& t = s.viewport_image;
     show_finished(t, s.wait_for_views);
@@ -119,10 +123,14 @@ void update_viewport_image(const vk::Context& ctx, render::ViewportRenderer& ren
         t.target = std::make_unique<render::OffscreenTarget>(ctx, w, h, "fird.workbench.viewport");
     const render::OffscreenTarget& target = *t.target;
     // Rendered on the device into the texture the panel samples: no read back.
-    start_redraw(ctx, t, w, h, snap.generation, view, [&](VkCommandBuffer cb, vk::Texture& tex) {
-        renderer.record(cb, target, content, o);
-        tex.record_copy(cb, target.colour());
-    });
+    // The snapshot stays alive until the device has drawn its height field.
+    start_redraw(
+        ctx, t, w, h, snap.generation, view,
+        [&](VkCommandBuffer cb, vk::Texture& tex) {
+            renderer.record(cb, target, content, o);
+            tex.record_copy(cb, target.colour());
+        },
+        nullptr, snapshot);
     if (s.wait_for_views) show_finished(t, true);
 }
 
@@ -187,7 +195,7 @@ void update_farfield_image(const vk::Context& ctx, WorkbenchState& s,
         start_redraw(
             ctx, t, dw, dh, t.drawing_generation, t.drawing_key,
             [&](VkCommandBuffer cb, vk::Texture& tex) { tex.record_upload(cb, pixels); },
-            std::move(staging));
+            std::move(staging), nullptr);
     }
     if (wanted(t, snap->generation, key) && !t.drawing.valid()) {
         t.drawing_generation = snap->generation;

@@ -20,7 +20,8 @@ bool show_finished_views(WorkbenchState& state, bool wait);
 
 // `picked`: the picked ray's path and walk (shown_pick), drawn up to the current step.
 void update_viewport_image(const vk::Context& ctx, render::ViewportRenderer& renderer,
-                           WorkbenchState& state, const SceneSnapshot& snapshot,
+                           WorkbenchState& state,
+                           const std::shared_ptr<const SceneSnapshot>& snapshot,
                            const PickedRay* picked, std::uint32_t width, std::uint32_t height);
 // The far-field view the panel shows: the state's scale, zoom and maps, in `columns`.
 render::FarFieldViewOptions farfield_view_options(const WorkbenchState& state,

@@ -64,8 +64,10 @@ struct Session {
     Session(const vk::Context& c) : ctx(c), worker(c), renderer(c) {}
     const vk::Context& ctx;
     Worker worker;
-    WorkbenchState state;
+    // Before the state: the state's redraws in flight use the renderer's pipeline and
+    // buffers, and are waited for when the state goes.
     render::ViewportRenderer renderer;
+    WorkbenchState state;
 
     Frame frame() {
         for (std::string& line : worker.take_log())
@@ -75,13 +77,16 @@ struct Session {
 };
 
 // The frame's draw data into an offscreen RGBA8 image, read back.
+// `slot`: the renderer's buffers to use, none a presented frame may still read.
 std::vector<std::uint8_t> draw_offscreen(const vk::Context& ctx, ImGuiRenderer& renderer,
-                                         const ImDrawData* data, std::uint32_t w, std::uint32_t h) {
+                                         const ImDrawData* data, std::uint32_t w, std::uint32_t h,
+                                         std::uint32_t slot) {
     const render::OffscreenTarget target(ctx, w, h, "fird.workbench.offscreen");
     ctx.submit_and_wait([&](VkCommandBuffer cb) {
         vk::transition(cb, target.colour(), VK_IMAGE_LAYOUT_UNDEFINED,
                        VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL);
-        renderer.record(cb, data, target.colour().view(), render::kColourFormat, {w, h}, 0, kClear);
+        renderer.record(cb, data, target.colour().view(), render::kColourFormat, {w, h}, slot,
+                        kClear);
         vk::transition(cb, target.colour(), VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
                        VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
     });
@@ -107,6 +112,9 @@ void present(const vk::Context& ctx, ImGui_ImplVulkanH_Window& wd, ImGuiRenderer
     const VkCommandBufferBeginInfo begin{.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO,
                                          .flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT};
     FIRD_VK_CHECK(vkBeginCommandBuffer(fd.CommandBuffer, &begin));
+    // What the work queue wrote (the font, when the worker has a queue of its own) reached
+    // the host's fence wait available; this makes it visible to the frame's reads.
+    vk::barrier_all(fd.CommandBuffer);
     vk::transition(fd.CommandBuffer, fd.Backbuffer, VK_IMAGE_ASPECT_COLOR_BIT,
                    VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL);
     renderer.record(fd.CommandBuffer, data, fd.BackbufferView, wd.SurfaceFormat.format,
@@ -238,7 +246,8 @@ int run_workbench(const WorkbenchOptions& options) {
     // The sliders' values: where a search's end left them.
     nlohmann::json panels = nlohmann::json::object(), window_size, camera, sliders;
     {
-        ImGuiRenderer renderer(ctx, wd.ImageCount);
+        // A slot per swapchain image, and one more for the scripts' screenshots.
+        ImGuiRenderer renderer(ctx, wd.ImageCount + 1);
         Session session(ctx);
         session.state.recent = settings.recent;
         session.state.layout = settings.layout;
@@ -290,7 +299,9 @@ int run_workbench(const WorkbenchOptions& options) {
                                 const ImDrawData* d = ImGui::GetDrawData();
                                 const auto w = std::uint32_t(d->DisplaySize.x),
                                            h = std::uint32_t(d->DisplaySize.y);
-                                write_png(path, draw_offscreen(ctx, renderer, d, w, h), w, h);
+                                write_png(path,
+                                          draw_offscreen(ctx, renderer, d, w, h, wd.ImageCount), w,
+                                          h);
                                 ImGui::NewFrame(); // the frame goes on to the window below
                                 Frame again = session.frame();
                                 build_frame(again);
@@ -402,7 +413,7 @@ std::vector<std::uint8_t> render_workbench_offscreen(const std::string& device_n
             for (const std::string& line : session.state.log)
                 if (line.rfind("error:", 0) == 0) throw std::runtime_error(line.substr(7));
         }
-        rgba = draw_offscreen(ctx, renderer, ImGui::GetDrawData(), w, h);
+        rgba = draw_offscreen(ctx, renderer, ImGui::GetDrawData(), w, h, 0);
     }
     if (validation_errors) *validation_errors = ctx.validation_errors();
     return rgba;

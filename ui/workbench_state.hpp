@@ -67,7 +67,10 @@ struct ViewRedraw {
     // Textures frames showed before: freed when this finishes (its first transition waits
     // on all work submitted before it, those frames included).
     std::vector<std::unique_ptr<vk::Texture>> retired;
-    vk::Submission submission;
+    // What the device reads while it draws (the snapshot whose height field the viewport
+    // renders): freed only after the submission has finished.
+    std::shared_ptr<const void> reads;
+    vk::Submission submission; // last: waited for before the rest is freed
 };
 
 // A view's picture: the texture frames show, what it was drawn from, and its redraw.

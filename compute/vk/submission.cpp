@@ -2,6 +2,7 @@
 
 #include <utility>
 
+#include "buffer.hpp"
 #include "check.hpp"
 #include "context.hpp"
 
@@ -33,6 +34,10 @@ Submission::Submission(const Context& ctx, const std::function<void(VkCommandBuf
     const VkCommandBufferBeginInfo begin{.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO,
                                          .flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT};
     FIRD_VK_CHECK(vkBeginCommandBuffer(cb, &begin));
+    // Writes from the other queue (the worker's, when it has its own) were ordered before
+    // this by a fence the host waited on, which makes them available, not visible: this
+    // barrier makes them visible to what follows.
+    barrier_all(cb);
     record(cb);
     FIRD_VK_CHECK(vkEndCommandBuffer(cb));
     const VkFenceCreateInfo fence_info{.sType = VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
