@@ -98,12 +98,6 @@ void start_redraw(const vk::Context& ctx, ViewTexture& t, std::uint32_t w, std::
 
 } // namespace
 
-bool show_finished_views(WorkbenchState& s, bool wait) {
-    for (ViewTexture* t : {&s.viewport_image, &s.farfield_image})
-        show_finished(*t, wait);
-    return s.viewport_image.redraw || s.farfield_image.redraw || s.farfield_image.drawing.valid();
-}
-
 void update_viewport_image(const vk::Context& ctx, render::ViewportRenderer& renderer,
                            WorkbenchState& s, const std::shared_ptr<const SceneSnapshot>& snapshot,
                            const PickedRay* picked, std::uint32_t w, std::uint32_t h) {

@@ -14,10 +14,6 @@
 
 namespace fird::ui {
 
-// Shows the redraws that have finished (waiting for them when `wait`). True when a view
-// still has a redraw in flight.
-bool show_finished_views(WorkbenchState& state, bool wait);
-
 // `picked`: the picked ray's path and walk (shown_pick), drawn up to the current step.
 void update_viewport_image(const vk::Context& ctx, render::ViewportRenderer& renderer,
                            WorkbenchState& state,

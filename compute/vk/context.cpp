@@ -87,26 +87,28 @@ std::vector<std::string> device_extensions(VkPhysicalDevice pd) {
     return names;
 }
 
-// A queue family that does both graphics and compute: the view and the compute
-// pipeline share one device and one queue, so no ownership transfers are needed.
-std::uint32_t work_queues_for(VkPhysicalDevice pd, std::uint32_t family) {
+std::vector<VkQueueFamilyProperties> queue_families(VkPhysicalDevice pd) {
     std::uint32_t n = 0;
     vkGetPhysicalDeviceQueueFamilyProperties(pd, &n, nullptr);
     std::vector<VkQueueFamilyProperties> families(n);
     vkGetPhysicalDeviceQueueFamilyProperties(pd, &n, families.data());
-    return std::min<std::uint32_t>(2, families[family].queueCount);
+    return families;
 }
 
+// A queue family that does both graphics and compute: the view and the compute
+// pipeline share one device and one queue, so no ownership transfers are needed.
 std::int64_t universal_queue_family(VkPhysicalDevice pd) {
-    std::uint32_t n = 0;
-    vkGetPhysicalDeviceQueueFamilyProperties(pd, &n, nullptr);
-    std::vector<VkQueueFamilyProperties> families(n);
-    vkGetPhysicalDeviceQueueFamilyProperties(pd, &n, families.data());
-    for (std::uint32_t i = 0; i < n; ++i) {
+    const auto families = queue_families(pd);
+    for (std::uint32_t i = 0; i < families.size(); ++i) {
         const auto want = VK_QUEUE_GRAPHICS_BIT | VK_QUEUE_COMPUTE_BIT;
         if ((families[i].queueFlags & want) == want) return i;
     }
     return -1;
+}
+
+// The queues to create in that family: two where it has them (the work's own), else one.
+std::uint32_t work_queues_for(VkPhysicalDevice pd, std::uint32_t family) {
+    return std::min<std::uint32_t>(2, queue_families(pd)[family].queueCount);
 }
 
 DeviceSummary summarize(VkPhysicalDevice pd, const std::vector<std::string>& extra_extensions) {
@@ -213,11 +215,8 @@ DeviceLimits query_limits(VkPhysicalDevice pd, std::uint32_t queue_family, bool 
     out.max_image_dimension_2d = l.maxImageDimension2D;
     out.timestamp_period_ns = l.timestampPeriod;
 
-    std::uint32_t n = 0;
-    vkGetPhysicalDeviceQueueFamilyProperties(pd, &n, nullptr);
-    std::vector<VkQueueFamilyProperties> families(n);
-    vkGetPhysicalDeviceQueueFamilyProperties(pd, &n, families.data());
-    out.timestamps = families[queue_family].timestampValidBits > 0 && l.timestampPeriod > 0.0f;
+    out.timestamps =
+        queue_families(pd)[queue_family].timestampValidBits > 0 && l.timestampPeriod > 0.0f;
 
     if (atomic_float_ext) {
         VkPhysicalDeviceShaderAtomicFloatFeaturesEXT af{
