@@ -24,6 +24,7 @@ void register_bench(CLI::App& app, const GlobalOptions& global, std::function<in
         bool same_rays = false;
         bool skips = false;
         bool candidates = false;
+        int batch = 16;
         int reps = 5;
         std::string out = "bench_out";
     };
@@ -43,6 +44,10 @@ void register_bench(CLI::App& app, const GlobalOptions& global, std::function<in
                   "Instead: what one candidate of a search costs (rayset kept, height field "
                   "rebuilt, trace, histogram, compare), at --rays (one count; default: the "
                   "scene's); writes candidates.csv");
+    cmd->add_option("--batch", a->batch,
+                    "With --candidates: also the cost per candidate when K are traced together "
+                    "(several per submission; 1: singles only)")
+        ->check(CLI::Range(1, 1024));
     cmd->add_option("--reps", a->reps, "Runs per measurement of --skips and --candidates")
         ->check(CLI::Range(1, 100));
     cmd->add_option("--out", a->out, "Directory for bench.csv, bench.md and bench.png");
@@ -69,7 +74,8 @@ void register_bench(CLI::App& app, const GlobalOptions& global, std::function<in
                                                    : std::vector<std::uint64_t>{0};
                 if (counts.size() != 1) throw UsageError("--candidates takes one --rays count");
                 const auto ctx = vk::Context::create(context_options(global));
-                const auto rows = run_candidate_bench(ctx, a->scenes, counts[0], a->reps);
+                const auto rows = run_candidate_bench(ctx, a->scenes, counts[0], a->reps,
+                                                      std::uint64_t(a->batch));
                 const std::string md = candidates_markdown(
                     rows, ctx.summary().name + " (" + ctx.summary().driver_info + ")");
                 std::printf("%s", md.c_str());

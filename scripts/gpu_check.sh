@@ -7,7 +7,7 @@
 #     (height map / intersection search / error calculation: 56/976/277, 34/2963/278,
 #     86/2406/263 ms on its 2010 GPU);
 #   - ray-bounces per second of the bounce loop (fird trace --profile);
-#   - the per-candidate time at 1e6 rays, and in batches of 16 where the Evaluator can batch;
+#   - the per-candidate time at 1e6 rays, alone and in batches of 16 (Evaluator::evaluate_batch);
 #   - the search time of fird optimize (auto) on Model A;
 #   - the workbench's frame time p50/p99 while a search runs (under xvfb-run, when there).
 #
@@ -79,8 +79,8 @@ declare -A rays=([A]=10000000 [B]=5000000 [C]=10000000)
 for m in A B C; do
   scene="$root/scenes/model_${m,,}.toml"
   n=$((rays[$m] / scale))
-  step "cand_$m" 900 "$fird" "${dev[@]}" bench --candidates --rays "$n" --reps 3 --out "$work/cand_$m" "$scene"
-  step "cand1e6_$m" 600 "$fird" "${dev[@]}" bench --candidates --rays $((1000000 / scale)) --reps 5 --out "$work/cand1e6_$m" "$scene"
+  step "cand_$m" 900 "$fird" "${dev[@]}" bench --candidates --rays "$n" --reps 3 --batch 1 --out "$work/cand_$m" "$scene"
+  step "cand1e6_$m" 600 "$fird" "${dev[@]}" bench --candidates --rays $((1000000 / scale)) --reps 5 --batch 16 --out "$work/cand1e6_$m" "$scene"
   step "profile_$m" 600 "$fird" "${dev[@]}" trace "$scene" --rays "$n" --json --profile
   cp "$work/profile_$m.out" "$work/profile_$m.json" 2>/dev/null
 done
@@ -152,7 +152,7 @@ for m in "ABC":
         f"{number(c, 'heightfield_ms')} | {number(c, 'trace_ms')} | {number(c, 'histogram_ms')} | "
         f"{number(c, 'compare_ms')} | {' / '.join(map(str, paper[m]))} | "
         f"{number(c, 'submissions', '{:.0f}')} | {bounces_per_s(m)} | "
-        f"{number(c1, 'candidate_ms', '{:.2f}')} | not yet (Evaluator::evaluate_batch) |")
+        f"{number(c1, 'candidate_ms', '{:.2f}')} | {number(c1, 'batch_candidate_ms', '{:.2f}')} |")
 try:
     t = open(os.path.join(work, "search_A.out")).read()
     s = json.JSONDecoder().raw_decode(t[t.index("{"):])[0]

@@ -79,14 +79,20 @@ struct CandidateRow {
     double candidate_ms = 0.0; // wall time of Evaluator::evaluate
     double heightfield_ms = 0.0, trace_ms = 0.0, histogram_ms = 0.0, compare_ms = 0.0;
     std::uint64_t submissions = 0; // host waits per candidate (median)
+    // The same candidates K at a time (Evaluator::evaluate_batch, each height field rebuilt):
+    // the batch's wall time over K, and its submissions (medians). K 1: not measured.
+    std::uint64_t batch = 1;
+    double batch_candidate_ms = 0.0;
+    std::uint64_t batch_submissions = 0;
 };
-// rays 0: each scene's own.
+// rays 0: each scene's own; batch: K of the batched measurement (1: none).
 std::vector<CandidateRow> run_candidate_bench(const vk::Context& ctx,
                                               const std::vector<std::string>& scenes,
-                                              std::uint64_t rays, int reps);
+                                              std::uint64_t rays, int reps, std::uint64_t batch);
 std::string candidates_markdown(const std::vector<CandidateRow>& rows, const std::string& device);
 // candidates.csv: scene, rays, reps, candidate_ms, heightfield_ms, trace_ms, histogram_ms,
-// compare_ms, submissions (written whole or not at all).
+// compare_ms, submissions, batch, batch_candidate_ms, batch_submissions (written whole or
+// not at all).
 void write_candidates_csv(const std::string& path, const std::vector<CandidateRow>& rows);
 
 } // namespace fird

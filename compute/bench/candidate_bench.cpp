@@ -16,7 +16,7 @@ namespace fird {
 
 std::vector<CandidateRow> run_candidate_bench(const vk::Context& ctx,
                                               const std::vector<std::string>& paths,
-                                              std::uint64_t rays, int reps) {
+                                              std::uint64_t rays, int reps, std::uint64_t batch) {
     std::vector<CandidateRow> rows;
     for (const std::string& path : paths) {
         Scene s = load_scene(path);
@@ -51,6 +51,30 @@ std::vector<CandidateRow> run_candidate_bench(const vk::Context& ctx,
         row.histogram_ms = median_ms(hist);
         row.compare_ms = median_ms(compare);
         row.submissions = std::uint64_t(median_ms(submissions));
+        if (batch > 1) {
+            // K candidates, the two reflectors alternating, each height field rebuilt (a
+            // batch's slot would otherwise keep its reflector from the batch before).
+            std::vector<ReflectorDesc> list;
+            for (std::uint64_t k = 0; k < batch; ++k)
+                list.push_back(k % 2 ? a : b);
+            skips.keep_heightfield = false;
+            ev.tracer().set_skips(skips);
+            (void)ev.evaluate_batch(list); // the batch's height fields and far fields made
+            std::vector<double> batch_wall, batch_submissions;
+            for (int k = 0; k < reps; ++k) {
+                const std::uint64_t submitted = ctx.submissions();
+                const auto t0 = std::chrono::steady_clock::now();
+                (void)ev.evaluate_batch(list);
+                batch_wall.push_back(
+                    std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
+                        .count() /
+                    double(batch));
+                batch_submissions.push_back(double(ctx.submissions() - submitted));
+            }
+            row.batch = batch;
+            row.batch_candidate_ms = median_ms(batch_wall);
+            row.batch_submissions = std::uint64_t(median_ms(batch_submissions));
+        }
         rows.push_back(row);
     }
     return rows;
@@ -59,23 +83,28 @@ std::vector<CandidateRow> run_candidate_bench(const vk::Context& ctx,
 std::string candidates_markdown(const std::vector<CandidateRow>& rows, const std::string& device) {
     std::string out = fmt::format(
         "Device: {}\n\n| scene | rays | candidate ms | height field ms | trace ms | histogram ms | "
-        "compare ms | submissions |\n|---|---|---|---|---|---|---|---|\n",
+        "compare ms | submissions | batch K | ms per candidate in batches of K | submissions "
+        "per batch |\n|---|---|---|---|---|---|---|---|---|---|---|\n",
         device);
     for (const CandidateRow& r : rows)
-        out += fmt::format("| {} | {:.0e} | {:.1f} | {:.1f} | {:.1f} | {:.1f} | {:.1f} | {} |\n",
-                           r.scene, double(r.rays), r.candidate_ms, r.heightfield_ms, r.trace_ms,
-                           r.histogram_ms, r.compare_ms, r.submissions);
+        out += fmt::format(
+            "| {} | {:.0e} | {:.1f} | {:.1f} | {:.1f} | {:.1f} | {:.1f} | {} | {} | {} | {} |\n",
+            r.scene, double(r.rays), r.candidate_ms, r.heightfield_ms, r.trace_ms, r.histogram_ms,
+            r.compare_ms, r.submissions, r.batch,
+            r.batch > 1 ? fmt::format("{:.1f}", r.batch_candidate_ms) : "–",
+            r.batch > 1 ? fmt::format("{}", r.batch_submissions) : "–");
     return out;
 }
 
 void write_candidates_csv(const std::string& path, const std::vector<CandidateRow>& rows) {
     std::ostringstream csv;
     csv << "scene,rays,reps,candidate_ms,heightfield_ms,trace_ms,histogram_ms,compare_ms,"
-           "submissions\n";
+           "submissions,batch,batch_candidate_ms,batch_submissions\n";
     for (const CandidateRow& r : rows)
-        csv << fmt::format("\"{}\",{},{},{:.3f},{:.3f},{:.3f},{:.3f},{:.3f},{}\n", r.scene, r.rays,
-                           r.reps, r.candidate_ms, r.heightfield_ms, r.trace_ms, r.histogram_ms,
-                           r.compare_ms, r.submissions);
+        csv << fmt::format("\"{}\",{},{},{:.3f},{:.3f},{:.3f},{:.3f},{:.3f},{},{},{:.3f},{}\n",
+                           r.scene, r.rays, r.reps, r.candidate_ms, r.heightfield_ms, r.trace_ms,
+                           r.histogram_ms, r.compare_ms, r.submissions, r.batch,
+                           r.batch_candidate_ms, r.batch_submissions);
     write_text_file(path, csv.str());
 }
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <functional>
 #include <stdexcept>
 #include <vector>
@@ -56,8 +57,8 @@ void Evaluator::set_desired(const FarField& desired) {
     desired_.upload(*ctx_, std::span<const float>(values));
     l2_scratch_ = vk::Buffer(*ctx_, ReducePass::scratch_bytes(values.size()), vk::kStorageUsage,
                              vk::MemoryUse::Device, "fird.evaluator.l2.scratch");
-    l2_sum_ = vk::Buffer(*ctx_, sizeof(float), vk::kStorageUsage, vk::MemoryUse::Readback,
-                         "fird.evaluator.l2.sum");
+    l2_sums_ = vk::Buffer(*ctx_, kL2SumStride, vk::kStorageUsage, vk::MemoryUse::Readback,
+                          "fird.evaluator.l2.sums");
     double sum = 0.0;
     for (float v : values)
         sum += double(v) * double(v);
@@ -65,23 +66,41 @@ void Evaluator::set_desired(const FarField& desired) {
 }
 
 CandidateResult Evaluator::evaluate(const ReflectorDesc& reflector) {
+    return std::move(evaluate_batch(std::span(&reflector, 1)).front());
+}
+
+std::vector<CandidateResult> Evaluator::evaluate_batch(std::span<const ReflectorDesc> reflectors) {
     const auto t0 = std::chrono::steady_clock::now();
-    CandidateResult r;
-    tracer_.set_reflector(reflector);
-    // The compare joins the trace's last submission (compare() is the same reduction as a
-    // submission of its own): its sum of squared differences is read back with the tally.
-    std::function<void(VkCommandBuffer)> record_compare;
-    if (has_desired())
-        record_compare = [&](VkCommandBuffer cb) {
-            reduce_.record(cb, tracer_.farfield_lm(), &desired_, cells(), l2_scratch_, l2_sum_);
+    // Candidate k's compare joins the trace's submission (compare() is the same reduction
+    // as a submission of its own): its sum of squared differences lands in slot k, read
+    // back with the tally.
+    FastTracer::BatchCompare record_compare;
+    if (has_desired()) {
+        if (l2_sums_.size() < reflectors.size() * kL2SumStride)
+            l2_sums_ = vk::Buffer(*ctx_, reflectors.size() * kL2SumStride, vk::kStorageUsage,
+                                  vk::MemoryUse::Readback, "fird.evaluator.l2.sums");
+        record_compare = [&](VkCommandBuffer cb, std::size_t k, const vk::Buffer& farfield) {
+            reduce_.record(cb, farfield, &desired_, cells(), l2_scratch_, l2_sums_,
+                           k * kL2SumStride);
         };
-    r.run = tracer_.run(record_compare);
+    }
+    std::vector<FastRun> runs = tracer_.run_batch(reflectors, record_compare);
     traced_ = true;
-    r.farfield_lm = double(r.run.tally.farfield) * r.run.energy_per_ray_lm;
-    if (has_desired())
-        r.l2_lm = std::sqrt(std::max(0.0, double(*static_cast<const float*>(l2_sum_.data()))));
-    r.wall_ms = ms_since(t0);
-    return r;
+    const double share_ms = ms_since(t0) / double(std::max<std::size_t>(reflectors.size(), 1));
+    std::vector<CandidateResult> results(runs.size());
+    for (std::size_t k = 0; k < runs.size(); ++k) {
+        CandidateResult& r = results[k];
+        r.run = std::move(runs[k]);
+        r.farfield_lm = double(r.run.tally.farfield) * r.run.energy_per_ray_lm;
+        if (has_desired()) {
+            const auto* sums = static_cast<const std::byte*>(l2_sums_.data());
+            float sum = 0.0f;
+            std::memcpy(&sum, sums + k * kL2SumStride, sizeof sum);
+            r.l2_lm = std::sqrt(std::max(0.0, double(sum)));
+        }
+        r.wall_ms = share_ms;
+    }
+    return results;
 }
 
 void Evaluator::set_seed(std::uint64_t seed) {

@@ -7,6 +7,8 @@
 
 #include <cstdint>
 #include <optional>
+#include <span>
+#include <vector>
 
 #include "farfield/farfield.hpp"
 #include "fastpath/fast_tracer.hpp"
@@ -54,6 +56,10 @@ class Evaluator {
     // rayset is kept) and, with a desired far field, reduces l2 on the device in the same
     // submission as the trace's last batch (one wait per evaluation).
     CandidateResult evaluate(const ReflectorDesc& reflector);
+    // Several candidates against the same rays, as few submissions as the device allows
+    // (FastTracer::run_batch): each result equals evaluate()'s for its reflector, count for
+    // count; wall_ms is its share of the batch's. The last one's far field is farfield().
+    std::vector<CandidateResult> evaluate_batch(std::span<const ReflectorDesc> reflectors);
     // Fresh rays from `seed` for the next evaluations (nothing else is rebuilt).
     void set_seed(std::uint64_t seed);
 
@@ -79,7 +85,10 @@ class Evaluator {
     FastTracer tracer_;
     ReducePass reduce_;
     vk::Buffer desired_;
-    vk::Buffer l2_scratch_, l2_sum_; // evaluate()'s reduction: its levels, and the sum read back
+    // evaluate()'s reduction: its levels, and the sums read back (one per candidate of a
+    // batch, kL2SumStride bytes apart: storage-buffer offsets are aligned).
+    vk::Buffer l2_scratch_, l2_sums_;
+    static constexpr VkDeviceSize kL2SumStride = 256;
     std::optional<double> desired_norm_lm_;
     bool traced_ = false;
 };

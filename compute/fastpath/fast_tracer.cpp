@@ -1,5 +1,6 @@
 #include "fast_tracer.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstring>
@@ -10,6 +11,7 @@
 #include "bounce_args_comp.h"
 #include "bucket_scan_comp.h"
 #include "counts_to_lm_comp.h"
+#include "fastpath/reflector_state.hpp"
 #include "fastpath/scene_params.hpp"
 #include "heightfield_comp.h"
 #include "maxmip_comp.h"
@@ -86,8 +88,8 @@ FastTracer::FastTracer(const vk::Context& ctx, const Scene& scene, std::uint64_t
       bounce_args_pipeline_(ctx, fird_spv_bounce_args_comp, {kSB, kSB}, sizeof(gpu::BounceArgsPush),
                             "fird.bounce_args"),
       // A pair per pass of one submission: height field, rayset, its ordering, each
-      // bounce's trace and ordering, histogram and compare.
-      timer_(ctx, 5 + 2 * (scene.trace.max_bounces + 1)) {
+      // bounce's trace and ordering, histogram and compare (for each candidate of a batch).
+      timer_(ctx, std::uint32_t(kMaxBatchCandidates) * (5 + 2 * (scene.trace.max_bounces + 1))) {
     if (scene.trace.max_bounces > FIRD_MAX_REFLECTIONS)
         throw std::invalid_argument(fmt::format(
             "max_bounces above {} is not supported on the fast path", FIRD_MAX_REFLECTIONS));
@@ -102,10 +104,11 @@ FastTracer::FastTracer(const vk::Context& ctx, const Scene& scene, std::uint64_t
     const std::uint64_t dispatch_rays =
         std::uint64_t(limits.max_workgroup_count[0]) *
         std::min(FIRD_TRACE_WORKGROUP_SIZE, FIRD_RAYSET_WORKGROUP_SIZE);
-    batch_capacity_ =
-        std::min<std::uint64_t>({scene.trace.rays, limits.max_storage_buffer_range / kRayBytes,
-                                 1ull << 23, dispatch_rays, max_batch_rays ? max_batch_rays : ~0ull,
+    submission_rays_ =
+        std::min<std::uint64_t>({limits.max_storage_buffer_range / kRayBytes, 1ull << 23,
+                                 dispatch_rays, max_batch_rays ? max_batch_rays : ~0ull,
                                  ctx.max_batch_rays() ? ctx.max_batch_rays() : ~0ull});
+    batch_capacity_ = std::min(scene.trace.rays, submission_rays_);
     const std::uint64_t cells_max =
         std::uint64_t(limits.max_workgroup_count[0]) * FIRD_REDUCE_WORKGROUP_SIZE;
     if (std::uint64_t(params_.ff_w) * params_.ff_h > cells_max)
@@ -114,11 +117,10 @@ FastTracer::FastTracer(const vk::Context& ctx, const Scene& scene, std::uint64_t
                         params_.ff_w, params_.ff_h, cells_max));
     const std::uint64_t ray_bytes = batch_capacity_ * kRayBytes;
     const auto storage = vk::kStorageUsage;
-    params_buffer_ =
-        vk::Buffer(ctx, sizeof(gpu::SceneParams), storage, vk::MemoryUse::Upload, "fird.params");
     counters_ = vk::Buffer(ctx, kCountersBytes, storage, vk::MemoryUse::Device, "fird.counters");
-    counters_readback_ =
-        vk::Buffer(ctx, kCountersBytes, storage, vk::MemoryUse::Readback, "fird.counters.read");
+    // A slot per candidate of a batch (run_batch): each copies its counters out.
+    counters_readback_ = vk::Buffer(ctx, kCountersBytes * kMaxBatchCandidates, storage,
+                                    vk::MemoryUse::Readback, "fird.counters.read");
     // The rayset is kept between runs (§5) when it fits the cache budget; otherwise
     // each batch is generated again into a ping-pong buffer (constant memory).
     const std::uint64_t batches = (scene.trace.rays + batch_capacity_ - 1) / batch_capacity_;
@@ -131,14 +133,12 @@ FastTracer::FastTracer(const vk::Context& ctx, const Scene& scene, std::uint64_t
     texel_hits_ = vk::Buffer(ctx, 16, storage, vk::MemoryUse::Device, "fird.texel_hits.unused");
     walk_ = vk::Buffer(ctx, 16, storage, vk::MemoryUse::Device, "fird.walk.unused");
     profile_ = vk::Buffer(ctx, 16, storage, vk::MemoryUse::Device, "fird.profile.unused");
-    walk_start_ = vk::Buffer(ctx, 4, storage, vk::MemoryUse::Device, "fird.walk_start");
     const QuadtreeLayout q = quadtree_layout(params_.hf_w, params_.hf_h);
     if (q.total_floats > limits.max_texel_buffer_elements)
         throw std::invalid_argument(fmt::format(
             "heightfield {} x {}: its quadtree ({} nodes) exceeds this device's texel buffer "
             "limit ({})",
             params_.hf_w, params_.hf_h, q.total_floats, limits.max_texel_buffer_elements));
-    // Also vertex buffers: the viewport draws the height field straight from them.
     // The height-field passes write the quadtree and the gradients as storage buffers:
     // each must fit one binding (lavapipe: 128 MiB, i.e. 4096 x 4096 texels of gradients).
     const std::uint64_t binding_bytes =
@@ -149,50 +149,28 @@ FastTracer::FastTracer(const vk::Context& ctx, const Scene& scene, std::uint64_t
             "({} MB); use a smaller height field",
             params_.hf_w, params_.hf_h, binding_bytes >> 20,
             limits.max_storage_buffer_range >> 20));
-    const auto tree_usage =
-        storage | VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT | VK_BUFFER_USAGE_VERTEX_BUFFER_BIT;
-    paper_tree_ = vk::Buffer(ctx, q.total_floats * 4, tree_usage, vk::MemoryUse::Device,
-                             "fird.quadtree.paper");
-    refined_tree_ = vk::Buffer(ctx, q.total_floats * 4, tree_usage, vk::MemoryUse::Device,
-                               "fird.quadtree.refined");
-    paper_view_ = vk::TexelView(ctx, paper_tree_, VK_FORMAT_R32_SFLOAT, "fird.quadtree.paper.view");
-    refined_view_ =
-        vk::TexelView(ctx, refined_tree_, VK_FORMAT_R32_SFLOAT, "fird.quadtree.refined.view");
-    gradients_ = vk::Buffer(ctx, std::uint64_t(params_.hf_w) * params_.hf_h * 8, tree_usage,
-                            vk::MemoryUse::Device, "fird.normals");
-    gradients_view_ = vk::TexelView(ctx, gradients_, VK_FORMAT_R32G32_SFLOAT, "fird.normals.view");
-    corners_ = vk::Buffer(ctx, std::uint64_t(params_.hf_w + 1) * (params_.hf_h + 1) * 4, tree_usage,
-                          vk::MemoryUse::Device, "fird.heights.corners");
-    corners_view_ = vk::TexelView(ctx, corners_, VK_FORMAT_R32_SFLOAT, "fird.heights.corners.view");
-    control_ = vk::Buffer(ctx, 4, storage, vk::MemoryUse::Device, "fird.bspline.control");
+    current_ = make_reflector_state(ctx, params_, "fird");
     order_buckets_ = vk::Buffer(ctx, gpu::kRaysetOrderBuckets * 4, storage, vk::MemoryUse::Device,
                                 "fird.rayset.order_buckets");
-    const std::uint64_t cells = std::uint64_t(params_.ff_w) * params_.ff_h;
-    farfield_counts_ =
-        vk::Buffer(ctx, cells * 4, storage, vk::MemoryUse::Device, "fird.farfield.counts");
-    farfield_lm_ = vk::Buffer(ctx, cells * 4, storage, vk::MemoryUse::Device, "fird.farfield.lm");
     loop_ = vk::Buffer(ctx, gpu::kLoopWords * 4, storage | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT,
                        vk::MemoryUse::Device, "fird.bounce_loop");
-    loop_readback_ = vk::Buffer(ctx, gpu::kLoopWords * 4, storage, vk::MemoryUse::Readback,
-                                "fird.bounce_loop.read");
+    loop_readback_ = vk::Buffer(ctx, gpu::kLoopWords * 4 * kMaxBatchCandidates, storage,
+                                vk::MemoryUse::Readback, "fird.bounce_loop.read");
 }
 
-void FastTracer::upload_params() {
-    params_buffer_.upload(*ctx_, std::as_bytes(std::span(&params_, 1)));
+ReflectorState& FastTracer::state() {
+    return recording_ == 0 ? current_ : batch_states_[recording_ - 1];
+}
+const ReflectorState& FastTracer::state() const {
+    return recording_ == 0 ? current_ : batch_states_[recording_ - 1];
 }
 
 void FastTracer::set_reflector(const ReflectorDesc& reflector) {
-    if (reflector_ && *reflector_ == reflector) return; // height field is current
+    if (current_.reflector && *current_.reflector == reflector) return; // height field current
     if (gpu_family(reflector.family) != spec_[FIRD_SPEC_FAMILY])
         throw std::invalid_argument("the fast path's pipelines were built for another family");
-    const std::vector<float> control = set_reflector_params(params_, reflector, origin_);
-    if (!control.empty()) {
-        control_ = vk::Buffer(*ctx_, control.size() * 4, vk::kStorageUsage, vk::MemoryUse::Device,
-                              "fird.bspline.control");
-        control_.upload(*ctx_, std::span<const float>(control));
-    }
     if (reflector.family == Family::Mesh &&
-        (!mesh_ || !reflector_ || reflector_->mesh != reflector.mesh)) {
+        (!mesh_ || !current_.reflector || current_.reflector->mesh != reflector.mesh)) {
         // The corner heights are rasterized one texel larger than the height field.
         const std::uint32_t image_max = ctx_->limits().max_image_dimension_2d;
         if (std::max(params_.hf_w, params_.hf_h) + 1 > image_max)
@@ -203,9 +181,7 @@ void FastTracer::set_reflector(const ReflectorDesc& reflector) {
         mesh_ = load_mesh(reflector.mesh.resolved_path, reflector.mesh.unit_mm);
         if (!mesh_rasterizer_) mesh_rasterizer_.emplace(*ctx_);
     }
-    upload_params();
-    reflector_ = reflector;
-    heightfield_dirty_ = true;
+    (void)set_state_reflector(*ctx_, current_, params_, reflector, origin_);
 }
 
 void FastTracer::set_rayset_kept(bool kept) {
@@ -214,10 +190,18 @@ void FastTracer::set_rayset_kept(bool kept) {
 }
 
 void FastTracer::set_seed(std::uint64_t seed) {
-    gpu::SceneParams p = scene_params(scene_, seed);
-    if (reflector_) (void)set_reflector_params(p, *reflector_, origin_); // controls unchanged
-    params_ = p;
-    upload_params();
+    params_ = scene_params(scene_, seed);
+    // Every reflector state holds the seed in its parameters: uploaded again, the
+    // reflectors (and their height fields) unchanged.
+    const auto reseed = [&](ReflectorState& s) {
+        s.params = params_;
+        if (s.reflector)
+            (void)set_reflector_params(s.params, *s.reflector, origin_); // same controls
+        s.params_buffer.upload(*ctx_, std::as_bytes(std::span(&s.params, 1)));
+    };
+    reseed(current_);
+    for (ReflectorState& s : batch_states_)
+        reseed(s);
     rayset_chunks_.clear(); // the next run generates (and keeps) the new seed's rays
 }
 
@@ -247,11 +231,11 @@ void FastTracer::timed(VkCommandBuffer cb, double* stage_ms, double* bounce_ms,
 }
 
 double FastTracer::rasterize_mesh() {
-    if (!heightfield_dirty_ || !mesh_) return 0.0;
+    if (!state().heightfield_dirty || !mesh_) return 0.0;
     // The paper's z-buffer step for meshes (its own submissions: a render pass).
     const auto t0 = std::chrono::steady_clock::now();
     mesh_rasterizer_->rasterize(*mesh_, origin_, scene_.holder, params_.hf_w, params_.hf_h,
-                                paper_tree_, gradients_);
+                                state().paper_tree, state().gradients);
     // The texel corners are the centres of a grid one texel larger, half a texel out.
     const double half_x = (scene_.holder.max_mm.x - scene_.holder.min_mm.x) / params_.hf_w / 2;
     const double half_y = (scene_.holder.max_mm.y - scene_.holder.min_mm.y) / params_.hf_h / 2;
@@ -261,7 +245,7 @@ double FastTracer::rasterize_mesh() {
         *ctx_, std::uint64_t(params_.hf_w + 1) * (params_.hf_h + 1) * 8, vk::kStorageUsage,
         vk::MemoryUse::Device, "fird.mesh_raster.corner_gradients");
     mesh_rasterizer_->rasterize(*mesh_, origin_, around, params_.hf_w + 1, params_.hf_h + 1,
-                                corners_, corner_gradients);
+                                state().corners, corner_gradients);
     return ms_since(t0);
 }
 
@@ -269,42 +253,45 @@ void FastTracer::record_heightfield(VkCommandBuffer cb, FastRun& run) {
     timed(cb, &run.timings.heightfield_ms, nullptr, [&] {
         constexpr std::uint32_t g = FIRD_HEIGHTFIELD_WORKGROUP_SIZE;
         if (!mesh_) {
-            const vk::Binding hf[] = {vk::storage(params_buffer_), vk::storage(paper_tree_),
-                                      vk::storage(gradients_), vk::storage(control_),
-                                      vk::storage(corners_)};
+            const vk::Binding hf[] = {vk::storage(state().params_buffer),
+                                      vk::storage(state().paper_tree),
+                                      vk::storage(state().gradients), vk::storage(state().control),
+                                      vk::storage(state().corners)};
             heightfield_pipeline_.dispatch(cb, hf, nullptr, groups(params_.hf_w + 1, g),
                                            groups(params_.hf_h + 1, g));
             vk::barrier_all(cb);
         }
-        const vk::Binding mm[] = {vk::storage(params_buffer_), vk::storage(paper_tree_),
-                                  vk::storage(refined_tree_), vk::storage(corners_)};
+        const vk::Binding mm[] = {vk::storage(state().params_buffer),
+                                  vk::storage(state().paper_tree),
+                                  vk::storage(state().refined_tree), vk::storage(state().corners)};
         for (std::uint32_t level = 0; level < params_.levels; ++level) {
             const gpu::MaxMipPush push{.level = level};
             maxmip_pipeline_.dispatch(cb, mm, &push, groups(params_.level_w[level], g),
                                       groups(params_.level_h[level], g));
             vk::barrier_all(cb);
         }
-        const vk::Binding ws[] = {
-            vk::storage(params_buffer_),
-            vk::storage(params_.hit_mode == gpu::kHitModePaper ? paper_tree_ : refined_tree_),
-            vk::storage(walk_start_)};
+        const vk::Binding ws[] = {vk::storage(state().params_buffer),
+                                  vk::storage(params_.hit_mode == gpu::kHitModePaper
+                                                  ? state().paper_tree
+                                                  : state().refined_tree),
+                                  vk::storage(state().walk_start)};
         walk_start_pipeline_.dispatch(cb, ws, nullptr, 1);
     });
     vk::barrier_all(cb);
 }
 
 void FastTracer::build_heightfield(FastRun& run) {
-    if (!heightfield_dirty_) {
+    if (!state().heightfield_dirty) {
         run.heightfield_reused = true;
         return;
     }
     run.timings.heightfield_ms += rasterize_mesh();
     submit(&run.timings.heightfield_ms, [&](VkCommandBuffer cb) { record_heightfield(cb, run); });
-    heightfield_dirty_ = false;
+    state().heightfield_dirty = false;
 }
 
 void FastTracer::record_run_start(VkCommandBuffer cb, bool clear_diagnostics) {
-    vkCmdFillBuffer(cb, farfield_counts_.get(), 0, VK_WHOLE_SIZE, 0);
+    vkCmdFillBuffer(cb, state().farfield_counts.get(), 0, VK_WHOLE_SIZE, 0);
     if (clear_diagnostics && count_texel_hits_)
         vkCmdFillBuffer(cb, texel_hits_.get(), 0, VK_WHOLE_SIZE, 0);
     if (clear_diagnostics && trace_profile_pipeline_)
@@ -331,7 +318,7 @@ void FastTracer::record_rayset(VkCommandBuffer cb, std::uint64_t first, std::uin
         vk::barrier_all(cb);
     }
     timed(cb, &run.timings.rayset_ms, nullptr, [&] {
-        const vk::Binding b[] = {vk::storage(params_buffer_), vk::storage(rays),
+        const vk::Binding b[] = {vk::storage(state().params_buffer), vk::storage(rays),
                                  vk::storage(counters_), vk::storage(order_buckets_)};
         const gpu::RaysetPush push{.first_lo = std::uint32_t(first),
                                    .first_hi = std::uint32_t(first >> 32),
@@ -357,7 +344,7 @@ void FastTracer::record_order(VkCommandBuffer cb, const vk::Buffer& from, const 
     const vk::Binding scan[] = {vk::storage(order_buckets_)};
     bucket_scan_pipeline_.dispatch_indirect(cb, scan, nullptr, loop_, gpu::kLoopScanArgs * 4);
     vk::barrier_all(cb);
-    const vk::Binding b[] = {vk::storage(params_buffer_), vk::storage(from), vk::storage(to),
+    const vk::Binding b[] = {vk::storage(state().params_buffer), vk::storage(from), vk::storage(to),
                              vk::storage(order_buckets_), vk::storage(loop_)};
     const gpu::RaysetOrderPush push{.reflected = reflected ? 1u : 0u};
     order_pipeline_.dispatch_indirect(cb, b, &push, loop_, gpu::kLoopOrderArgs * 4);
@@ -377,21 +364,23 @@ void FastTracer::dispatch_trace(VkCommandBuffer cb, const vk::Buffer& in, const 
                                 const gpu::TracePush& push, bool record_walk,
                                 std::optional<std::uint32_t> groups) {
     const vk::Binding b[] = {
-        vk::storage(params_buffer_),
+        vk::storage(state().params_buffer),
         vk::storage(in),
         vk::storage(out),
         vk::storage(counters),
-        vk::texel(params_.hit_mode == gpu::kHitModePaper ? paper_view_ : refined_view_),
-        vk::texel(params_.hit_mode == gpu::kHitModePaper ? paper_view_ : corners_view_),
-        vk::texel(gradients_view_),
+        vk::texel(params_.hit_mode == gpu::kHitModePaper ? state().paper_view
+                                                         : state().refined_view),
+        vk::texel(params_.hit_mode == gpu::kHitModePaper ? state().paper_view
+                                                         : state().corners_view),
+        vk::texel(state().gradients_view),
         vk::storage(farfield),
         vk::storage(hits_),
         vk::storage(order_buckets_),
         vk::storage(texel_hits_),
         vk::storage(walk_),
         vk::storage(profile_),
-        vk::storage(walk_start_),
-        vk::storage(control_),
+        vk::storage(state().walk_start),
+        vk::storage(state().control),
         vk::storage(loop_)};
     // The variant that does what the push constants ask and no more (the walk-recording
     // one also records hits; profile counts come from plain runs only).
@@ -438,7 +427,8 @@ void FastTracer::record_bounces(VkCommandBuffer cb, const vk::Buffer& rays, Fast
                                       .count_texel_hits = count_texel_hits_ ? 1u : 0u,
                                       .walk_to_box_top = skips_.end_walk_at_reflector_top ? 0u : 1u,
                                       .walk_from_root = skips_.start_walk_below_source ? 0u : 1u};
-            dispatch_trace(cb, *in, *out, counters_, farfield_counts_, push, false, std::nullopt);
+            dispatch_trace(cb, *in, *out, counters_, state().farfield_counts, push, false,
+                           std::nullopt);
             vk::barrier_all(cb);
         });
         if (!order) break;
@@ -459,28 +449,30 @@ void FastTracer::record_bounces(VkCommandBuffer cb, const vk::Buffer& rays, Fast
 void FastTracer::record_to_lm(VkCommandBuffer cb, FastRun& run) {
     const std::uint32_t cells = farfield_cells();
     timed(cb, &run.timings.histogram_ms, nullptr, [&] {
-        const vk::Binding b[] = {vk::storage(farfield_counts_), vk::storage(farfield_lm_)};
+        const vk::Binding b[] = {vk::storage(state().farfield_counts),
+                                 vk::storage(state().farfield_lm)};
         const ToLmPush push{cells, float(run.energy_per_ray_lm)};
         to_lm_pipeline_.dispatch(cb, b, &push, groups(cells, FIRD_REDUCE_WORKGROUP_SIZE));
     });
     vk::barrier_all(cb);
 }
 
-void FastTracer::record_batch_end(VkCommandBuffer cb) {
-    const VkBufferCopy loop{.size = gpu::kLoopWords * 4};
+void FastTracer::record_batch_end(VkCommandBuffer cb, std::size_t slot) {
+    const VkBufferCopy loop{.dstOffset = slot * gpu::kLoopWords * 4, .size = gpu::kLoopWords * 4};
     vkCmdCopyBuffer(cb, loop_.get(), loop_readback_.get(), 1, &loop);
-    const VkBufferCopy counters{.size = kCountersBytes};
+    const VkBufferCopy counters{.dstOffset = slot * kCountersBytes, .size = kCountersBytes};
     vkCmdCopyBuffer(cb, counters_.get(), counters_readback_.get(), 1, &counters);
     vk::barrier_to_host(cb);
 }
 
-void FastTracer::tally_batch(FastRun& run) const {
+void FastTracer::tally_batch(FastRun& run, std::size_t slot) const {
     // Tally this batch's counters (32-bit on the device, summed over the copies in 64 bits).
-    const auto* counters = static_cast<const std::uint32_t*>(counters_readback_.data());
-    const auto total = [&](std::uint32_t slot) {
+    const auto* counters = static_cast<const std::uint32_t*>(counters_readback_.data()) +
+                           slot * gpu::kTallyCopies * gpu::kCounterCount;
+    const auto total = [&](std::uint32_t counter) {
         std::uint64_t sum = 0;
         for (std::uint32_t c = 0; c < gpu::kTallyCopies; ++c)
-            sum += counters[c * gpu::kCounterCount + slot];
+            sum += counters[c * gpu::kCounterCount + counter];
         return sum;
     };
     RayTally& t = run.tally;
@@ -492,7 +484,8 @@ void FastTracer::tally_batch(FastRun& run) const {
     run.aborted += total(gpu::kCounterAborted);
     for (std::uint32_t r = 0; r <= params_.max_bounces; ++r)
         t.by_reflections[r] += total(gpu::kCounterByReflections + r);
-    const auto* loop = static_cast<const std::uint32_t*>(loop_readback_.data());
+    const auto* loop =
+        static_cast<const std::uint32_t*>(loop_readback_.data()) + slot * gpu::kLoopWords;
     for (std::size_t b = 0; b < run.bounces.size(); ++b)
         run.bounces[b].rays += loop[gpu::kLoopBounceRays + b];
 }
@@ -512,28 +505,33 @@ void FastTracer::finish(FastRun& run) const {
                         t.discarded + t.direct + t.farfield + t.lost));
 }
 
-FastRun FastTracer::run(const std::function<void(VkCommandBuffer)>& then) {
-    if (!reflector_) throw std::logic_error("FastTracer::run: no reflector set");
-    const auto t0 = std::chrono::steady_clock::now();
+FastRun FastTracer::new_run(std::uint64_t emitted) const {
     FastRun run;
-    run.tally.emitted = scene_.trace.rays;
+    run.tally.emitted = emitted;
     run.tally.by_reflections.assign(params_.max_bounces + 1, 0);
     run.bounces.assign(passes(), {});
-    run.energy_per_ray_lm = scene_.source.flux_lm / double(scene_.trace.rays);
+    run.energy_per_ray_lm = scene_.source.flux_lm / double(std::max<std::uint64_t>(emitted, 1));
+    return run;
+}
+
+FastRun FastTracer::run(const std::function<void(VkCommandBuffer)>& then) {
+    if (!current_.reflector) throw std::logic_error("FastTracer::run: no reflector set");
+    const auto t0 = std::chrono::steady_clock::now();
+    FastRun run = new_run(scene_.trace.rays);
     if (!skips_.keep_rayset) rayset_chunks_.clear();
-    if (!skips_.keep_heightfield) heightfield_dirty_ = true;
-    run.heightfield_reused = !heightfield_dirty_;
+    if (!skips_.keep_heightfield) state().heightfield_dirty = true;
+    run.heightfield_reused = !state().heightfield_dirty;
     run.timings.heightfield_ms += rasterize_mesh();
     bool first_submission = true;
     // The height field (when it changed) and the clears go into the first submission.
     const auto record_start = [&](VkCommandBuffer cb) {
         if (!first_submission) return;
-        if (heightfield_dirty_) record_heightfield(cb, run);
+        if (state().heightfield_dirty) record_heightfield(cb, run);
         record_run_start(cb, true);
     };
     const auto submitted = [&] {
         first_submission = false;
-        heightfield_dirty_ = false;
+        state().heightfield_dirty = false;
     };
     const std::uint64_t batches = (scene_.trace.rays + batch_capacity_ - 1) / batch_capacity_;
     for (std::size_t batch = 0; batch < batches; ++batch) {
@@ -608,16 +606,114 @@ FastRun FastTracer::run(const std::function<void(VkCommandBuffer)>& then) {
     return run;
 }
 
+std::vector<FastRun> FastTracer::run_batch(std::span<const ReflectorDesc> reflectors,
+                                           const BatchCompare& then) {
+    std::vector<FastRun> runs;
+    runs.reserve(reflectors.size());
+    // One at a time: run() with the candidate's compare.
+    const auto single = [&](std::size_t k) {
+        set_reflector(reflectors[k]);
+        std::function<void(VkCommandBuffer)> compare;
+        if (then) compare = [&](VkCommandBuffer cb) { then(cb, k, current_.farfield_lm); };
+        runs.push_back(run(compare));
+    };
+    // One submission holds every candidate's passes when the rays are one kept batch that
+    // each candidate reads (and nothing accumulates over candidates: diagnostics, profile).
+    const bool one_batch_of_rays = scene_.trace.rays <= batch_capacity_;
+    const bool batchable = one_batch_of_rays && cache_rayset_ && skips_.keep_rayset && !mesh_ &&
+                           !count_texel_hits_ && !trace_profile_pipeline_;
+    std::size_t k = 0;
+    if (!batchable || rayset_chunks_.empty()) {
+        // The first run generates the rayset that the others reuse.
+        for (; k < reflectors.size() && (!batchable || rayset_chunks_.empty()); ++k)
+            single(k);
+    }
+    // No more ray-candidates in one submission than one batch of rays may hold: a
+    // submission as long as one batch's (a driver's timeout, a window's frame or an
+    // interruption waits for no more).
+    const std::size_t per_submission = std::size_t(std::clamp<std::uint64_t>(
+        submission_rays_ / std::max<std::uint64_t>(scene_.trace.rays, 1), 1, kMaxBatchCandidates));
+    while (k < reflectors.size()) {
+        std::size_t m = std::min(per_submission, reflectors.size() - k);
+        // Height fields for the others as memory allows (the budget, or the device's).
+        while (batch_states_.size() < m - 1) {
+            try {
+                batch_states_.push_back(make_reflector_state(
+                    *ctx_, params_, fmt::format("fird.candidate{}", batch_states_.size() + 1)));
+            } catch (const vk::VulkanError& e) {
+                if (e.result() != VK_ERROR_OUT_OF_DEVICE_MEMORY &&
+                    e.result() != VK_ERROR_OUT_OF_HOST_MEMORY)
+                    throw;
+                m = batch_states_.size() + 1;
+            }
+        }
+        if (m == 1) {
+            single(k++);
+            continue;
+        }
+        for (std::size_t j = 0; j + 1 < m; ++j)
+            (void)set_state_reflector(*ctx_, batch_states_[j], params_, reflectors[k + j], origin_);
+        set_reflector(reflectors[k + m - 1]);
+        for (std::size_t j = 0; j < m; ++j)
+            runs.push_back(new_run(scene_.trace.rays));
+        run_batch_submission(std::span(runs).subspan(k, m), then, k);
+        k += m;
+    }
+    return runs;
+}
+
+void FastTracer::run_batch_submission(std::span<FastRun> runs, const BatchCompare& then,
+                                      std::size_t first) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const std::size_t m = runs.size();
+    // Candidate j's state: batch_states_[j], the last one current_.
+    const auto slot = [&](std::size_t j) { return j + 1 < m ? j + 1 : std::size_t(0); };
+    for (std::size_t j = 0; j < m; ++j) {
+        recording_ = slot(j);
+        if (!skips_.keep_heightfield) state().heightfield_dirty = true;
+        runs[j].heightfield_reused = !state().heightfield_dirty;
+        runs[j].rayset_reused = true;
+    }
+    struct Restore {
+        std::size_t& recording;
+        ~Restore() { recording = 0; }
+    } restore{recording_};
+    double untimed_ms = 0.0;
+    const RaysetChunk& rays = rayset_chunks_.front();
+    submit(&untimed_ms, [&](VkCommandBuffer cb) {
+        for (std::size_t j = 0; j < m; ++j) {
+            recording_ = slot(j);
+            FastRun& run = runs[j];
+            if (state().heightfield_dirty) record_heightfield(cb, run);
+            record_run_start(cb, false);
+            record_batch_start(cb, rays.effective, scene_.trace.rays);
+            record_bounces(cb, rays.rays, run, false);
+            record_to_lm(cb, run);
+            if (then) {
+                timed(cb, &run.timings.compare_ms, nullptr,
+                      [&] { then(cb, first + j, state().farfield_lm); });
+                vk::barrier_all(cb);
+            }
+            record_batch_end(cb, j);
+        }
+    });
+    const double share_ms = ms_since(t0) / double(m);
+    for (std::size_t j = 0; j < m; ++j) {
+        recording_ = slot(j);
+        state().heightfield_dirty = false;
+        tally_batch(runs[j], j);
+        finish(runs[j]);
+        runs[j].timings.trace_ms += untimed_ms / double(m);
+        runs[j].timings.total_ms = share_ms; // its share of the submission's wall time
+    }
+}
+
 FastRun FastTracer::run_rays(const std::vector<Ray>& rays, std::vector<glm::dvec4>* hits) {
-    if (!reflector_) throw std::logic_error("FastTracer::run_rays: no reflector set");
+    if (!current_.reflector) throw std::logic_error("FastTracer::run_rays: no reflector set");
     if (rays.size() > batch_capacity_)
         throw std::invalid_argument("run_rays: more rays than one batch holds");
-    FastRun run;
-    run.tally.emitted = rays.size();
-    run.tally.by_reflections.assign(params_.max_bounces + 1, 0);
-    run.bounces.assign(passes(), {});
-    run.energy_per_ray_lm = scene_.source.flux_lm / double(std::max<std::size_t>(rays.size(), 1));
-    run.heightfield_reused = !heightfield_dirty_;
+    FastRun run = new_run(rays.size());
+    run.heightfield_reused = !state().heightfield_dirty;
     run.timings.heightfield_ms += rasterize_mesh();
     // Upload all rays (the caller chose them; none are discarded here), in the frame.
     std::vector<float> packed(rays.size() * 8, 0.0f);
@@ -633,14 +729,14 @@ FastRun FastTracer::run_rays(const std::vector<Ray>& rays, std::vector<glm::dvec
         hits_ = vk::Buffer(*ctx_, std::max<std::size_t>(rays.size(), 1) * 32, vk::kStorageUsage,
                            vk::MemoryUse::Readback, "fird.hits");
     submit(&run.timings.trace_ms, [&](VkCommandBuffer cb) {
-        if (heightfield_dirty_) record_heightfield(cb, run);
+        if (state().heightfield_dirty) record_heightfield(cb, run);
         record_run_start(cb, false);
         record_batch_start(cb, rays.size(), rays.size());
         record_bounces(cb, uploaded, run, hits != nullptr);
         record_to_lm(cb, run);
         record_batch_end(cb);
     });
-    heightfield_dirty_ = false;
+    state().heightfield_dirty = false;
     tally_batch(run);
     finish(run);
     if (hits) {
@@ -707,7 +803,7 @@ std::vector<float> FastTracer::read_quadtree() {
     FastRun unused;
     build_heightfield(unused);
     const QuadtreeLayout q = quadtree_layout(params_.hf_w, params_.hf_h);
-    std::vector<float> tree = paper_tree_.download_as<float>(*ctx_, q.total_floats);
+    std::vector<float> tree = state().paper_tree.download_as<float>(*ctx_, q.total_floats);
     for (float& h : tree)
         h = float(double(h) + origin_.z); // out of the frame
     return tree;
@@ -716,12 +812,13 @@ std::vector<float> FastTracer::read_quadtree() {
 std::vector<glm::vec2> FastTracer::read_gradients() {
     FastRun unused;
     build_heightfield(unused);
-    return gradients_.download_as<glm::vec2>(*ctx_, std::size_t(params_.hf_w) * params_.hf_h);
+    return state().gradients.download_as<glm::vec2>(*ctx_,
+                                                    std::size_t(params_.hf_w) * params_.hf_h);
 }
 
 std::vector<RayPath> FastTracer::trace_paths(const std::vector<Ray>& rays, std::size_t pick,
                                              std::vector<WalkStep>* walk) {
-    if (!reflector_) throw std::logic_error("FastTracer::trace_paths: no reflector set");
+    if (!current_.reflector) throw std::logic_error("FastTracer::trace_paths: no reflector set");
     if (rays.size() > batch_capacity_)
         throw std::invalid_argument("trace_paths: more rays than one batch holds");
     FastRun unused;
@@ -863,7 +960,7 @@ std::vector<Ray> FastTracer::rayset() const {
 }
 
 std::vector<double> FastTracer::read_farfield() const {
-    const auto f = farfield_lm_.download_as<float>(*ctx_, farfield_cells());
+    const auto f = state().farfield_lm.download_as<float>(*ctx_, farfield_cells());
     return {f.begin(), f.end()};
 }
 

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <functional>
 #include <optional>
+#include <span>
 #include <vector>
 
 #include <glm/vec2.hpp>
@@ -13,6 +14,7 @@
 #include <glm/vec4.hpp>
 
 #include "fastpath/mesh_raster.hpp"
+#include "fastpath/reflector_state.hpp"
 #include "fastpath/walk_step.hpp"
 #include "fird_shared.h"
 #include "model/evaluation_result.hpp"
@@ -92,6 +94,23 @@ class FastTracer {
     // Evaluator's compare); its device time is timings.compare_ms.
     FastRun run(const std::function<void(VkCommandBuffer)>& then = {});
 
+    // The most candidates run_batch records into one submission.
+    static constexpr std::size_t kMaxBatchCandidates = 16;
+    // Records `then` for candidate k of a batch, on its far field (farfield_lm).
+    using BatchCompare =
+        std::function<void(VkCommandBuffer, std::size_t k, const vk::Buffer& farfield_lm)>;
+    // Traces several reflectors against the same rays, each into its own height field and
+    // far field, in as few submissions as memory, kMaxBatchCandidates and one batch's rays
+    // (candidates x rays per submission) allow: where the kept rayset is one batch, the
+    // height fields, bounces, histograms and compares of the candidates are recorded one
+    // after another into one command buffer. Each result equals what run() gives
+    // for its reflector, count for count. Afterwards the last reflector is the current
+    // one (its far field in farfield_lm()). Where one submission cannot hold the work
+    // (rays in several batches, a mesh reflector, diagnostics or profiling on), the
+    // candidates run one at a time.
+    std::vector<FastRun> run_batch(std::span<const ReflectorDesc> reflectors,
+                                   const BatchCompare& then = {});
+
     // Traces given rays (one batch) instead of the source's; hits receives, per input
     // ray, its first hit point (in the scene, out of the device's frame) and t (t < 0: no
     // hit). For comparisons with the reference.
@@ -122,12 +141,12 @@ class FastTracer {
     // (it fits the cache budget); for tests and views of the rays.
     std::vector<Ray> rayset() const;
 
-    const vk::Buffer& farfield_lm() const { return farfield_lm_; }
+    const vk::Buffer& farfield_lm() const { return current_.farfield_lm; }
     // The device height field as the viewport draws it (no readback): the paper quadtree,
     // whose first W x H floats are the texel heights less frame_origin().z, and the
     // gradients (vec2 per texel). Current after a run (or a read_quadtree()).
-    const vk::Buffer& heights_buffer() const { return paper_tree_; }
-    const vk::Buffer& gradients_buffer() const { return gradients_; }
+    const vk::Buffer& heights_buffer() const { return current_.paper_tree; }
+    const vk::Buffer& gradients_buffer() const { return current_.gradients; }
     // Where the device's frame sits in the scene (the holder's centre, scene_params.hpp).
     const glm::dvec3& frame_origin() const { return origin_; }
     std::uint32_t heightfield_width() const { return params_.hf_w; }
@@ -180,9 +199,19 @@ class FastTracer {
     void record_to_lm(VkCommandBuffer cb, FastRun& run);
     // The batch's readback, one small copy each: the counters and the loop's per-bounce
     // counts, for the host.
-    void record_batch_end(VkCommandBuffer cb);
+    // `slot`: the candidate's place in a run_batch submission (0 for run()).
+    void record_batch_end(VkCommandBuffer cb, std::size_t slot = 0);
     // Adds the batch's counters and per-bounce rays (read back once, after its wait).
-    void tally_batch(FastRun& run) const;
+    void tally_batch(FastRun& run, std::size_t slot = 0) const;
+    // run_batch's one submission for reflectors already set into batch_states_[0, n - 1)
+    // and current_ (the last): the kept single-batch rayset traced against each.
+    // `first`: the first candidate's index in run_batch's list (then's k).
+    void run_batch_submission(std::span<FastRun> runs, const BatchCompare& then, std::size_t first);
+    // A run's tally and bounces, empty, for `emitted` rays.
+    FastRun new_run(std::uint64_t emitted) const;
+    // The reflector state being recorded: current_, or batch_states_[recording_ - 1].
+    ReflectorState& state();
+    const ReflectorState& state() const;
     // The bounces that traced rays (all of them where empty ones are not skipped); checks
     // the energy balance.
     void finish(FastRun& run) const;
@@ -191,14 +220,18 @@ class FastTracer {
     }
     std::uint32_t passes() const { return params_.max_bounces + (params_.strict_policy ? 1u : 0u); }
     void read_profile(FastRun& run) const; // the profiling pipeline's counts, per bounce
-    void upload_params();
 
     const vk::Context* ctx_;
     Scene scene_;
-    glm::dvec3 origin_; // the device's frame (frame_origin): device positions are relative
-    gpu::SceneParams params_{};
-    std::optional<ReflectorDesc> reflector_;
+    glm::dvec3 origin_;         // the device's frame (frame_origin): device positions are relative
+    gpu::SceneParams params_{}; // the scene's (every reflector state adds its own family's)
+    ReflectorState current_;    // the current reflector's height field and far field
+    // A batch's other candidates (run_batch), kept for the next batch; recording_ says
+    // which state the passes being recorded use (0: current_, k: batch_states_[k - 1]).
+    std::vector<ReflectorState> batch_states_;
+    std::size_t recording_ = 0;
     std::uint64_t batch_capacity_ = 0;
+    std::uint64_t submission_rays_ = 0; // the most rays one submission traces (a batch's cap)
     // One batch's effective rays, ordered by direction, kept for the next run.
     struct RaysetChunk {
         vk::Buffer rays;
@@ -207,7 +240,6 @@ class FastTracer {
     bool rayset_fits_ = false;               // the whole rayset fits the cache budget
     bool cache_rayset_ = false;              // ... and is kept between runs
     std::vector<RaysetChunk> rayset_chunks_; // batch i's kept rays at [i]
-    bool heightfield_dirty_ = true;
     bool count_texel_hits_ = false;
     FastPathSkips skips_;
 
@@ -215,18 +247,13 @@ class FastTracer {
     vk::ComputePipeline rayset_pipeline_, heightfield_pipeline_, maxmip_pipeline_, trace_pipeline_,
         to_lm_pipeline_, order_pipeline_, bucket_scan_pipeline_, walk_start_pipeline_,
         bounce_args_pipeline_;
-    vk::Buffer params_buffer_, counters_, rays_ping_, rays_pong_, hits_, texel_hits_, walk_;
+    vk::Buffer counters_, rays_ping_, rays_pong_, hits_, texel_hits_, walk_;
     std::optional<vk::ComputePipeline> trace_walk_pipeline_;    // built when a walk is asked for
     std::optional<vk::ComputePipeline> trace_profile_pipeline_; // built when profiling
     // Built when hits are recorded or texel hits counted.
     std::optional<vk::ComputePipeline> trace_diagnostics_pipeline_;
     vk::Buffer profile_;
-    vk::Buffer walk_start_; // uint: the level the source's rays start their walk at
-    vk::Buffer paper_tree_, refined_tree_, gradients_, control_, order_buckets_;
-    vk::Buffer corners_; // the refined surface's heights at the (W + 1) x (H + 1) texel corners
-    // As the trace reads them.
-    vk::TexelView paper_view_, refined_view_, gradients_view_, corners_view_;
-    vk::Buffer farfield_counts_, farfield_lm_;
+    vk::Buffer order_buckets_;
     // The bounce loop's state on the device (fird_shared.h, kLoop*: counts and indirect
     // dispatch sizes) and its per-bounce counts as read back.
     vk::Buffer loop_, loop_readback_;

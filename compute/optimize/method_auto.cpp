@@ -128,10 +128,10 @@ StopReason run_auto(Objective& f, const std::vector<Fidelity>& stages,
         f.begin_stage("lattice", stages[stages.size() - 2]);
         std::vector<double> entry = space.snap(x);
         double entry_l2 = HUGE_VAL;
-        for (const auto& y : lattice_entries(f, x, flat)) {
-            const double l2 = f(y);
-            if (l2 < entry_l2) entry = y, entry_l2 = l2;
-        }
+        const auto entries = lattice_entries(f, x, flat);
+        const std::vector<double> l2s = f.evaluate_all(entries); // several per submission
+        for (std::size_t k = 0; k < entries.size(); ++k)
+            if (l2s[k] < entry_l2) entry = entries[k], entry_l2 = l2s[k];
         (void)run_lattice_descent(f, entry, all, together);
         x = best_x(f, entry);
     }

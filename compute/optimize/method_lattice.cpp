@@ -78,10 +78,10 @@ StopReason run_lattice_descent(Objective& objective, const std::vector<double>& 
         std::vector<double> best = centre;
         double best_l2 = centre_l2;
         const auto poll = [&](const std::vector<std::vector<double>>& points) {
-            for (const std::vector<double>& x : points) {
-                const double l2 = objective(x);
-                if (l2 < best_l2) best = x, best_l2 = l2;
-            }
+            // Several per submission (Objective::evaluate_all), judged in order.
+            const std::vector<double> l2s = objective.evaluate_all(points);
+            for (std::size_t k = 0; k < points.size(); ++k)
+                if (l2s[k] < best_l2) best = points[k], best_l2 = l2s[k];
         };
         // Correlated parameters (a focal length and the vertex height, say) improve only
         // together: where no single step helps, try the steps of two at once, then of three

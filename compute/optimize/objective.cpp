@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <set>
 #include <stdexcept>
 #include <thread>
 
@@ -21,6 +22,7 @@ void Objective::begin_stage(const std::string& name, const Fidelity& fidelity) {
     if (evaluator_ && !(evaluator_->fidelity() == fidelity)) evaluator_.reset();
     stages_.push_back({.name = name, .fidelity = fidelity});
     stage_memo_.clear();
+    prefetched_.clear();
     threshold_applies_ = settings_.threshold_lm > 0.0 && fidelity.farfield_w == desired_.width &&
                          fidelity.farfield_h == desired_.height;
     const FarField coarse =
@@ -89,16 +91,63 @@ double Objective::trace(const std::vector<double>& x) {
         c.ms = r.ms;
         c.replayed = true;
     } else if (c.feasible) {
-        const CandidateResult result = stage_evaluator().evaluate(reflector);
+        CandidateResult result;
+        bool batched = false;
+        if (const auto it = prefetched_.find(x); it != prefetched_.end()) {
+            result = std::move(it->second);
+            prefetched_.erase(it);
+            batched = true;
+        } else {
+            result = stage_evaluator().evaluate(reflector);
+        }
         c.l2_lm = *result.l2_lm;
         if (!std::isfinite(c.l2_lm))
             throw std::runtime_error(fmt::format(
                 "candidate {}: the far field's l2 is not finite ({})", c.index, c.l2_lm));
+        // A batch's candidate adds its share of the batch's time to its own checks.
         c.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
-                   .count();
+                   .count() +
+               (batched ? result.wall_ms : 0.0);
     }
     const Candidate& stored = record(std::move(c));
     return stored.feasible ? stored.l2_lm : penalty(f);
+}
+
+std::vector<double> Objective::evaluate_all(const std::vector<std::vector<double>>& xs) {
+    std::vector<double> out;
+    out.reserve(xs.size());
+    // A chunk a submission's worth: an interruption waits for one chunk at most.
+    const std::size_t chunk = FastTracer::kMaxBatchCandidates;
+    for (std::size_t first = 0; first < xs.size(); first += chunk) {
+        const std::size_t n = std::min(chunk, xs.size() - first);
+        prefetch(std::span(xs).subspan(first, n));
+        for (std::size_t k = first; k < first + n; ++k)
+            out.push_back((*this)(xs[k]));
+    }
+    return out;
+}
+
+void Objective::prefetch(std::span<const std::vector<double>> xs) {
+    if (stages_.empty() || (control_ && (control_->stop.load() || control_->pause.load())))
+        return; // operator() stops or waits before any trace
+    // The history index each x will take, as operator() assigns them in turn.
+    std::uint64_t index = history_.size();
+    std::set<std::vector<double>> seen;
+    std::vector<std::vector<double>> keys;
+    std::vector<ReflectorDesc> reflectors;
+    for (const std::vector<double>& x : xs) {
+        if (stage_memo_.contains(x) || prefetched_.contains(x) || !seen.insert(x).second) continue;
+        if (index >= settings_.max_evaluations) break;
+        if (index++ < replay_.size()) continue; // replayed, not traced
+        ReflectorDesc r = space_.reflector(scene_.reflector, x);
+        if (!candidate_feasibility(scene_, r).feasible) continue;
+        keys.push_back(x);
+        reflectors.push_back(std::move(r));
+    }
+    if (reflectors.size() < 2) return; // traced when asked for, as before
+    std::vector<CandidateResult> results = stage_evaluator().evaluate_batch(reflectors);
+    for (std::size_t k = 0; k < keys.size(); ++k)
+        prefetched_.emplace(keys[k], std::move(results[k]));
 }
 
 Evaluator& Objective::stage_evaluator() {

@@ -9,6 +9,7 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <utility>
 #include <vector>
@@ -38,6 +39,11 @@ class Objective {
     // l2 of x at the current stage; an infeasible x is not traced and scores penalty().
     // The same x twice in a stage is answered from the first. Throws SearchStopped.
     double operator()(const std::vector<double>& x);
+    // operator() of each x in turn (the same history, memo and stop rules, the same
+    // SearchStopped where it would be thrown), with the candidates that need a trace
+    // traced a chunk at a time first, several per submission (Evaluator::evaluate_batch).
+    // For the points a method polls together (a grid's, a lattice neighbourhood's).
+    std::vector<double> evaluate_all(const std::vector<std::vector<double>>& xs);
 
     const ParameterSpace& space() const { return space_; }
     const Scene& scene() const { return scene_; }
@@ -61,6 +67,9 @@ class Objective {
 
   private:
     double trace(const std::vector<double>& x);
+    // Traces, in one batch, the points of xs that operator() would trace next (not in the
+    // memo, not replayed, feasible, within the evaluation budget) into prefetched_.
+    void prefetch(std::span<const std::vector<double>> xs);
     Evaluator& stage_evaluator();
     const Candidate& record(Candidate c);
 
@@ -77,6 +86,8 @@ class Objective {
     std::vector<StageSummary> stages_;
     std::map<std::vector<double>, std::uint64_t> stage_memo_; // x -> history index
     std::unique_ptr<Evaluator> evaluator_;
+    // Traced by prefetch() and not yet asked for (x -> its result), this stage's only.
+    std::map<std::vector<double>, CandidateResult> prefetched_;
     double stage_desired_norm_lm_ = 0.0;
     bool threshold_applies_ = false;
 };

@@ -36,8 +36,8 @@ VkDeviceSize ReducePass::scratch_bytes(std::uint64_t count) {
 }
 
 void ReducePass::record(VkCommandBuffer cb, const vk::Buffer& a, const vk::Buffer* b,
-                        std::uint32_t count, const vk::Buffer& scratch,
-                        const vk::Buffer& result) const {
+                        std::uint32_t count, const vk::Buffer& scratch, const vk::Buffer& result,
+                        VkDeviceSize result_offset) const {
     // Level 0 reads a (and b); later levels read the previous level's partials, placed
     // one after another in scratch (offsets keep every level's binding distinct).
     const vk::Buffer* input = &a;
@@ -53,7 +53,7 @@ void ReducePass::record(VkCommandBuffer cb, const vk::Buffer& a, const vk::Buffe
         vk::Binding other = vk::storage(b ? *b : *input);
         other.buffer.offset = b ? 0 : input_offset;
         vk::Binding out = vk::storage(last ? result : scratch);
-        out.buffer.offset = last ? 0 : scratch_offset;
+        out.buffer.offset = last ? result_offset : scratch_offset;
         const vk::Binding bindings[] = {in, other, out};
         const gpu::ReducePush push{.count = n, .mode = mode};
         pipeline_.dispatch(cb, bindings, &push, groups > 0 ? groups : 1);

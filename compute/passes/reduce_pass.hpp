@@ -16,10 +16,12 @@ class ReducePass {
     // Scratch bytes needed to reduce `count` values.
     static VkDeviceSize scratch_bytes(std::uint64_t count);
 
-    // Records the passes; the result lands in result[0]. `b` may be null for a plain sum.
-    // scratch must hold scratch_bytes(count); result may alias nothing else.
+    // Records the passes; the result lands in result at result_offset (bytes, a multiple of
+    // 256: storage-buffer offsets are aligned). `b` may be null for a plain sum. scratch
+    // must hold scratch_bytes(count); result may alias nothing else.
     void record(VkCommandBuffer cb, const vk::Buffer& a, const vk::Buffer* b, std::uint32_t count,
-                const vk::Buffer& scratch, const vk::Buffer& result) const;
+                const vk::Buffer& scratch, const vk::Buffer& result,
+                VkDeviceSize result_offset = 0) const;
 
     // Convenience: allocate scratch, run, read back.
     double sum(const vk::Context& ctx, const vk::Buffer& a, std::uint32_t count) const;

@@ -121,6 +121,35 @@ TEST_F(SearchRules, GridVisitsTheWholeLatticeInOdometerOrderSkippingInfeasible) 
     EXPECT_TRUE(r.history[*r.best].feasible);
 }
 
+// The grid polls its points several per submission (Objective::evaluate_all): every traced
+// candidate's l2 is the one an evaluation of it alone gives (the same rays at the same
+// fidelity, count for count, so the same float), in far fewer submissions than candidates.
+TEST_F(SearchRules, TheGridTracesSeveralCandidatesASubmissionWithTheSingleEvaluationsL2) {
+    Scene s = scene("mirror_search.toml");
+    s.reflector.optimize = {{"sx", {-0.1, 0.1, 0.1}}, {"z0", {-2.0, 6.0, 1.0}}};
+    s.trace.rays = 5000;
+    const std::uint64_t before = ctx().submissions();
+    const SearchOutcome out = search(ctx(), s, SearchMethod::Grid);
+    const std::uint64_t submitted = ctx().submissions() - before;
+    const SearchResult& r = out.result;
+    ASSERT_EQ(r.stages.size(), 1u);
+    Evaluator single(ctx(), s, r.stages[0].fidelity);
+    single.set_desired(out.desired.farfield);
+    const ParameterSpace space = parameter_space(s);
+    std::uint64_t traced = 0;
+    for (const Candidate& c : r.history) {
+        if (!c.feasible) continue;
+        ++traced;
+        const CandidateResult one = single.evaluate(space.reflector(s.reflector, c.x));
+        EXPECT_EQ(c.l2_lm, *one.l2_lm) << c.index;
+    }
+    EXPECT_EQ(traced, 21u);
+    // 21 candidates in three submissions (the chunks of 16 points hold 14 and 7 feasible
+    // ones; the first candidate makes the rayset on its own), plus the search's own (the
+    // desired far field, the noise floor, the best's far field): 9 here.
+    EXPECT_LT(submitted, 12u) << "one submission per candidate would be at least 21";
+}
+
 TEST_F(SearchRules, SameSeedSameHistoryAndAnotherSeedAnother) {
     const Scene s = scene("mirror_search.toml");
     const auto a = search(ctx(), s, SearchMethod::Auto).result;

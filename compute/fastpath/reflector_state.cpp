@@ -1,0 +1,88 @@
+#include "reflector_state.hpp"
+
+#include <span>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "fastpath/scene_params.hpp"
+
+namespace fird {
+
+namespace {
+
+std::uint64_t quadtree_bytes(const gpu::SceneParams& p) {
+    return quadtree_layout(p.hf_w, p.hf_h).total_floats * 4;
+}
+std::uint64_t gradients_bytes(const gpu::SceneParams& p) {
+    return std::uint64_t(p.hf_w) * p.hf_h * 8;
+}
+std::uint64_t corners_bytes(const gpu::SceneParams& p) {
+    return std::uint64_t(p.hf_w + 1) * (p.hf_h + 1) * 4;
+}
+std::uint64_t farfield_bytes(const gpu::SceneParams& p) {
+    return std::uint64_t(p.ff_w) * p.ff_h * 4;
+}
+
+} // namespace
+
+ReflectorState make_reflector_state(const vk::Context& ctx, const gpu::SceneParams& params,
+                                    const std::string& prefix) {
+    const auto storage = vk::kStorageUsage;
+    const auto name = [&](const char* what) { return fmt::format("{}.{}", prefix, what); };
+    // Also vertex buffers: the viewport draws the height field straight from them.
+    const auto tree_usage =
+        storage | VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT | VK_BUFFER_USAGE_VERTEX_BUFFER_BIT;
+    ReflectorState s;
+    s.params = params;
+    s.params_buffer =
+        vk::Buffer(ctx, sizeof(gpu::SceneParams), storage, vk::MemoryUse::Upload, name("params"));
+    s.control = vk::Buffer(ctx, 4, storage, vk::MemoryUse::Device, name("bspline.control"));
+    s.walk_start = vk::Buffer(ctx, 4, storage, vk::MemoryUse::Device, name("walk_start"));
+    s.paper_tree = vk::Buffer(ctx, quadtree_bytes(params), tree_usage, vk::MemoryUse::Device,
+                              name("quadtree.paper"));
+    s.refined_tree = vk::Buffer(ctx, quadtree_bytes(params), tree_usage, vk::MemoryUse::Device,
+                                name("quadtree.refined"));
+    s.gradients = vk::Buffer(ctx, gradients_bytes(params), tree_usage, vk::MemoryUse::Device,
+                             name("normals"));
+    s.corners = vk::Buffer(ctx, corners_bytes(params), tree_usage, vk::MemoryUse::Device,
+                           name("heights.corners"));
+    s.paper_view =
+        vk::TexelView(ctx, s.paper_tree, VK_FORMAT_R32_SFLOAT, name("quadtree.paper.view"));
+    s.refined_view =
+        vk::TexelView(ctx, s.refined_tree, VK_FORMAT_R32_SFLOAT, name("quadtree.refined.view"));
+    s.gradients_view =
+        vk::TexelView(ctx, s.gradients, VK_FORMAT_R32G32_SFLOAT, name("normals.view"));
+    s.corners_view =
+        vk::TexelView(ctx, s.corners, VK_FORMAT_R32_SFLOAT, name("heights.corners.view"));
+    s.farfield_counts = vk::Buffer(ctx, farfield_bytes(params), storage, vk::MemoryUse::Device,
+                                   name("farfield.counts"));
+    s.farfield_lm = vk::Buffer(ctx, farfield_bytes(params), storage, vk::MemoryUse::Device,
+                               name("farfield.lm"));
+    return s;
+}
+
+std::uint64_t reflector_state_bytes(const gpu::SceneParams& p) {
+    return sizeof(gpu::SceneParams) + 8 + 2 * quadtree_bytes(p) + gradients_bytes(p) +
+           corners_bytes(p) + 2 * farfield_bytes(p);
+}
+
+bool set_state_reflector(const vk::Context& ctx, ReflectorState& state,
+                         const gpu::SceneParams& scene_params, const ReflectorDesc& reflector,
+                         const glm::dvec3& origin) {
+    if (state.reflector && *state.reflector == reflector) return false; // height field current
+    state.params = scene_params;
+    const std::vector<float> control = set_reflector_params(state.params, reflector, origin);
+    if (!control.empty()) {
+        if (state.control.size() != control.size() * 4)
+            state.control = vk::Buffer(ctx, control.size() * 4, vk::kStorageUsage,
+                                       vk::MemoryUse::Device, "fird.bspline.control");
+        state.control.upload(ctx, std::span<const float>(control));
+    }
+    state.params_buffer.upload(ctx, std::as_bytes(std::span(&state.params, 1)));
+    state.reflector = reflector;
+    state.heightfield_dirty = true;
+    return true;
+}
+
+} // namespace fird
