@@ -27,7 +27,7 @@ namespace fird::app {
 namespace {
 
 struct Args {
-    std::string scene, method, rays, out, resume;
+    std::string scene, method, rays, out, resume, backend;
     std::uint64_t max_evals = 0, seed = 0;
     double threshold = -1.0;
     bool json = false, refine = false;
@@ -43,6 +43,7 @@ nlohmann::json settings_json(const SearchSettings& s, const Scene& scene,
             {"max_evaluations", s.max_evaluations},
             {"seed", s.seed},
             {"refine", s.refine},
+            {"backend", backend_name(s.backend)},
             {"scene", scene_to_toml(scene)},
             {"depends_on", depends_on_record(scene, device)}};
 }
@@ -75,6 +76,8 @@ Resumed resumed_settings(const std::string& dir, const Scene& scene) {
         s.max_evaluations = j.at("max_evaluations").get<std::uint64_t>();
         s.seed = j.at("seed").get<std::uint64_t>();
         s.refine = j.value("refine", false); // absent: recorded before --refine existed
+        // Absent: recorded before --backend existed (the fast path).
+        s.backend = j.value("backend", "gpu") == "cpu" ? Backend::Reference : Backend::Fast;
         return {s, depends_on};
     } catch (const nlohmann::json::exception& e) {
         throw std::runtime_error(fmt::format("{}: {}", path, e.what()));
@@ -91,8 +94,8 @@ int run_optimize(const GlobalOptions& global, const Args& a, const CLI::App& cmd
     SearchRequest request;
     nlohmann::json depends_on;
     if (!a.resume.empty()) {
-        for (const char* o :
-             {"--method", "--rays", "--max-evals", "--threshold", "--seed", "--refine"})
+        for (const char* o : {"--method", "--rays", "--max-evals", "--threshold", "--seed",
+                              "--refine", "--backend"})
             if (cmd.count(o))
                 throw UsageError(fmt::format(
                     "{} cannot be given with --resume: the search continues with the settings "
@@ -113,6 +116,7 @@ int run_optimize(const GlobalOptions& global, const Args& a, const CLI::App& cmd
         if (cmd.count("--threshold")) settings.threshold_lm = a.threshold;
         if (cmd.count("--seed")) settings.seed = a.seed;
         settings.refine = a.refine;
+        if (a.backend == "cpu") settings.backend = Backend::Reference;
         if (settings.refine && settings.method != SearchMethod::Auto &&
             settings.method != SearchMethod::Grid)
             throw UsageError("--refine follows a lattice method: --method auto or grid");
@@ -215,6 +219,10 @@ void register_optimize(CLI::App& app, const GlobalOptions& global, std::function
     cmd->add_option("--seed", a->seed, "Seed of the search's rays")->check(CLI::NonNegativeNumber);
     cmd->add_flag("--refine", a->refine,
                   "After the lattice (auto, grid), BOBYQA within one step of its best point");
+    cmd->add_option("--backend", a->backend,
+                    "gpu (the fast path, default) or cpu (every candidate by the exact CPU "
+                    "reference: a search judged by another tracer, far slower)")
+        ->check(CLI::IsMember({"gpu", "cpu"}));
     cmd->add_flag("--json", a->json, "Print one JSON object");
     cmd->add_option("--out", a->out,
                     "Write history.csv, progress.png, best.toml and the best far field here");

@@ -36,17 +36,20 @@ Scene apply_overrides(Scene scene, const TraceOverrides& o) {
     return scene;
 }
 
+ReferenceOptions reference_options(const TraceSettings& t, unsigned threads) {
+    return {.rays = t.rays,
+            .seed = t.seed,
+            .sampler = t.sampler,
+            .max_bounces = t.max_bounces,
+            .bounce_policy = t.bounce_policy,
+            .farfield_w = t.farfield_w,
+            .farfield_h = t.farfield_h,
+            .threads = threads};
+}
+
 Evaluation evaluate_reference(const Scene& scene, unsigned threads) {
     const auto t0 = std::chrono::steady_clock::now();
-    const TraceSettings& t = scene.trace;
-    ReferenceOptions options{.rays = t.rays,
-                             .seed = t.seed,
-                             .sampler = t.sampler,
-                             .max_bounces = t.max_bounces,
-                             .bounce_policy = t.bounce_policy,
-                             .farfield_w = t.farfield_w,
-                             .farfield_h = t.farfield_h,
-                             .threads = threads};
+    ReferenceOptions options = reference_options(scene.trace, threads);
     const Surface surface = Surface::make(scene.reflector, scene.holder);
     ReferenceResult result = trace_reference(scene.source, surface, options);
 

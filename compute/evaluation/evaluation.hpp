@@ -11,6 +11,7 @@
 #include "farfield/farfield.hpp"
 #include "model/evaluation_result.hpp"
 #include "model/scene.hpp"
+#include "reference/reference_tracer.hpp"
 
 namespace fird {
 
@@ -27,6 +28,8 @@ Scene apply_overrides(Scene scene, const TraceOverrides& overrides);
 
 // The CPU reference backend: exact surface, double precision.
 Evaluation evaluate_reference(const Scene& scene, unsigned threads = 0);
+// The reference tracer's options for the scene's [trace] settings.
+ReferenceOptions reference_options(const TraceSettings& trace, unsigned threads = 0);
 
 nlohmann::json evaluation_json(const Evaluation& evaluation);
 

@@ -11,6 +11,8 @@
 #include <fmt/format.h>
 
 #include "evaluation/desired_farfield.hpp"
+#include "evaluation/evaluation.hpp"
+#include "model/surface.hpp"
 
 namespace fird {
 
@@ -40,9 +42,25 @@ Scene at_fidelity(Scene s, const Fidelity& f) {
     return s;
 }
 
-Evaluator::Evaluator(const vk::Context& ctx, const Scene& scene, const Fidelity& fidelity)
-    : ctx_(&ctx), fidelity_(fidelity), scene_(at_fidelity(scene, fidelity)),
-      tracer_(ctx, scene_, fidelity.seed), reduce_(ctx) {}
+const char* backend_name(Backend backend) {
+    return backend == Backend::Fast ? "gpu" : "cpu";
+}
+
+Evaluator::Evaluator(const vk::Context& ctx, const Scene& scene, const Fidelity& fidelity,
+                     Backend backend)
+    : ctx_(&ctx), fidelity_(fidelity), scene_(at_fidelity(scene, fidelity)), backend_(backend),
+      reduce_(ctx) {
+    if (backend == Backend::Fast) tracer_.emplace(ctx, scene_, fidelity.seed);
+}
+
+FastTracer& Evaluator::fast() {
+    if (!tracer_) throw std::logic_error("Evaluator: the cpu backend has no fast-path tracer");
+    return *tracer_;
+}
+const FastTracer& Evaluator::fast() const {
+    if (!tracer_) throw std::logic_error("Evaluator: the cpu backend has no fast-path tracer");
+    return *tracer_;
+}
 
 void Evaluator::set_desired(const FarField& desired) {
     const FarField* f = &desired;
@@ -50,6 +68,14 @@ void Evaluator::set_desired(const FarField& desired) {
     if (desired.width != fidelity_.farfield_w || desired.height != fidelity_.farfield_h) {
         coarse = coarsen_farfield(desired, fidelity_.farfield_w, fidelity_.farfield_h);
         f = &coarse;
+    }
+    double sum = 0.0;
+    for (const double v : f->lm)
+        sum += backend_ == Backend::Fast ? double(float(v)) * double(float(v)) : v * v;
+    desired_norm_lm_ = std::sqrt(sum);
+    if (backend_ == Backend::Reference) {
+        cpu_desired_ = *f; // compared on the host, in double precision
+        return;
     }
     const std::vector<float> values(f->lm.begin(), f->lm.end());
     desired_ = vk::Buffer(*ctx_, values.size() * 4, vk::kStorageUsage, vk::MemoryUse::Device,
@@ -59,17 +85,36 @@ void Evaluator::set_desired(const FarField& desired) {
                              vk::MemoryUse::Device, "fird.evaluator.l2.scratch");
     l2_sums_ = vk::Buffer(*ctx_, kL2SumStride, vk::kStorageUsage, vk::MemoryUse::Readback,
                           "fird.evaluator.l2.sums");
-    double sum = 0.0;
-    for (float v : values)
-        sum += double(v) * double(v);
-    desired_norm_lm_ = std::sqrt(sum);
 }
 
 CandidateResult Evaluator::evaluate(const ReflectorDesc& reflector) {
     return std::move(evaluate_batch(std::span(&reflector, 1)).front());
 }
 
+CandidateResult Evaluator::evaluate_on_cpu(const ReflectorDesc& reflector) {
+    const auto t0 = std::chrono::steady_clock::now();
+    ReferenceResult traced = trace_reference(scene_.source, Surface::make(reflector, scene_.holder),
+                                             reference_options(scene_.trace));
+    CandidateResult r;
+    r.run.tally = traced.tally;
+    r.run.energy_per_ray_lm = traced.energy_per_ray_lm;
+    r.run.timings.trace_ms = traced.trace_ms;
+    r.farfield_lm = double(traced.tally.farfield) * traced.energy_per_ray_lm;
+    cpu_farfield_ = std::move(traced.farfield);
+    if (cpu_desired_) r.l2_lm = l2_distance(*cpu_farfield_, *cpu_desired_);
+    r.wall_ms = ms_since(t0);
+    r.run.timings.total_ms = r.wall_ms;
+    return r;
+}
+
 std::vector<CandidateResult> Evaluator::evaluate_batch(std::span<const ReflectorDesc> reflectors) {
+    if (backend_ == Backend::Reference) {
+        std::vector<CandidateResult> results;
+        for (const ReflectorDesc& r : reflectors)
+            results.push_back(evaluate_on_cpu(r));
+        traced_ = true;
+        return results;
+    }
     const auto t0 = std::chrono::steady_clock::now();
     // Candidate k's compare joins the trace's submission (compare() is the same reduction
     // as a submission of its own): its sum of squared differences lands in slot k, read
@@ -84,7 +129,7 @@ std::vector<CandidateResult> Evaluator::evaluate_batch(std::span<const Reflector
                            k * kL2SumStride);
         };
     }
-    std::vector<FastRun> runs = tracer_.run_batch(reflectors, record_compare);
+    std::vector<FastRun> runs = tracer_->run_batch(reflectors, record_compare);
     traced_ = true;
     const double share_ms = ms_since(t0) / double(std::max<std::size_t>(reflectors.size(), 1));
     std::vector<CandidateResult> results(runs.size());
@@ -106,24 +151,35 @@ std::vector<CandidateResult> Evaluator::evaluate_batch(std::span<const Reflector
 void Evaluator::set_seed(std::uint64_t seed) {
     fidelity_.seed = seed;
     scene_.trace.seed = seed;
-    tracer_.set_seed(seed);
+    if (tracer_) tracer_->set_seed(seed);
 }
 
 double Evaluator::compare(double* compare_ms) const {
     if (!traced_ || !has_desired())
         throw std::logic_error("Evaluator::compare: needs a trace and a desired far field");
-    return device_l2(*ctx_, reduce_, tracer_.farfield_lm(), desired_, cells(), compare_ms);
+    if (backend_ == Backend::Reference) {
+        const auto t0 = std::chrono::steady_clock::now();
+        const double l2 = l2_distance(*cpu_farfield_, *cpu_desired_);
+        if (compare_ms) *compare_ms = ms_since(t0);
+        return l2;
+    }
+    return device_l2(*ctx_, reduce_, tracer_->farfield_lm(), desired_, cells(), compare_ms);
 }
 
 double Evaluator::l2_to(const Evaluator& other) const {
     if (cells() != other.cells() || fidelity_.farfield_w != other.fidelity_.farfield_w)
         throw std::invalid_argument("Evaluator::l2_to: far fields of different grids");
     if (!traced_ || !other.traced_) throw std::logic_error("Evaluator::l2_to: nothing traced");
-    return device_l2(*ctx_, reduce_, tracer_.farfield_lm(), other.tracer_.farfield_lm(), cells());
+    if (!tracer_ || !other.tracer_) return l2_distance(farfield(), other.farfield());
+    return device_l2(*ctx_, reduce_, tracer_->farfield_lm(), other.tracer_->farfield_lm(), cells());
 }
 
 FarField Evaluator::farfield() const {
-    return {fidelity_.farfield_w, fidelity_.farfield_h, tracer_.read_farfield()};
+    if (!tracer_) {
+        if (!cpu_farfield_) throw std::logic_error("Evaluator::farfield: nothing traced");
+        return *cpu_farfield_;
+    }
+    return {fidelity_.farfield_w, fidelity_.farfield_h, tracer_->read_farfield()};
 }
 
 Evaluation evaluate_fast(const vk::Context& ctx, const Scene& scene,

@@ -41,9 +41,16 @@ struct CandidateResult {
     double wall_ms = 0.0;        // the whole evaluation, as the caller waits for it
 };
 
+// Which tracer answers: the fast path on the device, or the CPU reference (exact surface,
+// double precision: the same source sampling, rays and far-field binning, seconds where
+// the fast path takes milliseconds; for checking a search by another tracer).
+enum class Backend { Fast, Reference };
+const char* backend_name(Backend backend); // "gpu", "cpu" (fird trace --backend)
+
 class Evaluator {
   public:
-    Evaluator(const vk::Context& ctx, const Scene& scene, const Fidelity& fidelity);
+    Evaluator(const vk::Context& ctx, const Scene& scene, const Fidelity& fidelity,
+              Backend backend = Backend::Fast);
 
     // The desired far field, on the scene's grid or on this fidelity's (coarsened to it
     // when finer). Uploaded once; every later evaluate() compares against it.
@@ -72,17 +79,27 @@ class Evaluator {
 
     // The last traced far field, read back (for pictures and files, not per candidate).
     FarField farfield() const;
-    const vk::Buffer& farfield_buffer() const { return tracer_.farfield_lm(); }
-    std::uint32_t cells() const { return tracer_.farfield_cells(); }
+    // The fast path's far field on the device (the fast backend only).
+    const vk::Buffer& farfield_buffer() const { return fast().farfield_lm(); }
+    std::uint32_t cells() const { return fidelity_.farfield_w * fidelity_.farfield_h; }
     const Fidelity& fidelity() const { return fidelity_; }
     const Scene& scene() const { return scene_; }
-    FastTracer& tracer() { return tracer_; }
+    Backend backend() const { return backend_; }
+    // The fast path's tracer, for its views and diagnostics (the fast backend only).
+    FastTracer& tracer() { return fast(); }
 
   private:
+    FastTracer& fast();
+    const FastTracer& fast() const;
+    // The reference backend's evaluation of one candidate (its far field kept).
+    CandidateResult evaluate_on_cpu(const ReflectorDesc& reflector);
+
     const vk::Context* ctx_;
     Fidelity fidelity_;
     Scene scene_; // at the fidelity
-    FastTracer tracer_;
+    Backend backend_;
+    std::optional<FastTracer> tracer_;                   // the fast backend
+    std::optional<FarField> cpu_farfield_, cpu_desired_; // the reference backend's last and desired
     ReducePass reduce_;
     vk::Buffer desired_;
     // evaluate()'s reduction: its levels, and the sums read back (one per candidate of a

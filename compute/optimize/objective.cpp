@@ -152,7 +152,8 @@ void Objective::prefetch(std::span<const std::vector<double>> xs) {
 
 Evaluator& Objective::stage_evaluator() {
     if (!evaluator_) {
-        evaluator_ = std::make_unique<Evaluator>(*ctx_, scene_, stage().fidelity);
+        evaluator_ =
+            std::make_unique<Evaluator>(*ctx_, scene_, stage().fidelity, settings_.backend);
         evaluator_->set_desired(desired_);
     }
     return *evaluator_;
@@ -165,7 +166,7 @@ std::pair<FarField, FarField> Objective::noise_pair(const std::vector<double>& x
     (void)stage_evaluator().evaluate(reflector);
     Fidelity other = stage().fidelity;
     other.seed = seed;
-    Evaluator fresh(*ctx_, scene_, other);
+    Evaluator fresh(*ctx_, scene_, other, settings_.backend);
     (void)fresh.evaluate(reflector);
     return {evaluator_->farfield(), fresh.farfield()};
 }

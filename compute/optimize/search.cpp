@@ -238,6 +238,7 @@ SearchOutcome run_search(const vk::Context& ctx, const Scene& scene, const Searc
     SearchOutcome out;
     SearchResult& r = out.result;
     r.method = method_name(settings.method);
+    r.backend = backend_name(settings.backend);
     r.names = space.names;
     r.bounds = space.bounds();
     r.flat_directions = flat_directions(scene.reflector, space.names);
@@ -254,7 +255,7 @@ SearchOutcome run_search(const vk::Context& ctx, const Scene& scene, const Searc
         scene.target.kind == TargetDesc::Kind::Reflector ? scene.target.seed : ~0ull;
     Fidelity final_fidelity = scene_fidelity(scene);
     final_fidelity.seed = stream_seed(settings.seed, kFinalStream, avoid);
-    Evaluator final_eval(ctx, scene, final_fidelity);
+    Evaluator final_eval(ctx, scene, final_fidelity, settings.backend);
     const ReflectorDesc start = space.reflector(scene.reflector, space.start);
     const bool start_feasible = candidate_feasibility(scene, start).feasible;
     const double start_flux = start_feasible ? final_eval.evaluate(start).farfield_lm : 0.0;
@@ -334,7 +335,7 @@ SearchOutcome run_search(const vk::Context& ctx, const Scene& scene, const Searc
             out.best_farfield = final_eval.farfield();
             Fidelity noise = final_fidelity;
             noise.seed = stream_seed(settings.seed, kNoiseStream, avoid);
-            Evaluator noise_eval(ctx, scene, noise);
+            Evaluator noise_eval(ctx, scene, noise, settings.backend);
             (void)noise_eval.evaluate(best);
             r.noise_floor_l2_lm = final_eval.l2_to(noise_eval);
         }

@@ -73,6 +73,7 @@ nlohmann::json search_json(const SearchResult& r) {
     for (const auto& [k, v] : r.best_parameters)
         best[k] = v;
     return {{"method", r.method},
+            {"backend", r.backend},
             {"evaluations", r.history.size()},
             {"infeasible", r.infeasible},
             {"best_parameters", best},

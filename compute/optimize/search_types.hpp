@@ -30,6 +30,10 @@ struct SearchSettings {
     // Below the step: after a lattice method (auto, grid), BOBYQA within one step of the
     // best lattice point at the last stage's fidelity (fird optimize --refine).
     bool refine = false;
+    // The tracer every candidate, the final evaluation and the noise floor go through (fird
+    // optimize --backend): the fast path, or the CPU reference (a search judged wholly
+    // by another tracer, at the reference's speed).
+    Backend backend = Backend::Fast;
 };
 
 // The scene's [optimize] resolved against its [trace] (the defaults filled in).
@@ -82,6 +86,7 @@ struct LatticeCheck {
 
 struct SearchResult {
     std::string method;
+    std::string backend; // "gpu" (the fast path) or "cpu" (the reference), backend_name()
     std::vector<std::string> names; // the optimized parameters
     // Each parameter's box ([reflector.optimize] min, max), in the names' order.
     std::vector<std::pair<double, double>> bounds;

@@ -384,6 +384,7 @@ TEST(CliOptimize, JsonHasTheContractKeysAndOutHasTheFiles) {
           "noise_floor_l2", "rays_per_evaluation", "time_s", "stopped"})
         EXPECT_TRUE(j.contains(key)) << key;
     EXPECT_EQ(j["method"], "auto");
+    EXPECT_EQ(j["backend"], "gpu");
     EXPECT_TRUE(j["best_parameters"].contains("sx") && j["best_parameters"].contains("sy"));
     for (const char* name :
          {"history.csv", "progress.png", "best.toml", "search.json", "options.json", "farfield.png",
@@ -405,7 +406,7 @@ TEST(CliOptimize, JsonHasTheContractKeysAndOutHasTheFiles) {
 TEST(CliOptimize, BadOptionsAreUsageErrorsAndAMissingBoxIsRefused) {
     const std::string scene = std::string(FIRD_SOURCE_DIR) + "/scenes/test/mirror_search.toml";
     for (const char* bad : {"--method nope", "--rays 0", "--rays 1e5,x", "--max-evals 0",
-                            "--threshold -1", "--max-evals -3", "--seed x"}) {
+                            "--threshold -1", "--max-evals -3", "--seed x", "--backend fast"}) {
         const auto r = run("optimize " + scene + " " + bad);
         EXPECT_EQ(r.code, 2) << bad << ": " << r.out;
         EXPECT_NE(r.out.find("error"), std::string::npos) << bad;
@@ -424,6 +425,24 @@ TEST(CliOptimize, BadOptionsAreUsageErrorsAndAMissingBoxIsRefused) {
     const auto refine = run("optimize " + scene + " --method bobyqa --refine");
     EXPECT_EQ(refine.code, 2) << refine.out;
     EXPECT_NE(refine.out.find("--refine"), std::string::npos) << refine.out;
+}
+
+// --backend cpu: every candidate traced by the CPU reference, said so in the JSON and kept
+// in options.json (a resumed search continues on the same tracer).
+TEST(CliOptimize, TheCpuBackendJudgesTheSearchAndIsRecorded) {
+    const std::string dir = ::testing::TempDir() + "/fird_optimize_cpu";
+    std::filesystem::remove_all(dir);
+    const auto r = run("optimize " + std::string(FIRD_SOURCE_DIR) +
+                       "/scenes/test/mirror_search.toml --json --method grid --rays 5000 "
+                       "--backend cpu --out " +
+                       dir);
+    ASSERT_EQ(r.code, 0) << r.out;
+    const auto j = nlohmann::json::parse(r.out.substr(r.out.find('{')));
+    EXPECT_EQ(j["backend"], "cpu");
+    EXPECT_EQ(j["evaluations"], 169); // the 13 x 13 lattice
+    std::ifstream options(dir + "/options.json");
+    const auto o = nlohmann::json::parse(options);
+    EXPECT_EQ(o["backend"], "cpu");
 }
 
 // --refine: the lattice's verdict in the JSON, then a sub-step stage that starts from the

@@ -150,6 +150,38 @@ TEST_F(SearchRules, TheGridTracesSeveralCandidatesASubmissionWithTheSingleEvalua
     EXPECT_LT(submitted, 12u) << "one submission per candidate would be at least 21";
 }
 
+// The same search with every candidate, the final evaluation and the noise floor traced
+// by the CPU reference (--backend cpu) behind the same seam: the grid lands within a step
+// of the analytic optimum, as on the fast path, and says which tracer judged it.
+TEST_F(SearchRules, TheGridOnTheCpuReferenceBackendRecoversTheAnalyticOptimum) {
+    Scene s = scene("mirror_search.toml");
+    s.trace.rays = 10000;
+    SearchRequest request{.settings = search_settings(s)};
+    request.settings.method = SearchMethod::Grid;
+    request.settings.rays = {s.trace.rays};
+    request.settings.backend = Backend::Reference;
+    const SearchResult r = run_search(ctx(), s, request).result;
+    EXPECT_EQ(r.backend, "cpu");
+    ASSERT_TRUE(r.best);
+    for (const auto& [k, range] : s.reflector.optimize)
+        EXPECT_LE(std::abs(r.best_parameters.at(k) - s.target.parameters.at(k)),
+                  range.step * (1 + 1e-9))
+            << k << " = " << r.best_parameters.at(k);
+    ASSERT_TRUE(r.final_l2_lm && r.noise_floor_l2_lm && r.start_l2_lm);
+    // At 1e4 rays the best's l2 is Monte Carlo noise: about sigma against the desired far
+    // field of 2e5 rays, where two independent traces differ by about sqrt(2) sigma (the
+    // noise floor). A best with a bias left would exceed the floor.
+    EXPECT_LE(*r.final_l2_lm, *r.noise_floor_l2_lm);
+    EXPECT_GT(*r.start_l2_lm, *r.final_l2_lm);
+    // Each candidate's l2 is the reference's own: an evaluation of it alone on the CPU.
+    Evaluator cpu(ctx(), s, r.stages[0].fidelity, Backend::Reference);
+    const DesiredFarField desired = desired_farfield(ctx(), s, 0.0);
+    cpu.set_desired(desired.farfield);
+    const Candidate& best = r.history[*r.best];
+    const CandidateResult again = cpu.evaluate(parameter_space(s).reflector(s.reflector, best.x));
+    EXPECT_EQ(*again.l2_lm, best.l2_lm);
+}
+
 TEST_F(SearchRules, SameSeedSameHistoryAndAnotherSeedAnother) {
     const Scene s = scene("mirror_search.toml");
     const auto a = search(ctx(), s, SearchMethod::Auto).result;
