@@ -43,16 +43,16 @@ TracedScene trace_for_views(const vk::Context& ctx, const Scene& input, const Tr
         t.farfield.l2_lm = t.evaluator->compare();
         t.farfield.desired = std::move(desired);
     }
-    FastTracer& tracer = t.evaluator->tracer();
     ViewportContent& v = t.viewport;
     v.holder = s.holder;
     v.source = s.source;
-    v.quadtree = tracer.read_quadtree();
-    v.heights = &tracer.heights_buffer();
-    v.heights_origin_z_mm = tracer.frame_origin().z;
-    v.gradients = &tracer.gradients_buffer();
-    v.width = tracer.heightfield_width();
-    v.height = tracer.heightfield_height();
+    v.quadtree = t.evaluator->read_quadtree();
+    const Evaluator::DeviceHeightField device = t.evaluator->device_heightfield();
+    v.heights = device.heights;
+    v.heights_origin_z_mm = device.origin_z_mm;
+    v.gradients = device.gradients;
+    v.width = device.width;
+    v.height = device.height;
     const auto level0 = v.quadtree.begin() + std::ptrdiff_t(std::size_t(v.width) * v.height);
     const auto [lo, hi] = std::minmax_element(v.quadtree.begin(), level0);
     v.z_lo_mm = *lo;
@@ -63,12 +63,12 @@ TracedScene trace_for_views(const vk::Context& ctx, const Scene& input, const Tr
     std::vector<Ray> rays;
     for (const std::uint64_t i : indices)
         rays.push_back(emit_ray(s.source, s.trace.sampler, s.trace.seed, i, t.rayset_rays));
-    v.paths = tracer.trace_paths(rays);
+    v.paths = t.evaluator->trace_paths(rays);
     for (std::size_t k = 0; k < v.paths.size(); ++k)
         v.paths[k].ray_index = indices[k];
     if (o.pick) {
         try {
-            v.picked = trace_picked_ray(tracer, rayset, *o.pick);
+            v.picked = t.evaluator->pick_ray(rayset, *o.pick);
         } catch (const std::invalid_argument& e) {
             throw std::invalid_argument(std::string("--pick-ray: ") + e.what());
         }
@@ -83,7 +83,7 @@ Scene rayset_scene(const TracedScene& traced) {
 }
 
 PickedRay pick_ray(const TracedScene& traced, std::uint64_t index) {
-    return trace_picked_ray(traced.evaluator->tracer(), rayset_scene(traced), index);
+    return traced.evaluator->pick_ray(rayset_scene(traced), index);
 }
 
 } // namespace fird::render

@@ -29,7 +29,7 @@ std::vector<CandidateRow> run_candidate_bench(const vk::Context& ctx,
         const ReflectorDesc b = has_target ? target_reflector(s) : s.reflector;
         FastPathSkips skips;
         skips.keep_heightfield = has_target;
-        ev.tracer().set_skips(skips);
+        ev.set_skips(skips);
         const CandidateResult first = ev.evaluate(a); // the rayset, pipelines and caches warm
         if (s.target.kind != TargetDesc::Kind::None)
             ev.set_desired(desired_farfield(ctx, s, first.farfield_lm).farfield);
@@ -58,7 +58,7 @@ std::vector<CandidateRow> run_candidate_bench(const vk::Context& ctx,
             for (std::uint64_t k = 0; k < batch; ++k)
                 list.push_back(k % 2 ? a : b);
             skips.keep_heightfield = false;
-            ev.tracer().set_skips(skips);
+            ev.set_skips(skips);
             (void)ev.evaluate_batch(list); // the batch's height fields and far fields made
             std::vector<double> batch_wall, batch_submissions;
             for (int k = 0; k < reps; ++k) {

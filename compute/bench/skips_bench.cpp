@@ -38,11 +38,11 @@ std::vector<SkipRow> run_skips_bench(const vk::Context& ctx, const std::vector<s
         // One evaluation of a changed reflector (as a search makes them), with the skips
         // given, median over reps alternating the two reflectors.
         const auto eval_ms = [&](const FastPathSkips& skips, bool same_reflector) {
-            ev.tracer().set_skips(skips);
+            ev.set_skips(skips);
             std::vector<double> t;
             for (int k = 0; k < reps; ++k)
                 t.push_back(ms_of([&] { (void)ev.evaluate(same_reflector || k % 2 ? a : b); }));
-            ev.tracer().set_skips({});
+            ev.set_skips({});
             return median_ms(t);
         };
         const FastPathSkips on{};

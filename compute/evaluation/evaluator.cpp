@@ -53,6 +53,15 @@ Evaluator::Evaluator(const vk::Context& ctx, const Scene& scene, const Fidelity&
     if (backend == Backend::Fast) tracer_.emplace(ctx, scene_, fidelity.seed);
 }
 
+Evaluator::DeviceHeightField Evaluator::device_heightfield() const {
+    const FastTracer& t = fast();
+    return {.heights = &t.heights_buffer(),
+            .gradients = &t.gradients_buffer(),
+            .origin_z_mm = t.frame_origin().z,
+            .width = t.heightfield_width(),
+            .height = t.heightfield_height()};
+}
+
 FastTracer& Evaluator::fast() {
     if (!tracer_) throw std::logic_error("Evaluator: the cpu backend has no fast-path tracer");
     return *tracer_;
@@ -188,8 +197,8 @@ Evaluation evaluate_fast(const vk::Context& ctx, const Scene& scene,
     const std::uint64_t submissions_before = ctx.submissions();
     const std::uint64_t allocations_before = ctx.memory_allocations().total;
     Evaluator evaluator(ctx, scene, scene_fidelity(scene));
-    evaluator.tracer().set_profile(options.profile);
-    evaluator.tracer().set_rayset_kept(false); // one run: nothing reuses it
+    evaluator.set_profile(options.profile);
+    evaluator.set_rayset_kept(false); // one run: nothing reuses it
     const CandidateResult r = evaluator.evaluate(scene.reflector);
     Evaluation e;
     e.backend = "gpu";

@@ -12,6 +12,7 @@
 
 #include "farfield/farfield.hpp"
 #include "fastpath/fast_tracer.hpp"
+#include "fastpath/picked_ray.hpp"
 #include "model/evaluation_result.hpp"
 #include "model/scene.hpp"
 #include "passes/reduce_pass.hpp"
@@ -85,8 +86,36 @@ class Evaluator {
     const Fidelity& fidelity() const { return fidelity_; }
     const Scene& scene() const { return scene_; }
     Backend backend() const { return backend_; }
-    // The fast path's tracer, for its views and diagnostics (the fast backend only).
-    FastTracer& tracer() { return fast(); }
+
+    // What each skip of the fast path saves is measured by switching it off (fird bench
+    // --skips, --candidates); never for results. The fast backend only, as below.
+    void set_skips(const FastPathSkips& skips) { fast().set_skips(skips); }
+    // Walk steps, lane-steps and leaf tests per bounce in the next evaluations (fird trace
+    // --profile); whether the rayset is kept for the next (one evaluation: not).
+    void set_profile(bool on) { fast().set_profile(on); }
+    void set_rayset_kept(bool kept) { fast().set_rayset_kept(kept); }
+
+    // Views and diagnostics of the fast path (the viewport, fird export, ray picking): the
+    // height field as the device traces it, without a readback, and read back; reflections
+    // counted per texel in the next evaluations; given rays traced bounce by bounce.
+    struct DeviceHeightField {
+        const vk::Buffer* heights = nullptr;   // the paper quadtree (FastTracer::heights_buffer)
+        const vk::Buffer* gradients = nullptr; // vec2 per texel
+        double origin_z_mm = 0.0;              // the device frame's z (heights are relative)
+        std::uint32_t width = 0, height = 0;
+    };
+    DeviceHeightField device_heightfield() const;
+    std::vector<float> read_quadtree() { return fast().read_quadtree(); }
+    std::vector<glm::vec2> read_gradients() { return fast().read_gradients(); }
+    void set_count_texel_hits(bool on) { fast().set_count_texel_hits(on); }
+    TexelHits read_texel_hits() const { return fast().read_texel_hits(); }
+    std::vector<RayPath> trace_paths(const std::vector<Ray>& rays) {
+        return fast().trace_paths(rays);
+    }
+    // Ray `index` of `scene`'s rayset, its path and its walk (picked_ray.hpp).
+    PickedRay pick_ray(const Scene& scene, std::uint64_t index) {
+        return trace_picked_ray(fast(), scene, index);
+    }
 
   private:
     FastTracer& fast();

@@ -83,7 +83,7 @@ ExportReport export_scene(const vk::Context& ctx, const Scene& input, const Expo
 
     create_output_directory(dir);
     Evaluator ev(ctx, scene, scene_fidelity(scene));
-    ev.tracer().set_count_texel_hits(true);
+    ev.set_count_texel_hits(true);
     const CandidateResult run = ev.evaluate(scene.reflector);
     report.tally = run.run.tally;
     report.energy_per_ray_lm = run.run.energy_per_ray_lm;
@@ -91,11 +91,11 @@ ExportReport export_scene(const vk::Context& ctx, const Scene& input, const Expo
     std::optional<FarField> target;
     if (scene.target.kind != TargetDesc::Kind::None)
         target = desired_farfield(ctx, scene, run.farfield_lm).farfield;
-    const TexelHits hits = ev.tracer().read_texel_hits();
-    const std::vector<float> tree = ev.tracer().read_quadtree();
-    const std::vector<glm::vec2> gradients = ev.tracer().read_gradients();
+    const TexelHits hits = ev.read_texel_hits();
+    const std::vector<float> tree = ev.read_quadtree();
+    const std::vector<glm::vec2> gradients = ev.read_gradients();
     const std::vector<float> heights(tree.begin(), tree.begin() + std::ptrdiff_t(hits.all.size()));
-    const auto paths = ev.tracer().trace_paths(sample_effective_rays(scene, o.paths));
+    const auto paths = ev.trace_paths(sample_effective_rays(scene, o.paths));
 
     const auto write = [&](const std::string& name, vtkDataObject* data) {
         report.files.push_back({name, vtkio::write_dataset((fs::path(dir) / name).string(), data)});

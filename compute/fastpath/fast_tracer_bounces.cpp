@@ -1,0 +1,125 @@
+// The bounce tracer: the RQRM trace pass and the loop over bounces, each sized on the
+// device by the one before.
+#include "fast_tracer.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+#include <glm/geometric.hpp>
+
+#include "fastpath/fast_tracer_internal.hpp"
+#include "fastpath/reflector_state.hpp"
+#include "fastpath/scene_params.hpp"
+#include "vk/check.hpp"
+
+#include "trace_comp.h"
+
+namespace fird {
+
+using namespace fast_tracer_detail;
+
+vk::ComputePipeline
+fast_tracer_detail::trace_pipeline(const vk::Context& ctx,
+                                   std::array<std::uint32_t, FIRD_SPEC_COUNT> spec,
+                                   std::initializer_list<int> variant, const char* name) {
+    for (const int id : variant)
+        spec[std::size_t(id)] = 1;
+    return vk::ComputePipeline(
+        ctx, fird_spv_trace_comp,
+        {kSB, kSB, kSB, kSB, kTB, kTB, kTB, kSB, kSB, kSB, kSB, kSB, kSB, kSB, kSB, kSB},
+        sizeof(gpu::TracePush), name, spec);
+}
+
+void FastTracer::dispatch_trace(VkCommandBuffer cb, const vk::Buffer& in, const vk::Buffer& out,
+                                const vk::Buffer& counters, const vk::Buffer& farfield,
+                                const gpu::TracePush& push, bool record_walk,
+                                std::optional<std::uint32_t> groups) {
+    const vk::Binding b[] = {
+        vk::storage(state().params_buffer),
+        vk::storage(in),
+        vk::storage(out),
+        vk::storage(counters),
+        vk::texel(params_.hit_mode == gpu::kHitModePaper ? state().paper_view
+                                                         : state().refined_view),
+        vk::texel(params_.hit_mode == gpu::kHitModePaper ? state().paper_view
+                                                         : state().corners_view),
+        vk::texel(state().gradients_view),
+        vk::storage(farfield),
+        vk::storage(hits_),
+        vk::storage(order_buckets_),
+        vk::storage(texel_hits_),
+        vk::storage(walk_),
+        vk::storage(profile_),
+        vk::storage(state().walk_start),
+        vk::storage(state().control),
+        vk::storage(loop_)};
+    // The variant that does what the push constants ask and no more (the walk-recording
+    // one also records hits; profile counts come from plain runs only).
+    const bool diagnostics = push.record_hits != 0u || push.count_texel_hits != 0u;
+    if (diagnostics && !record_walk && !trace_diagnostics_pipeline_) {
+        trace_diagnostics_pipeline_.emplace(
+            trace_pipeline(*ctx_, spec_, {FIRD_SPEC_DIAGNOSTICS}, "fird.trace.diagnostics"));
+    }
+    const vk::ComputePipeline& p = record_walk               ? *trace_walk_pipeline_
+                                   : diagnostics             ? *trace_diagnostics_pipeline_
+                                   : trace_profile_pipeline_ ? *trace_profile_pipeline_
+                                                             : trace_pipeline_;
+    if (groups)
+        p.dispatch(cb, b, &push, *groups);
+    else
+        p.dispatch_indirect(cb, b, &push, loop_, gpu::kLoopTraceArgs * 4);
+}
+
+void FastTracer::record_bounces(VkCommandBuffer cb, const vk::Buffer& rays, FastRun& run,
+                                bool record_hits) {
+    // Every bounce is recorded, each sized on the device by the one before (bounce_args.comp):
+    // a bounce without active rays is an indirect dispatch of 0 groups, which costs next
+    // to nothing (the skip of empty bounces; with the skip off it runs one workgroup).
+    // Bounded by the scene's bounces, like the loop on the device it replaces.
+    record_bounce_args(cb, gpu::kArgsFirstBounce, 0);
+    const vk::Buffer* in = &rays;
+    const vk::Buffer* out = &rays_ping_;
+    const std::uint32_t n = passes();
+    for (std::uint32_t bounce = 0; bounce < n; ++bounce) {
+        // The rays reflected here are ordered by direction for the next bounce, as the
+        // rayset is, unless there are too few for the ordering to pay (kOrderMinRays,
+        // decided on the device: they are then copied as they are).
+        const bool order = bounce + 1 < n;
+        BounceProfile& profile = run.bounces[bounce];
+        timed(cb, &run.timings.trace_ms, &profile.trace_ms, [&] {
+            if (order) {
+                vkCmdFillBuffer(cb, order_buckets_.get(), 0, VK_WHOLE_SIZE, 0);
+                vk::barrier_all(cb);
+            }
+            const gpu::TracePush push{.bounce = bounce,
+                                      .final_check = bounce == params_.max_bounces ? 1u : 0u,
+                                      .record_hits = record_hits && bounce == 0 ? 1u : 0u,
+                                      .order_output = order ? 1u : 0u,
+                                      .count_texel_hits = count_texel_hits_ ? 1u : 0u,
+                                      .walk_to_box_top = skips_.end_walk_at_reflector_top ? 0u : 1u,
+                                      .walk_from_root = skips_.start_walk_below_source ? 0u : 1u};
+            dispatch_trace(cb, *in, *out, counters_, state().farfield_counts, push, false,
+                           std::nullopt);
+            vk::barrier_all(cb);
+        });
+        if (!order) break;
+        // Into the other ping-pong buffer (this bounce's input is consumed).
+        const vk::Buffer* spare = (out == &rays_ping_) ? &rays_pong_ : &rays_ping_;
+        timed(cb, &run.timings.trace_ms, &profile.order_ms, [&] {
+            record_bounce_args(cb, gpu::kArgsNextBounce, bounce + 1);
+            record_order(cb, *out, *spare, true);
+        });
+        in = spare;
+        out = (in == &rays_ping_) ? &rays_pong_ : &rays_ping_;
+        // A window sharing the device draws between bounces (the bounce loop is sized on
+        // the device, so the pieces need nothing from the host).
+        ctx_->yield_queue(cb);
+    }
+}
+
+} // namespace fird

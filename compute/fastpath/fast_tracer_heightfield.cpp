@@ -1,0 +1,101 @@
+// The height-field passes: the family's heights (or the mesh's raster), the max-mip
+// quadtrees (paper §4) and the level the walk starts at.
+#include "fast_tracer.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+#include <glm/geometric.hpp>
+
+#include "fastpath/fast_tracer_internal.hpp"
+#include "fastpath/reflector_state.hpp"
+#include "fastpath/scene_params.hpp"
+#include "vk/check.hpp"
+
+namespace fird {
+
+using namespace fast_tracer_detail;
+
+double FastTracer::rasterize_mesh() {
+    if (!state().heightfield_dirty || !mesh_) return 0.0;
+    // The paper's z-buffer step for meshes (its own submissions: a render pass).
+    const auto t0 = std::chrono::steady_clock::now();
+    mesh_rasterizer_->rasterize(*mesh_, origin_, scene_.holder, params_.hf_w, params_.hf_h,
+                                state().paper_tree, state().gradients);
+    // The texel corners are the centres of a grid one texel larger, half a texel out.
+    const double half_x = (scene_.holder.max_mm.x - scene_.holder.min_mm.x) / params_.hf_w / 2;
+    const double half_y = (scene_.holder.max_mm.y - scene_.holder.min_mm.y) / params_.hf_h / 2;
+    const Holder around{scene_.holder.min_mm - glm::dvec3(half_x, half_y, 0.0),
+                        scene_.holder.max_mm + glm::dvec3(half_x, half_y, 0.0)};
+    const vk::Buffer corner_gradients(
+        *ctx_, std::uint64_t(params_.hf_w + 1) * (params_.hf_h + 1) * 8, vk::kStorageUsage,
+        vk::MemoryUse::Device, "fird.mesh_raster.corner_gradients");
+    mesh_rasterizer_->rasterize(*mesh_, origin_, around, params_.hf_w + 1, params_.hf_h + 1,
+                                state().corners, corner_gradients);
+    return ms_since(t0);
+}
+
+void FastTracer::record_heightfield(VkCommandBuffer cb, FastRun& run) {
+    timed(cb, &run.timings.heightfield_ms, nullptr, [&] {
+        constexpr std::uint32_t g = FIRD_HEIGHTFIELD_WORKGROUP_SIZE;
+        if (!mesh_) {
+            const vk::Binding hf[] = {vk::storage(state().params_buffer),
+                                      vk::storage(state().paper_tree),
+                                      vk::storage(state().gradients), vk::storage(state().control),
+                                      vk::storage(state().corners)};
+            heightfield_pipeline_.dispatch(cb, hf, nullptr, groups(params_.hf_w + 1, g),
+                                           groups(params_.hf_h + 1, g));
+            vk::barrier_all(cb);
+        }
+        const vk::Binding mm[] = {vk::storage(state().params_buffer),
+                                  vk::storage(state().paper_tree),
+                                  vk::storage(state().refined_tree), vk::storage(state().corners)};
+        for (std::uint32_t level = 0; level < params_.levels; ++level) {
+            const gpu::MaxMipPush push{.level = level};
+            maxmip_pipeline_.dispatch(cb, mm, &push, groups(params_.level_w[level], g),
+                                      groups(params_.level_h[level], g));
+            vk::barrier_all(cb);
+        }
+        const vk::Binding ws[] = {vk::storage(state().params_buffer),
+                                  vk::storage(params_.hit_mode == gpu::kHitModePaper
+                                                  ? state().paper_tree
+                                                  : state().refined_tree),
+                                  vk::storage(state().walk_start)};
+        walk_start_pipeline_.dispatch(cb, ws, nullptr, 1);
+    });
+    vk::barrier_all(cb);
+}
+
+void FastTracer::build_heightfield(FastRun& run) {
+    if (!state().heightfield_dirty) {
+        run.heightfield_reused = true;
+        return;
+    }
+    run.timings.heightfield_ms += rasterize_mesh();
+    submit(&run.timings.heightfield_ms, [&](VkCommandBuffer cb) { record_heightfield(cb, run); });
+    state().heightfield_dirty = false;
+}
+
+std::vector<float> FastTracer::read_quadtree() {
+    FastRun unused;
+    build_heightfield(unused);
+    const QuadtreeLayout q = quadtree_layout(params_.hf_w, params_.hf_h);
+    std::vector<float> tree = state().paper_tree.download_as<float>(*ctx_, q.total_floats);
+    for (float& h : tree)
+        h = float(double(h) + origin_.z); // out of the frame
+    return tree;
+}
+
+std::vector<glm::vec2> FastTracer::read_gradients() {
+    FastRun unused;
+    build_heightfield(unused);
+    return state().gradients.download_as<glm::vec2>(*ctx_,
+                                                    std::size_t(params_.hf_w) * params_.hf_h);
+}
+
+} // namespace fird

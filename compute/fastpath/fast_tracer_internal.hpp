@@ -1,0 +1,48 @@
+// What the fast tracer's files share (fast_tracer_*.cpp): descriptor kinds, sizes and
+// small helpers. Private to compute/fastpath.
+#pragma once
+
+#include <array>
+#include <chrono>
+#include <cstdint>
+#include <initializer_list>
+
+#include "fird_shared.h"
+#include "vk/compute_pipeline.hpp"
+
+namespace fird::fast_tracer_detail {
+
+inline constexpr VkDescriptorType kSB = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+inline constexpr VkDescriptorType kTB = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
+inline constexpr std::uint64_t kRayBytes = 32;
+inline constexpr std::uint64_t kCountersBytes =
+    std::uint64_t(gpu::kTallyCopies) * gpu::kCounterCount * 4;
+// The most device memory a kept rayset may take (1e7 emitted rays take at most 320 MB).
+inline constexpr std::uint64_t kRaysetCacheBytes = 1ull << 30;
+
+struct ToLmPush {
+    std::uint32_t count;
+    float lm_per_ray;
+};
+
+inline std::uint32_t groups(std::uint64_t n, std::uint32_t size) {
+    return std::uint32_t((n + size - 1) / size);
+}
+
+inline double ms_since(std::chrono::steady_clock::time_point t0) {
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// 64-bit sums kept on the device as (low, high) pairs of uints.
+inline std::uint64_t wide(const std::uint32_t* pair) {
+    return std::uint64_t(pair[0]) | (std::uint64_t(pair[1]) << 32);
+}
+
+// trace.comp's pipeline (fast_tracer_bounces.cpp): bindings 0..kTraceBindLoop, uniform
+// texel buffers at 4-6, storage else. `variant` lists the specialization constants
+// (FIRD_SPEC_RECORD_WALK, _PROFILE, _DIAGNOSTICS) switched on over the scene's.
+vk::ComputePipeline trace_pipeline(const vk::Context& ctx,
+                                   std::array<std::uint32_t, FIRD_SPEC_COUNT> spec,
+                                   std::initializer_list<int> variant, const char* name);
+
+} // namespace fird::fast_tracer_detail

@@ -1,0 +1,86 @@
+// The rayset pass (the source's rays, the effective ones appended) and the ordering of
+// rays by direction (bucket counts, scan, scatter) that the rayset and each bounce use.
+#include "fast_tracer.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+#include <glm/geometric.hpp>
+
+#include "fastpath/fast_tracer_internal.hpp"
+#include "fastpath/reflector_state.hpp"
+#include "fastpath/scene_params.hpp"
+#include "vk/check.hpp"
+
+namespace fird {
+
+using namespace fast_tracer_detail;
+
+void FastTracer::record_rayset(VkCommandBuffer cb, std::uint64_t first, std::uint64_t n,
+                               const vk::Buffer& rays, FastRun& run) {
+    if (!rayset_ordered_at_birth()) {
+        vkCmdFillBuffer(cb, order_buckets_.get(), 0, VK_WHOLE_SIZE, 0);
+        vk::barrier_all(cb);
+    }
+    timed(cb, &run.timings.rayset_ms, nullptr, [&] {
+        const vk::Binding b[] = {vk::storage(state().params_buffer), vk::storage(rays),
+                                 vk::storage(counters_), vk::storage(order_buckets_)};
+        const gpu::RaysetPush push{.first_lo = std::uint32_t(first),
+                                   .first_hi = std::uint32_t(first >> 32),
+                                   .count = std::uint32_t(n),
+                                   .keep_all = skips_.discard_before_trace ? 0u : 1u};
+        rayset_pipeline_.dispatch(cb, b, &push, groups(n, FIRD_RAYSET_WORKGROUP_SIZE));
+    });
+    vk::barrier_all(cb);
+}
+
+void FastTracer::record_bounce_args(VkCommandBuffer cb, std::uint32_t stage, std::uint32_t bounce) {
+    const vk::Binding b[] = {vk::storage(counters_), vk::storage(loop_)};
+    const gpu::BounceArgsPush push{.stage = stage,
+                                   .bounce = bounce,
+                                   .trace_empty = skips_.skip_empty_bounces ? 0u : 1u,
+                                   .groups_max = ctx_->limits().max_workgroup_count[0]};
+    bounce_args_pipeline_.dispatch(cb, b, &push, 1);
+    vk::barrier_all(cb);
+}
+
+void FastTracer::record_order(VkCommandBuffer cb, const vk::Buffer& from, const vk::Buffer& to,
+                              bool reflected) {
+    const vk::Binding scan[] = {vk::storage(order_buckets_)};
+    bucket_scan_pipeline_.dispatch_indirect(cb, scan, nullptr, loop_, gpu::kLoopScanArgs * 4);
+    vk::barrier_all(cb);
+    const vk::Binding b[] = {vk::storage(state().params_buffer), vk::storage(from), vk::storage(to),
+                             vk::storage(order_buckets_), vk::storage(loop_)};
+    const gpu::RaysetOrderPush push{.reflected = reflected ? 1u : 0u};
+    order_pipeline_.dispatch_indirect(cb, b, &push, loop_, gpu::kLoopOrderArgs * 4);
+    vk::barrier_all(cb);
+}
+
+void FastTracer::record_rayset_order(VkCommandBuffer cb, const vk::Buffer& from,
+                                     const vk::Buffer& to, FastRun& run) {
+    timed(cb, &run.timings.rayset_ms, nullptr, [&] {
+        record_bounce_args(cb, gpu::kArgsOrderRayset, 0);
+        record_order(cb, from, to, false);
+    });
+}
+
+std::vector<Ray> FastTracer::rayset() const {
+    if (rayset_chunks_.size() * batch_capacity_ < scene_.trace.rays)
+        throw std::logic_error("FastTracer::rayset: no rayset kept");
+    std::vector<Ray> rays;
+    for (const RaysetChunk& chunk : rayset_chunks_) {
+        const auto packed = chunk.rays.download_as<float>(*ctx_, chunk.effective * 8);
+        for (std::size_t i = 0; i < chunk.effective; ++i) {
+            const float* r = &packed[i * 8];
+            rays.push_back(Ray{glm::dvec3(r[0], r[1], r[2]) + origin_, {r[4], r[5], r[6]}});
+        }
+    }
+    return rays;
+}
+
+} // namespace fird
