@@ -191,6 +191,7 @@ int run_optimize(const GlobalOptions& global, const Args& a, const CLI::App& cmd
                         static_cast<unsigned long long>(*r.best));
         }
         if (r.lattice) std::printf("lattice: %s\n", r.lattice->verdict.c_str());
+        if (r.refine) std::printf("refine: %s\n", r.refine->verdict.c_str());
         if (r.final_l2_lm && r.noise_floor_l2_lm)
             std::printf("final l2 %.6g lm with fresh rays; noise floor %.6g lm (ratio %.3f)\n",
                         *r.final_l2_lm, *r.noise_floor_l2_lm,

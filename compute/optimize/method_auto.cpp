@@ -20,43 +20,10 @@
 
 #include "methods.hpp"
 #include "optimize/flat_directions.hpp"
-#include "optimize/search.hpp"
 
 namespace fird {
 
 namespace {
-
-// The confirm stage's second stream of rays (search.cpp's streams: stages from 0, the
-// final and noise runs at 1000 and 1001).
-constexpr std::uint64_t kConfirmNoiseStream = 1002;
-
-// Standard deviations of noise the confirmed l2 may lie above the measured noise l2 and
-// still be called noise: one-sided, 2 leaves a 2.3 % chance of polling pairs needlessly
-// (costing candidates, never accuracy).
-constexpr double kNoiseSigmas = 2.0;
-
-// The noise in the confirm stage's l2: `a` and `b` are one reflector traced with two
-// independent streams, so their per-cell differences d are noise alone. l2 = sqrt(S),
-// S = sum d^2. With cells independent and d_i ~ N(0, v_i): var S = 2 sum v_i^2 and
-// E d^4 = 3 v^2, so sd(S) ~ sqrt(2/3 sum d^4) and sd(l2) ~ sd(S) / (2 S) * l2. The
-// confirmed l2 (candidate against the desired) carries noise of its own, independent of
-// this pair's: the limit allows kNoiseSigmas of the difference of two such l2 (sqrt 2 sd).
-// At the optimum the candidate's l2 to a desired traced with at least the stage's rays is
-// at most this pair's in expectation (a noise-free desired gives 1/sqrt 2 of it), so the
-// limit errs towards polling pairs.
-ConfirmNoise confirm_noise(double l2_lm, const FarField& a, const FarField& b) {
-    double s2 = 0.0, s4 = 0.0;
-    for (std::size_t i = 0; i < a.lm.size(); ++i) {
-        const double d2 = (double(a.lm[i]) - double(b.lm[i])) * (double(a.lm[i]) - double(b.lm[i]));
-        s2 += d2;
-        s4 += d2 * d2;
-    }
-    const double noise = std::sqrt(s2);
-    const double relative_sd = s2 > 0.0 ? std::sqrt(2.0 / 3.0 * s4) / (2.0 * s2) : 0.0;
-    return {.l2_lm = l2_lm,
-            .noise_l2_lm = noise,
-            .limit_lm = noise * (1.0 + kNoiseSigmas * std::sqrt(2.0) * relative_sd)};
-}
 
 std::vector<double> best_x(const Objective& f, const std::vector<double>& fallback) {
     const Candidate* b = f.stage_best();
@@ -145,11 +112,7 @@ StopReason run_auto(Objective& f, const std::vector<Fidelity>& stages,
     if (!confirmed) return single;
     const std::vector<double> best = confirmed->x;
     const double best_l2 = confirmed->l2_lm;
-    const std::uint64_t avoid =
-        f.scene().target.kind == TargetDesc::Kind::Reflector ? f.scene().target.seed : ~0ull;
-    const auto [a, b] =
-        f.noise_pair(best, stream_seed(f.settings().seed, kConfirmNoiseStream, avoid));
-    confirm = confirm_noise(best_l2, a, b);
+    confirm = stage_noise(f, best, best_l2);
     if (best_l2 <= confirm->limit_lm) return single;
     return run_lattice_descent(f, best, all, together);
 }

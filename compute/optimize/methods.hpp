@@ -57,6 +57,10 @@ struct ConfirmNoise {
     double limit_lm = 0.0;
 };
 
+// The noise in a stage's l2 at x (whose l2 there is `l2_lm`): two traces of x at the
+// current stage's fidelity, with its rays and with an independent stream.
+ConfirmNoise stage_noise(Objective& objective, const std::vector<double>& x, double l2_lm);
+
 // The multi-fidelity default (docs/optimization.md): few rays on a coarse far field for
 // the early, coarse candidates, more as the search narrows, then the step lattice.
 // `confirm` receives the confirm stage's noise once measured.
@@ -67,5 +71,14 @@ StopReason run_auto(Objective& objective, const std::vector<Fidelity>& stages,
 // current stage's fidelity, the flat directions' parameters held.
 StopReason run_sub_step(Objective& objective, const std::vector<double>& centre,
                         const std::vector<FlatDirection>& flat);
+
+// The whole refine below the step, in the current stage (the lattice stage's fidelity and
+// rays): run_sub_step from the lattice stage's best; where that ends above `noise`'s
+// limit, again from the next lattice points of its neighbourhood (see
+// method_sub_step.cpp), the stage's best over all of them kept. `lattice_stage` indexes
+// the stage whose candidates the lattice verdict judged. `report` is filled as it goes
+// (a search stopped inside it still says where it started).
+void run_refine(Objective& objective, std::uint32_t lattice_stage, const ConfirmNoise& noise,
+                const std::vector<FlatDirection>& flat, RefineReport& report);
 
 } // namespace fird

@@ -86,6 +86,13 @@ std::map<std::string, double> ParameterSpace::named(const std::vector<double>& x
     return m;
 }
 
+std::string ParameterSpace::text(const std::vector<double>& x) const {
+    std::string t;
+    for (std::size_t k = 0; k < x.size() && k < size(); ++k)
+        t += fmt::format("{}{}={:.6g}", k ? " " : "", names[k], x[k]);
+    return t;
+}
+
 ReflectorDesc ParameterSpace::reflector(const ReflectorDesc& base,
                                         const std::vector<double>& x) const {
     ReflectorDesc r = base;

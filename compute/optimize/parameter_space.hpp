@@ -30,6 +30,8 @@ struct ParameterSpace {
     // The nearest lattice point, coordinate by coordinate.
     std::vector<double> snap(const std::vector<double>& x) const;
     std::map<std::string, double> named(const std::vector<double>& x) const;
+    // "name=value ..." in the names' order, for one-line messages.
+    std::string text(const std::vector<double>& x) const;
     // The base reflector with x's values.
     ReflectorDesc reflector(const ReflectorDesc& base, const std::vector<double>& x) const;
 };

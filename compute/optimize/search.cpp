@@ -66,13 +66,6 @@ double ms_since(std::chrono::steady_clock::time_point t0) {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
 
-std::string point_text(const ParameterSpace& space, const std::vector<double>& x) {
-    std::string t;
-    for (std::size_t k = 0; k < x.size(); ++k)
-        t += fmt::format("{}{}={:.6g}", k ? " " : "", space.names[k], x[k]);
-    return t;
-}
-
 // Whether the lattice method's last stage ended on the best point of its neighbourhood, from
 // that stage's own candidates (same rays: their order is free of noise between them).
 LatticeCheck lattice_check(const Objective& f, const std::optional<ConfirmNoise>& confirm,
@@ -120,10 +113,9 @@ LatticeCheck lattice_check(const Objective& f, const std::optional<ConfirmNoise>
         if (it->second->feasible && it->second->l2_lm < best->l2_lm) ++c.better;
     }
     if (c.better > 0)
-        c.verdict =
-            fmt::format("{} of the {} neighbours one step away are lower than {} "
-                        "(the search stopped before moving on: {})",
-                        c.better, c.neighbours, point_text(space, c.x), stop_reason_name(stopped));
+        c.verdict = fmt::format("{} of the {} neighbours one step away are lower than {} "
+                                "(the search stopped before moving on: {})",
+                                c.better, c.neighbours, space.text(c.x), stop_reason_name(stopped));
     else if (c.not_polled.empty())
         c.verdict =
             fmt::format("the best lattice point of its neighbourhood: all {} points one "
@@ -301,10 +293,16 @@ SearchOutcome run_search(const vk::Context& ctx, const Scene& scene, const Searc
         }
         judge_lattice();
         if (settings.refine && r.lattice && !r.lattice->x.empty()) {
-            r.refined_from = r.lattice->x;
+            const std::uint32_t judged = std::uint32_t(f.stages().size() - 1);
             f.begin_stage("sub-step", stages.back());
+            // The noise at the refine's fidelity: auto's confirm stage measured it at this
+            // fidelity (on its best before any pair steps); after the grid it is measured
+            // here, on the lattice's best.
+            const ConfirmNoise noise =
+                confirm ? *confirm : stage_noise(f, r.lattice->x, f.stages()[judged].best_l2_lm);
             // Its own budget used up is no stop of the search's: the lattice's reason stays.
-            (void)run_sub_step(f, r.lattice->x, r.flat_directions);
+            r.refine.emplace();
+            run_refine(f, judged, noise, r.flat_directions, *r.refine);
         }
     } catch (const SearchStopped& s) {
         r.stopped = s.reason;

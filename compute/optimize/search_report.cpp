@@ -67,7 +67,16 @@ nlohmann::json search_json(const SearchResult& r) {
                    {"confirm_noise_l2", optional_number(c.confirm_noise_l2_lm)},
                    {"confirm_noise_limit", optional_number(c.confirm_noise_limit_lm)},
                    {"verdict", c.verdict}};
-        if (r.refined_from) lattice["refined_from"] = named(*r.refined_from);
+        if (r.refine && !r.refine->starts.empty()) {
+            nlohmann::json starts = nlohmann::json::array();
+            for (const auto& x : r.refine->starts)
+                starts.push_back(named(x));
+            lattice["refined_from"] = named(r.refine->starts.front());
+            lattice["refine_starts"] = starts;
+            lattice["refine_noise_l2"] = r.refine->noise_l2_lm;
+            lattice["refine_noise_limit"] = r.refine->noise_limit_lm;
+            lattice["refine_verdict"] = r.refine->verdict;
+        }
     }
     nlohmann::json best = nlohmann::json::object();
     for (const auto& [k, v] : r.best_parameters)

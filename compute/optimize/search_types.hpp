@@ -84,6 +84,18 @@ struct LatticeCheck {
     std::string verdict; // one line: the best lattice point, or why it cannot be said
 };
 
+// The refine below the step (--refine): where it started, and why it started again.
+struct RefineReport {
+    // The lattice points its BOBYQA runs began at: first the lattice's best, then the
+    // neighbours it started again from (see method_sub_step.cpp).
+    std::vector<std::vector<double>> starts;
+    // Its noise: the l2 between two independent traces of the lattice's best at the
+    // refine's fidelity and the most l2 noise alone explains (auto's confirm stage's).
+    double noise_l2_lm = 0.0;
+    double noise_limit_lm = 0.0;
+    std::string verdict; // one line: ended at the noise, or started again from where
+};
+
 struct SearchResult {
     std::string method;
     std::string backend; // "gpu" (the fast path) or "cpu" (the reference), backend_name()
@@ -101,9 +113,9 @@ struct SearchResult {
     std::optional<double> noise_floor_l2_lm; // two independent traces of the best
     std::optional<double> surface_rms_mm;    // best against a target reflector, over the holder
     std::vector<FlatDirection> flat_directions;
-    std::optional<LatticeCheck> lattice;             // lattice methods (auto, grid)
-    std::optional<std::vector<double>> refined_from; // --refine: the lattice point it began at
-    std::string desired;                             // what the desired far field is
+    std::optional<LatticeCheck> lattice; // lattice methods (auto, grid)
+    std::optional<RefineReport> refine;  // --refine
+    std::string desired;                 // what the desired far field is
     StopReason stopped = StopReason::None;
     double time_s = 0.0;
     std::uint64_t grid_size = 0; // the lattice's size (the grid method's work)

@@ -458,6 +458,7 @@ TEST(CliOptimize, RefineReportsTheLatticeAndGoesBelowTheStep) {
     EXPECT_EQ(lattice["stage"], "confirm");
     EXPECT_FALSE(lattice["verdict"].get<std::string>().empty());
     EXPECT_EQ(lattice["refined_from"], lattice["point"]);
+    EXPECT_EQ(lattice["refine_starts"].front(), lattice["point"]);
     const auto& stages = j["rays_per_evaluation"];
     EXPECT_EQ(stages.back()["stage"], "sub-step");
     EXPECT_LE(stages.back()["best_l2"].get<double>(),

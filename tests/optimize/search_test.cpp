@@ -526,9 +526,10 @@ TEST_F(SearchJudgedElsewhere, AutoEndsOnTheNearestLatticePointAndRefinesBelowThe
 
     const SearchResult refined =
         search(ctx(), s, SearchMethod::Auto, nullptr, {}, {}, desired, true).result;
-    ASSERT_TRUE(refined.best && refined.surface_rms_mm && refined.refined_from);
+    ASSERT_TRUE(refined.best && refined.surface_rms_mm && refined.refine);
     EXPECT_EQ(refined.stages.back().name, "sub-step");
-    EXPECT_EQ(*refined.refined_from, end);
+    ASSERT_FALSE(refined.refine->starts.empty());
+    EXPECT_EQ(refined.refine->starts.front(), end);
     EXPECT_LT(*refined.surface_rms_mm, 0.5 * nearest_rms)
         << refined.history[*refined.best].x[0] << " " << refined.history[*refined.best].x[1]
         << " l2 " << refined.best_l2_lm << " lattice l2 " << lattice.best_l2_lm << " evals "
@@ -536,6 +537,98 @@ TEST_F(SearchJudgedElsewhere, AutoEndsOnTheNearestLatticePointAndRefinesBelowThe
     EXPECT_LT(*refined.surface_rms_mm, 0.5 * *lattice.surface_rms_mm);
     for (std::size_t k = 0; k < 2; ++k) // inside the step round the lattice point
         EXPECT_LE(std::abs(refined.history[*refined.best].x[k] - end[k]), 0.05 + 1e-12);
+}
+
+// The sub-step refines of one search, run again one by one: each start's BOBYQA alone, on
+// a fresh objective at the refine's fidelity and rays (common random numbers: the same
+// candidate scores the same), its best l2 and its candidates in order.
+std::vector<std::pair<double, std::vector<Candidate>>>
+single_refines(const vk::Context& ctx, const Scene& s, const DesiredFarField& desired,
+               const SearchResult& r) {
+    std::vector<std::pair<double, std::vector<Candidate>>> out;
+    for (const std::vector<double>& start : r.refine->starts) {
+        Objective f(ctx, s, parameter_space(s), desired.farfield, search_settings(s), nullptr, {},
+                    {});
+        f.begin_stage("sub-step", r.stages.back().fidelity);
+        (void)run_sub_step(f, start, r.flat_directions);
+        out.emplace_back(f.stage_best() ? f.stage_best()->l2_lm : HUGE_VAL, f.history());
+    }
+    return out;
+}
+
+// --refine starts again only where its first run ends above the noise, from the lattice
+// neighbours the lattice did not tell apart from its best, and keeps the best of its runs.
+// A desired far field no mirror makes: the CPU reference's far field of the mirror with
+// slopes (0.13, -0.08), every cell scaled by 0.7 (a mirror reflects all it meets, and no
+// slope takes 30 % of the light away): every refine ends above the noise, so the starts
+// after the first must be the grid's neighbours of its best (8, one step in sx, sy or
+// both) whose l2 exceeds the best's by less than the best exceeds the noise limit, lowest
+// first, at most one per parameter (read here from the grid stage's history); and the
+// search's best must be the lowest that any one of those refines, run alone, reaches, so
+// no worse than the single refine from the lattice's best. Then the mirror's own lattice
+// point as the target: the first refine starts at the noise, so it must be the only one,
+// its candidates exactly those of the single refine.
+TEST_F(SearchJudgedElsewhere, RefineStartsAgainOnlyAboveTheNoiseAndKeepsItsBestRun) {
+    Scene s = scene("mirror_search.toml");
+    // A 7 x 7 grid round the target keeps the test short; 10 deg cells gather enough rays
+    // that the missing 30 % stands clear of the noise (the noise l2 does not grow with
+    // the cells, the shape's does).
+    s.reflector.optimize = {{"sx", {0.0, 0.3, 0.05}}, {"sy", {-0.25, 0.05, 0.05}}};
+    s.trace.farfield_w = 36;
+    s.trace.farfield_h = 18;
+    s.target.parameters = {{"sx", 0.13}, {"sy", -0.08}};
+    DesiredFarField dimmed = reference_desired(s, 200000);
+    for (auto& lm : dimmed.farfield.lm)
+        lm *= 0.7;
+    const SearchResult r =
+        search(ctx(), s, SearchMethod::Grid, nullptr, {}, {}, dimmed, true).result;
+    ASSERT_TRUE(r.refine && r.lattice && r.best) << r.lattice->verdict;
+    const RefineReport& refine = *r.refine;
+    ASSERT_GT(r.best_l2_lm, refine.noise_limit_lm) << refine.verdict;
+    const std::uint32_t grid = 0;
+    ASSERT_EQ(r.stages[grid].name, "grid");
+    const Candidate& best = r.history[*r.stages[grid].best];
+    EXPECT_EQ(refine.starts.front(), best.x);
+    const ParameterSpace space = parameter_space(s);
+    std::vector<std::pair<double, std::vector<double>>> expected;
+    for (const Candidate& c : r.history) {
+        const bool neighbour = c.stage == grid && c.x != best.x &&
+                               std::abs(c.x[0] - best.x[0]) < 1.5 * space.step[0] &&
+                               std::abs(c.x[1] - best.x[1]) < 1.5 * space.step[1];
+        if (neighbour && c.l2_lm - best.l2_lm < best.l2_lm - refine.noise_limit_lm)
+            expected.emplace_back(c.l2_lm, c.x);
+    }
+    std::sort(expected.begin(), expected.end());
+    expected.resize(std::min<std::size_t>(expected.size(), 2));
+    ASSERT_FALSE(expected.empty()) << "no neighbour within the excess: the case tests nothing";
+    ASSERT_EQ(refine.starts.size(), 1 + expected.size()) << refine.verdict;
+    for (std::size_t i = 0; i < expected.size(); ++i)
+        EXPECT_EQ(refine.starts[i + 1], expected[i].second) << i;
+    const auto singles = single_refines(ctx(), s, dimmed, r);
+    double lowest = HUGE_VAL;
+    for (const auto& [l2, history] : singles)
+        lowest = std::min(lowest, l2);
+    EXPECT_EQ(r.best_l2_lm, lowest) << refine.verdict;
+    EXPECT_LE(r.best_l2_lm, singles.front().first);
+    std::printf("%s\n", refine.verdict.c_str());
+
+    // At the noise: one run, the single refine's candidates exactly.
+    s.target.parameters = {{"sx", 0.15}, {"sy", -0.1}};
+    const DesiredFarField desired = reference_desired(s, 200000);
+    const SearchResult on =
+        search(ctx(), s, SearchMethod::Grid, nullptr, {}, {}, desired, true).result;
+    ASSERT_TRUE(on.refine && on.best);
+    ASSERT_LE(on.best_l2_lm, on.refine->noise_limit_lm) << on.refine->verdict;
+    ASSERT_EQ(on.refine->starts.size(), 1u) << on.refine->verdict;
+    const std::vector<Candidate> single = single_refines(ctx(), s, desired, on).front().second;
+    std::vector<Candidate> sub_step;
+    for (const Candidate& c : on.history)
+        if (c.stage + 1 == on.stages.size()) sub_step.push_back(c);
+    ASSERT_EQ(sub_step.size(), single.size());
+    for (std::size_t i = 0; i < single.size(); ++i) {
+        EXPECT_EQ(sub_step[i].x, single[i].x) << i;
+        EXPECT_EQ(sub_step[i].l2_lm, single[i].l2_lm) << i;
+    }
 }
 
 // The confirm stage's noise limit is what noise alone leaves: ten traces of one reflector
