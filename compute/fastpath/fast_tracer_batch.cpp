@@ -110,6 +110,9 @@ void FastTracer::run_batch_submission(std::span<FastRun> runs, const BatchCompar
                 vk::barrier_all(cb);
             }
             record_batch_end(cb, j);
+            // A window sharing the queue draws between candidates too (their height
+            // fields are not bounded by the batch's rays).
+            if (j + 1 < m) ctx_->yield_queue(cb);
         }
     });
     const double share_ms = ms_since(t0) / double(m);
