@@ -19,7 +19,7 @@ void register_trace(CLI::App& app, const GlobalOptions& global, std::function<in
         std::string backend = "gpu";
         std::string sampler;
         std::string out;
-        std::uint64_t rays = 0;
+        std::string rays;
         std::uint64_t seed = 0;
         unsigned threads = 0;
         bool json = false;
@@ -27,8 +27,7 @@ void register_trace(CLI::App& app, const GlobalOptions& global, std::function<in
     };
     auto a = std::make_shared<Args>();
     cmd->add_option("SCENE", a->scene, "Scene file (TOML)")->required();
-    cmd->add_option("--rays", a->rays, "Rays to emit (overrides [trace] rays)")
-        ->check(CLI::Range(1.0, 1e10));
+    cmd->add_option("--rays", a->rays, "Rays to emit (overrides [trace] rays; 1e6 style allowed)");
     cmd->add_option("--seed", a->seed, "Seed (overrides [trace] seed)")
         ->check(CLI::NonNegativeNumber);
     cmd->add_option("--backend", a->backend, "gpu (the fast path) or cpu (the exact reference)")
@@ -46,7 +45,7 @@ void register_trace(CLI::App& app, const GlobalOptions& global, std::function<in
     cmd->callback([&global, &run, a, cmd] {
         run = [&global, a, cmd] {
             TraceOverrides o;
-            if (cmd->count("--rays")) o.rays = a->rays;
+            if (cmd->count("--rays")) o.rays = parse_count("--rays", a->rays, 1e10);
             if (cmd->count("--seed")) o.seed = a->seed;
             if (!a->sampler.empty()) o.sampler = *sampler_from_name(a->sampler);
             const Scene scene = apply_overrides(load_scene(a->scene), o);

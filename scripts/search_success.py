@@ -67,6 +67,10 @@ def run_one(fird, scene, seed, refine):
         "evaluations": j["evaluations"],
         "lattice_complete": bool(lattice) and not lattice.get("not_polled") and lattice.get("lower", 1) == 0,
         "lattice_verdict": lattice.get("verdict"),
+        # --refine's own verdict and starts (absent before the restart rule, d70e383).
+        "refine_verdict": lattice.get("refine_verdict"),
+        "refine_starts": len(lattice.get("refine_starts") or []),
+        "backend": j.get("backend"),
         "time_s": j["time_s"],
     }
 

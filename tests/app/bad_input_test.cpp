@@ -99,6 +99,7 @@ TEST(BadInput, OptionValuesOfEveryCommand) {
     check({
         {"trace " + good + " --rays 0", 2, "--rays"},
         {"trace " + good + " --rays nan", 2, "--rays"},
+        {"trace " + good + " --rays 2.5", 2, "--rays"},
         {"trace " + good + " --backend quantum", 2, "--backend"},
         {"optimize " + good + " --rays inf", 2, "--rays"},
         {"optimize " + good + " --threshold nan", 2, "--threshold"},

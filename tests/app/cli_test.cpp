@@ -129,9 +129,11 @@ TEST(Cli, SmallerBatchesTraceTheSameRays) {
 // effective rays; the cpu backend has no trace passes to profile (a usage error).
 TEST(Cli, TraceProfileHasARowPerBounce) {
     const std::string scene = std::string(FIRD_SOURCE_DIR) + "/scenes/model_b.toml";
-    const auto r = run("trace " + scene + " --rays 20000 --json --profile");
+    // --rays takes the 1e6 style as every other command's --rays does.
+    const auto r = run("trace " + scene + " --rays 2e4 --json --profile");
     ASSERT_EQ(r.code, 0) << r.out;
     const auto j = nlohmann::json::parse(r.out);
+    EXPECT_EQ(j["rays_emitted"].get<std::uint64_t>(), 20000u);
     ASSERT_TRUE(j.contains("profile"));
     const auto& rows = j["profile"];
     ASSERT_FALSE(rows.empty());
