@@ -10,7 +10,7 @@
 namespace fird {
 
 DesiredFarField desired_farfield(const vk::Context& ctx, const Scene& scene,
-                                 double reference_flux_lm) {
+                                 double reference_flux_lm, Backend backend) {
     DesiredFarField d;
     switch (scene.target.kind) {
     case TargetDesc::Kind::None:
@@ -19,11 +19,12 @@ DesiredFarField desired_farfield(const vk::Context& ctx, const Scene& scene,
         Fidelity f = scene_fidelity(scene);
         f.seed = scene.target.seed;
         if (scene.target.rays) f.rays = scene.target.rays;
-        Evaluator target(ctx, scene, f);
+        Evaluator target(ctx, scene, f, backend);
         (void)target.evaluate(target_reflector(scene));
         d.farfield = target.farfield();
         d.description =
-            fmt::format("target reflector traced with seed {} and {} rays", f.seed, f.rays);
+            fmt::format("target reflector traced with seed {} and {} rays{}", f.seed, f.rays,
+                        backend == Backend::Reference ? " by the CPU reference" : "");
         return d;
     }
     case TargetDesc::Kind::Photometric:

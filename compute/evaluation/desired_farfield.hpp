@@ -1,10 +1,12 @@
 // The far field a scene asks for, on the scene's grid, computed once: the target
-// reflector traced on the fast path with its own seed and ray count, or the photometric
-// file integrated over each cell.
+// reflector traced with its own seed and ray count (on the fast path, or on the CPU
+// reference for a search that runs there), or the photometric file integrated over each
+// cell.
 #pragma once
 
 #include <string>
 
+#include "evaluation/evaluator.hpp"
 #include "farfield/farfield.hpp"
 #include "model/scene.hpp"
 #include "vk/context.hpp"
@@ -22,6 +24,6 @@ struct DesiredFarField {
 // search's starting reflector), so a candidate that sends less light, or none, cannot
 // score better by shrinking the target with it (docs/optimization.md).
 DesiredFarField desired_farfield(const vk::Context& ctx, const Scene& scene,
-                                 double reference_flux_lm);
+                                 double reference_flux_lm, Backend backend = Backend::Fast);
 
 } // namespace fird

@@ -121,7 +121,7 @@ std::vector<CandidateResult> Evaluator::evaluate_batch(std::span<const Reflector
         std::vector<CandidateResult> results;
         for (const ReflectorDesc& r : reflectors)
             results.push_back(evaluate_on_cpu(r));
-        traced_ = true;
+        traced_ = traced_ || !reflectors.empty();
         return results;
     }
     const auto t0 = std::chrono::steady_clock::now();
@@ -139,7 +139,7 @@ std::vector<CandidateResult> Evaluator::evaluate_batch(std::span<const Reflector
         };
     }
     std::vector<FastRun> runs = tracer_->run_batch(reflectors, record_compare);
-    traced_ = true;
+    traced_ = traced_ || !reflectors.empty();
     const double share_ms = ms_since(t0) / double(std::max<std::size_t>(reflectors.size(), 1));
     std::vector<CandidateResult> results(runs.size());
     for (std::size_t k = 0; k < runs.size(); ++k) {

@@ -198,10 +198,11 @@ class FastTracer {
     void record_bounces(VkCommandBuffer cb, const vk::Buffer& rays, FastRun& run, bool record_hits);
     void record_to_lm(VkCommandBuffer cb, FastRun& run);
     // The batch's readback, one small copy each: the counters and the loop's per-bounce
-    // counts, for the host.
-    // `slot`: the candidate's place in a run_batch submission (0 for run()).
+    // counts, for the host, into readback slot `slot` (a candidate's place in a run_batch
+    // submission; 0 for run()).
     void record_batch_end(VkCommandBuffer cb, std::size_t slot = 0);
-    // Adds the batch's counters and per-bounce rays (read back once, after its wait).
+    // Adds the batch's counters and per-bounce rays of readback slot `slot` (read back
+    // once, after its wait).
     void tally_batch(FastRun& run, std::size_t slot = 0) const;
     // run_batch's one submission for reflectors already set into batch_states_[0, n - 1)
     // and current_ (the last): the kept single-batch rayset traced against each.
@@ -230,6 +231,7 @@ class FastTracer {
     // which state the passes being recorded use (0: current_, k: batch_states_[k - 1]).
     std::vector<ReflectorState> batch_states_;
     std::size_t recording_ = 0;
+    std::size_t batch_states_cap_ = kMaxBatchCandidates; // lowered by an out-of-memory
     std::uint64_t batch_capacity_ = 0;
     std::uint64_t submission_rays_ = 0; // the most rays one submission traces (a batch's cap)
     // One batch's effective rays, ordered by direction, kept for the next run.

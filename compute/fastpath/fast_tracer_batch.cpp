@@ -35,8 +35,14 @@ std::vector<FastRun> FastTracer::run_batch(std::span<const ReflectorDesc> reflec
     // One submission holds every candidate's passes when the rays are one kept batch that
     // each candidate reads (and nothing accumulates over candidates: diagnostics, profile).
     const bool one_batch_of_rays = scene_.trace.rays <= batch_capacity_;
-    const bool batchable = one_batch_of_rays && cache_rayset_ && skips_.keep_rayset && !mesh_ &&
-                           !count_texel_hits_ && !trace_profile_pipeline_;
+    // A mesh's height field is rasterized in render passes of its own, one reflector at a
+    // time (asked of the scene: a fresh tracer has not loaded the mesh yet).
+    const bool batchable = one_batch_of_rays && cache_rayset_ && skips_.keep_rayset &&
+                           scene_.reflector.family != Family::Mesh && !count_texel_hits_ &&
+                           !trace_profile_pipeline_;
+    for (const ReflectorDesc& r : reflectors)
+        if (gpu_family(r.family) != spec_[FIRD_SPEC_FAMILY])
+            throw std::invalid_argument("the fast path's pipelines were built for another family");
     std::size_t k = 0;
     if (!batchable || rayset_chunks_.empty()) {
         // The first run generates the rayset that the others reuse.
@@ -50,7 +56,19 @@ std::vector<FastRun> FastTracer::run_batch(std::span<const ReflectorDesc> reflec
         submission_rays_ / std::max<std::uint64_t>(scene_.trace.rays, 1), 1, kMaxBatchCandidates));
     while (k < reflectors.size()) {
         std::size_t m = std::min(per_submission, reflectors.size() - k);
-        // Height fields for the others as memory allows (the budget, or the device's).
+        // Height fields for the others as memory allows: within three quarters of what the
+        // budget (or a quarter of the device-local heap) has left, so that what follows a
+        // batch (a fresh evaluator's noise traces, a new seed's rayset) still finds room;
+        // and never again past an out-of-memory.
+        const std::uint64_t state_bytes = reflector_state_bytes(params_);
+        const std::uint64_t limit = ctx_->device_memory_budget()
+                                        ? ctx_->device_memory_budget()
+                                        : ctx_->limits().device_local_heap_bytes / 4;
+        const std::uint64_t in_use = ctx_->device_memory_in_use();
+        const std::uint64_t room = limit > in_use ? (limit - in_use) / 4 * 3 : 0;
+        const std::size_t allowed = std::min<std::size_t>(
+            batch_states_cap_, batch_states_.size() + std::size_t(room / state_bytes));
+        m = std::min(m, allowed + 1);
         while (batch_states_.size() < m - 1) {
             try {
                 batch_states_.push_back(make_reflector_state(
@@ -59,6 +77,7 @@ std::vector<FastRun> FastTracer::run_batch(std::span<const ReflectorDesc> reflec
                 if (e.result() != VK_ERROR_OUT_OF_DEVICE_MEMORY &&
                     e.result() != VK_ERROR_OUT_OF_HOST_MEMORY)
                     throw;
+                batch_states_cap_ = batch_states_.size();
                 m = batch_states_.size() + 1;
             }
         }
@@ -110,6 +129,8 @@ void FastTracer::run_batch_submission(std::span<FastRun> runs, const BatchCompar
                 vk::barrier_all(cb);
             }
             record_batch_end(cb, j);
+            // The next candidate clears the counters and the loop state this copied out.
+            vk::barrier_all(cb);
             // A window sharing the queue draws between candidates too (their height
             // fields are not bounded by the batch's rays).
             if (j + 1 < m) ctx_->yield_queue(cb);

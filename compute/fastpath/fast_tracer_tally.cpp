@@ -34,6 +34,7 @@ void FastTracer::record_batch_start(VkCommandBuffer cb, std::optional<std::uint6
     vkCmdFillBuffer(cb, counters_.get(), 0, VK_WHOLE_SIZE, 0);
     vkCmdFillBuffer(cb, loop_.get(), 0, VK_WHOLE_SIZE, 0);
     if (effective) {
+        vk::barrier_all(cb); // the two counters below over the clear
         vkCmdFillBuffer(cb, counters_.get(), gpu::kCounterEffective * 4, 4,
                         std::uint32_t(*effective));
         vkCmdFillBuffer(cb, counters_.get(), gpu::kCounterDiscarded * 4, 4,

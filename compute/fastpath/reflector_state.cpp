@@ -34,6 +34,7 @@ ReflectorState make_reflector_state(const vk::Context& ctx, const gpu::ScenePara
     const auto tree_usage =
         storage | VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT | VK_BUFFER_USAGE_VERTEX_BUFFER_BIT;
     ReflectorState s;
+    s.name = prefix;
     s.params = params;
     s.params_buffer =
         vk::Buffer(ctx, sizeof(gpu::SceneParams), storage, vk::MemoryUse::Upload, name("params"));
@@ -76,7 +77,7 @@ bool set_state_reflector(const vk::Context& ctx, ReflectorState& state,
     if (!control.empty()) {
         if (state.control.size() != control.size() * 4)
             state.control = vk::Buffer(ctx, control.size() * 4, vk::kStorageUsage,
-                                       vk::MemoryUse::Device, "fird.bspline.control");
+                                       vk::MemoryUse::Device, state.name + ".bspline.control");
         state.control.upload(ctx, std::span<const float>(control));
     }
     state.params_buffer.upload(ctx, std::as_bytes(std::span(&state.params, 1)));

@@ -17,6 +17,7 @@
 namespace fird {
 
 struct ReflectorState {
+    std::string name;          // its buffers' debug names begin with it ("fird", "fird.candidate3")
     gpu::SceneParams params{}; // the scene's, with this reflector's family and parameters
     std::optional<ReflectorDesc> reflector;
     bool heightfield_dirty = true; // the reflector changed since its height field was built
@@ -34,7 +35,7 @@ struct ReflectorState {
 ReflectorState make_reflector_state(const vk::Context& ctx, const gpu::SceneParams& params,
                                     const std::string& prefix);
 
-// The device memory one reflector state takes (for a batch's budget).
+// The device memory one reflector state takes (a batch's candidates within the budget).
 std::uint64_t reflector_state_bytes(const gpu::SceneParams& params);
 
 // Makes `reflector` the state's (parameters uploaded, height field marked for a rebuild) on

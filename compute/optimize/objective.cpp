@@ -130,21 +130,28 @@ std::vector<double> Objective::evaluate_all(const std::vector<std::vector<double
 void Objective::prefetch(std::span<const std::vector<double>> xs) {
     if (stages_.empty() || (control_ && (control_->stop.load() || control_->pause.load())))
         return; // operator() stops or waits before any trace
+    // The reference backend traces a batch one candidate after another: tracing ahead
+    // would only delay a stop or a pause by up to a chunk of seconds-long traces.
+    if (settings_.backend == Backend::Reference) return;
     // The history index each x will take, as operator() assigns them in turn.
     std::uint64_t index = history_.size();
     std::set<std::vector<double>> seen;
     std::vector<std::vector<double>> keys;
     std::vector<ReflectorDesc> reflectors;
     for (const std::vector<double>& x : xs) {
-        if (stage_memo_.contains(x) || prefetched_.contains(x) || !seen.insert(x).second) continue;
+        if (stage_memo_.contains(x) || !seen.insert(x).second) continue; // answered from the memo
         if (index >= settings_.max_evaluations) break;
-        if (index++ < replay_.size()) continue; // replayed, not traced
+        // Replayed, or traced ahead already: an index of the history, no trace.
+        if (index++ < replay_.size() || prefetched_.contains(x)) continue;
         ReflectorDesc r = space_.reflector(scene_.reflector, x);
         if (!candidate_feasibility(scene_, r).feasible) continue;
         keys.push_back(x);
         reflectors.push_back(std::move(r));
     }
     if (reflectors.size() < 2) return; // traced when asked for, as before
+    // Should the batch fail (a lost device, a broken energy balance), none of its points is
+    // recorded, where one at a time the earlier ones would have been: a resumed search
+    // traces them again.
     std::vector<CandidateResult> results = stage_evaluator().evaluate_batch(reflectors);
     for (std::size_t k = 0; k < keys.size(); ++k)
         prefetched_.emplace(keys[k], std::move(results[k]));

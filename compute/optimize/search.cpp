@@ -258,7 +258,8 @@ SearchOutcome run_search(const vk::Context& ctx, const Scene& scene, const Searc
             "photometric target has nothing to be scaled to (set [target] absolute = true or "
             "start from another reflector)",
             scene.path));
-    out.desired = req.desired ? *req.desired : desired_farfield(ctx, scene, start_flux);
+    out.desired =
+        req.desired ? *req.desired : desired_farfield(ctx, scene, start_flux, settings.backend);
     if (out.desired.farfield.width != final_fidelity.farfield_w ||
         out.desired.farfield.height != final_fidelity.farfield_h)
         throw std::invalid_argument(fmt::format(

@@ -529,6 +529,10 @@ MemoryAllocationCounts Context::memory_allocations() const {
     return state_->memory_blocks->counts();
 }
 
+std::uint64_t Context::device_memory_budget() const {
+    return state_->max_device_memory;
+}
+
 std::uint64_t Context::device_memory_in_use() const {
     return state_->device_memory.load();
 }

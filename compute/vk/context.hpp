@@ -160,6 +160,8 @@ class Context {
     Memory allocate_memory(const VkMemoryRequirements& req, std::uint32_t type,
                            std::string_view name, bool dedicated = false) const;
     std::uint64_t device_memory_in_use() const;
+    // The --max-device-memory budget (ContextOptions::max_device_memory_bytes; 0: none).
+    std::uint64_t device_memory_budget() const;
 
     std::uint32_t find_memory_type(std::uint32_t type_bits, VkMemoryPropertyFlags required,
                                    VkMemoryPropertyFlags preferred) const;

@@ -284,11 +284,15 @@ TEST(Cli, BenchCandidatesTimesASearchsCandidate) {
     EXPECT_GT(csv.number(0, "heightfield_ms"), 0.0); // rebuilt for every candidate
     EXPECT_GT(csv.number(0, "compare_ms"), 0.0);
     EXPECT_GE(csv.number(0, "candidate_ms"), 0.5 * stages);
-    // Beside it, 16 candidates a batch (the default --batch): 2e4 rays each fit one
-    // submission, so the batch is waited on once.
+    // Beside it, 16 candidates a batch (the default --batch): 2e4 rays each would fit one
+    // submission, but each candidate's height field and far field (about 35 MB at the
+    // scene's grids) must fit a quarter of the device-local heap beside the rest (lavapipe
+    // reports 2 GiB: about 8 of them), so the batch is waited on a few times, fewer than
+    // once per candidate.
     EXPECT_EQ(csv.at(0, "batch"), "16");
     EXPECT_GT(csv.number(0, "batch_candidate_ms"), 0.0);
-    EXPECT_EQ(csv.at(0, "batch_submissions"), "1");
+    EXPECT_GE(csv.number(0, "batch_submissions"), 1.0);
+    EXPECT_LE(csv.number(0, "batch_submissions"), 4.0);
     const auto two = run("bench --candidates " + scene + " --rays 1e4,2e4 --out " + dir);
     EXPECT_EQ(two.code, 2) << two.out;
 }

@@ -160,7 +160,8 @@ TEST_F(SearchRules, TheGridOnTheCpuReferenceBackendRecoversTheAnalyticOptimum) {
     request.settings.method = SearchMethod::Grid;
     request.settings.rays = {s.trace.rays};
     request.settings.backend = Backend::Reference;
-    const SearchResult r = run_search(ctx(), s, request).result;
+    const SearchOutcome out = run_search(ctx(), s, request);
+    const SearchResult& r = out.result;
     EXPECT_EQ(r.backend, "cpu");
     ASSERT_TRUE(r.best);
     for (const auto& [k, range] : s.reflector.optimize)
@@ -175,7 +176,9 @@ TEST_F(SearchRules, TheGridOnTheCpuReferenceBackendRecoversTheAnalyticOptimum) {
     EXPECT_GT(*r.start_l2_lm, *r.final_l2_lm);
     // Each candidate's l2 is the reference's own: an evaluation of it alone on the CPU.
     Evaluator cpu(ctx(), s, r.stages[0].fidelity, Backend::Reference);
-    const DesiredFarField desired = desired_farfield(ctx(), s, 0.0);
+    // The desired far field too is the reference's (the target reflector by the CPU).
+    const DesiredFarField desired = desired_farfield(ctx(), s, 0.0, Backend::Reference);
+    EXPECT_EQ(desired.farfield.lm, out.desired.farfield.lm);
     cpu.set_desired(desired.farfield);
     const Candidate& best = r.history[*r.best];
     const CandidateResult again = cpu.evaluate(parameter_space(s).reflector(s.reflector, best.x));
