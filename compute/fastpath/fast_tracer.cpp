@@ -129,10 +129,14 @@ const ReflectorState& FastTracer::state() const {
     return recording_ == 0 ? current_ : batch_states_[recording_ - 1];
 }
 
-void FastTracer::set_reflector(const ReflectorDesc& reflector) {
-    if (current_.reflector && *current_.reflector == reflector) return; // height field current
+void FastTracer::require_family(const ReflectorDesc& reflector) const {
     if (gpu_family(reflector.family) != spec_[FIRD_SPEC_FAMILY])
         throw std::invalid_argument("the fast path's pipelines were built for another family");
+}
+
+void FastTracer::set_reflector(const ReflectorDesc& reflector) {
+    if (current_.reflector && *current_.reflector == reflector) return; // height field current
+    require_family(reflector);
     if (reflector.family == Family::Mesh &&
         (!mesh_ || !current_.reflector || current_.reflector->mesh != reflector.mesh)) {
         // The corner heights are rasterized one texel larger than the height field.

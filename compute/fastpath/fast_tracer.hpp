@@ -210,6 +210,8 @@ class FastTracer {
     void run_batch_submission(std::span<FastRun> runs, const BatchCompare& then, std::size_t first);
     // A run's tally and bounces, empty, for `emitted` rays.
     FastRun new_run(std::uint64_t emitted) const;
+    // Refuses a reflector of another family than the pipelines were built for.
+    void require_family(const ReflectorDesc& reflector) const;
     // The reflector state being recorded: current_, or batch_states_[recording_ - 1].
     ReflectorState& state();
     const ReflectorState& state() const;

@@ -4,13 +4,8 @@
 
 #include <algorithm>
 #include <chrono>
-#include <cmath>
-#include <cstring>
-#include <stdexcept>
 
 #include <fmt/format.h>
-
-#include <glm/geometric.hpp>
 
 #include "fastpath/fast_tracer_internal.hpp"
 #include "fastpath/reflector_state.hpp"
@@ -41,29 +36,27 @@ std::vector<FastRun> FastTracer::run_batch(std::span<const ReflectorDesc> reflec
                            scene_.reflector.family != Family::Mesh && !count_texel_hits_ &&
                            !trace_profile_pipeline_;
     for (const ReflectorDesc& r : reflectors)
-        if (gpu_family(r.family) != spec_[FIRD_SPEC_FAMILY])
-            throw std::invalid_argument("the fast path's pipelines were built for another family");
+        require_family(r);
+    // One at a time where a submission cannot hold several; else the first alone when it
+    // generates the rayset that the others reuse.
     std::size_t k = 0;
-    if (!batchable || rayset_chunks_.empty()) {
-        // The first run generates the rayset that the others reuse.
-        for (; k < reflectors.size() && (!batchable || rayset_chunks_.empty()); ++k)
-            single(k);
-    }
+    for (; k < reflectors.size() && (!batchable || rayset_chunks_.empty()); ++k)
+        single(k);
     // No more ray-candidates in one submission than one batch of rays may hold: a
     // submission as long as one batch's (a driver's timeout, a window's frame or an
     // interruption waits for no more).
     const std::size_t per_submission = std::size_t(std::clamp<std::uint64_t>(
         submission_rays_ / std::max<std::uint64_t>(scene_.trace.rays, 1), 1, kMaxBatchCandidates));
+    // Height fields for the others as memory allows: within three quarters of what the
+    // budget (or a quarter of the device-local heap) has left, so that what follows a batch
+    // (a fresh evaluator's noise traces, a new seed's rayset) still finds room; and never
+    // again past an out-of-memory.
+    const std::uint64_t state_bytes = reflector_state_bytes(params_);
+    const std::uint64_t limit = ctx_->device_memory_budget()
+                                    ? ctx_->device_memory_budget()
+                                    : ctx_->limits().device_local_heap_bytes / 4;
     while (k < reflectors.size()) {
         std::size_t m = std::min(per_submission, reflectors.size() - k);
-        // Height fields for the others as memory allows: within three quarters of what the
-        // budget (or a quarter of the device-local heap) has left, so that what follows a
-        // batch (a fresh evaluator's noise traces, a new seed's rayset) still finds room;
-        // and never again past an out-of-memory.
-        const std::uint64_t state_bytes = reflector_state_bytes(params_);
-        const std::uint64_t limit = ctx_->device_memory_budget()
-                                        ? ctx_->device_memory_budget()
-                                        : ctx_->limits().device_local_heap_bytes / 4;
         const std::uint64_t in_use = ctx_->device_memory_in_use();
         const std::uint64_t room = limit > in_use ? (limit - in_use) / 4 * 3 : 0;
         const std::size_t allowed = std::min<std::size_t>(

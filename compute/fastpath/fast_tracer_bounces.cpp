@@ -2,15 +2,7 @@
 // device by the one before.
 #include "fast_tracer.hpp"
 
-#include <algorithm>
 #include <chrono>
-#include <cmath>
-#include <cstring>
-#include <stdexcept>
-
-#include <fmt/format.h>
-
-#include <glm/geometric.hpp>
 
 #include "fastpath/fast_tracer_internal.hpp"
 #include "fastpath/reflector_state.hpp"

@@ -2,15 +2,8 @@
 // rays by direction (bucket counts, scan, scatter) that the rayset and each bounce use.
 #include "fast_tracer.hpp"
 
-#include <algorithm>
 #include <chrono>
-#include <cmath>
-#include <cstring>
 #include <stdexcept>
-
-#include <fmt/format.h>
-
-#include <glm/geometric.hpp>
 
 #include "fastpath/fast_tracer_internal.hpp"
 #include "fastpath/reflector_state.hpp"
