@@ -8,6 +8,8 @@
 #include "surface_frag.h"
 #include "surface_vert.h"
 
+#include "model/source_outline.hpp"
+
 namespace fird::render {
 
 namespace {
@@ -142,44 +144,14 @@ void ViewportRenderer::record(VkCommandBuffer cb, const OffscreenTarget& target,
     {
         const SourceDesc& s = c.source;
         const std::array<float, 4> col{1.0f, 0.85f, 0.35f, 1.0f};
-        const int around = 32, rings = 16;
-        const auto add = [&](const glm::dvec3& p) {
-            triangles.push_back(
-                {{float(p.x), float(p.y), float(p.z)}, {col[0], col[1], col[2], col[3]}});
-        };
-        if (s.kind == SourceKind::Sphere || s.kind == SourceKind::Point) {
-            const double r = s.kind == SourceKind::Sphere
-                                 ? s.radius_mm
-                                 : 0.01 * glm::length(c.holder.max_mm - c.holder.min_mm);
-            const auto at = [&](int ring, int k) {
-                const double th = M_PI * ring / rings, ph = 2 * M_PI * k / around;
-                return s.center_mm + r * glm::dvec3(std::sin(th) * std::cos(ph),
-                                                    std::sin(th) * std::sin(ph), std::cos(th));
-            };
-            for (int ring = 0; ring < rings; ++ring)
-                for (int k = 0; k < around; ++k)
-                    for (const auto& [a, b] : {std::pair{ring, k},
-                                               {ring + 1, k},
-                                               {ring + 1, k + 1},
-                                               {ring, k},
-                                               {ring + 1, k + 1},
-                                               {ring, k + 1}})
-                        add(at(a, b));
-        } else {
-            const glm::dvec3 a = glm::normalize(s.axis);
-            const glm::dvec3 u = glm::normalize(
-                glm::cross(a, std::abs(a.z) < 0.9 ? glm::dvec3(0, 0, 1) : glm::dvec3(1, 0, 0)));
-            const glm::dvec3 v = glm::cross(a, u);
-            const auto at = [&](int end, int k) {
-                const double t = 2 * M_PI * k / around;
-                return s.center_mm + (end - 0.5) * s.length_mm * a +
-                       s.radius_mm * (std::cos(t) * u + std::sin(t) * v);
-            };
-            for (int k = 0; k < around; ++k)
-                for (const auto& [e, kk] :
-                     {std::pair{0, k}, {1, k}, {1, k + 1}, {0, k}, {1, k + 1}, {0, k + 1}})
-                    add(at(e, kk));
-        }
+        const SourceOutline outline =
+            source_outline(s, 0.01 * glm::length(c.holder.max_mm - c.holder.min_mm));
+        for (const auto& t : outline.triangles)
+            for (const std::uint32_t i : t) {
+                const glm::dvec3& p = outline.vertices_mm[i];
+                triangles.push_back(
+                    {{float(p.x), float(p.y), float(p.z)}, {col[0], col[1], col[2], col[3]}});
+            }
     }
     // A path's segments, coloured by the reflections before each (or all in `colour`).
     const auto segments = [&](const RayPath& p, float alpha,

@@ -43,6 +43,12 @@ const PickedRay* shown_pick(const Frame& f);
 void begin_panel(Frame& f, PanelId id);
 
 void scene_panel(Frame& f);
+// The scene panel's source editor (a collapsing section).
+void source_section(WorkbenchState& state);
+// The script's `source KEY VALUE` (KEY as in a scene's [source]; vectors as 0,0,-1): the
+// empty string when the scene takes it, else why not.
+std::string set_source_field(WorkbenchState& state, const std::string& key,
+                             const std::string& value);
 void viewport_panel(Frame& f);
 void farfield_panel(Frame& f);
 void optimize_panel(Frame& f);

@@ -22,6 +22,7 @@ const std::map<std::string, std::tuple<ScriptAction::Kind, int, int>>& actions()
     static const std::map<std::string, std::tuple<K, int, int>> table = {
         {"open", {K::Open, 1, 1}},
         {"set", {K::Set, 2, 2}},
+        {"source", {K::Source, 2, 2}}, // KEY VALUE: the scene panel's source editor
         {"trace", {K::Trace, 0, 0}},
         {"optimize", {K::Optimize, 0, 1}},
         {"calibrate", {K::Calibrate, 1, 2}},
@@ -80,6 +81,7 @@ Script parse_script_text(const std::string& text, const std::string& path) {
         // outputs and land where fird runs (as every command's --out), so a script kept
         // with its scenes need not be writable.
         if (kind == K::Open) a.args[0] = resolve_beside(path, a.args[0]);
+        if (kind == K::Source && a.args[0] == "file") a.args[1] = resolve_beside(path, a.args[1]);
         if (kind == K::Set) (void)number(path, n, a.args[1]);
         if (kind == K::Wait && !(number(path, n, a.args[0]) >= 0))
             throw std::invalid_argument(
@@ -188,6 +190,10 @@ bool ScriptRunner::step(Frame& f, const ScriptHost& host) {
             s.editor.dirty = true;
             break;
         }
+        case K::Source:
+            if (const std::string error = set_source_field(s, a.args[0], a.args[1]); !error.empty())
+                fail(a, "source: " + error);
+            break;
         case K::Trace:
             if (!s.editor.scene) fail(a, "trace: no scene is open");
             request_trace(f);

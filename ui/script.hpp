@@ -21,6 +21,7 @@ struct ScriptAction {
     enum class Kind {
         Open,
         Set,
+        Source,
         Trace,
         Optimize,
         Calibrate,

@@ -42,6 +42,33 @@ bool open_scene(WorkbenchState& s, const std::string& given) {
     }
 }
 
+bool set_source(WorkbenchState& s, const SourceDesc& source) {
+    if (!s.editor.scene) return false;
+    // Checked as a scene file is (every key's rule, the footprint, the clearance from the
+    // reflector): the edited scene written out and read back.
+    Scene edited = edited_scene(s);
+    edited.source = source;
+    try {
+        const Scene checked = parse_scene(scene_to_toml(edited), s.editor.path);
+        s.editor.scene->source = checked.source;
+        s.editor.error.clear();
+        add_log(s, fmt::format("source: {}{} at [{}, {}, {}] mm, {:.4g} lm",
+                               source_type_name(checked.source.kind),
+                               checked.source.file.empty() ? "" : " " + checked.source.file,
+                               checked.source.center_mm.x, checked.source.center_mm.y,
+                               checked.source.center_mm.z, checked.source.flux_lm));
+        s.editor.dirty = true;
+        s.viewport.picked_ray.reset(); // a ray of the old source's rayset
+        return true;
+    } catch (const std::exception& e) {
+        // The reason from its key on: the line is of the scene as written out, not the file.
+        const std::string what = e.what();
+        const auto key = what.find("[source]");
+        s.editor.error = key == std::string::npos ? what : what.substr(key);
+        return false;
+    }
+}
+
 bool set_photometric_target(WorkbenchState& s, const std::string& path) {
     if (!s.editor.scene) {
         add_log(s, "error: " + path + ": open a scene first, then drop a luminaire file on it");

@@ -31,6 +31,7 @@ struct SceneEditor {
     std::uint64_t rays = 0;                   // then this many (0: the scene's)
     std::string error;                        // the last load error, shown in red
     bool dirty = false;                       // a parameter moved: re-trace
+    std::string emitter_file;                 // the source editor's IES / LDT file, as typed
 };
 
 struct ViewportState {
@@ -145,6 +146,9 @@ std::string target_description(const Scene& scene);
 // A new folder under runs_dir for a job ("optimize", "calibrate") on the open scene;
 // empty (and the error logged) when it cannot be created.
 std::string new_run_folder(WorkbenchState& state, const std::string& job);
+// Replaces the open scene's source (the scene panel's source editor, the script's
+// `source`): false, with editor.error naming the key, where a scene file could not hold it.
+bool set_source(WorkbenchState& state, const SourceDesc& source);
 // The scene with the sliders' values.
 Scene edited_scene(const WorkbenchState& state);
 

@@ -17,6 +17,8 @@
 #include <vtkUnsignedIntArray.h>
 #include <vtkUnstructuredGrid.h>
 
+#include "model/source_outline.hpp"
+
 namespace fird::vtkio {
 
 namespace {
@@ -72,7 +74,6 @@ vtkSmartPointer<vtkStructuredGrid> grid(std::uint32_t w, std::uint32_t h,
 }
 
 } // namespace
-
 
 vtkSmartPointer<vtkStructuredGrid> reflector_grid(const Holder& hd, std::uint32_t w,
                                                   std::uint32_t h,
@@ -248,47 +249,19 @@ vtkSmartPointer<vtkPolyData> source_surface(const SourceDesc& s) {
     auto points = vtkSmartPointer<vtkPoints>::New();
     auto cells = vtkSmartPointer<vtkCellArray>::New();
     auto d = vtkSmartPointer<vtkPolyData>::New();
-    constexpr int kAround = 48, kRings = 24;
-    if (s.kind == SourceKind::Point) {
+    if (s.kind == SourceKind::Point || (s.kind == SourceKind::Photometric && s.radius_mm <= 0.0)) {
         const vtkIdType p = points->InsertNextPoint(s.center_mm.x, s.center_mm.y, s.center_mm.z);
         cells->InsertNextCell(1, &p);
         d->SetPoints(points);
         d->SetVerts(cells);
         return d;
     }
-    if (s.kind == SourceKind::Cylinder) {
-        // The lateral surface (the caps are dark): rings at both ends.
-        const glm::dvec3 a = glm::normalize(s.axis);
-        const glm::dvec3 u = glm::normalize(
-            glm::cross(a, std::abs(a.z) < 0.9 ? glm::dvec3(0, 0, 1) : glm::dvec3(1, 0, 0)));
-        const glm::dvec3 v = glm::cross(a, u);
-        for (int end = 0; end < 2; ++end)
-            for (int k = 0; k < kAround; ++k) {
-                const double t = 2 * kPi * k / kAround;
-                const glm::dvec3 p = s.center_mm + (end - 0.5) * s.length_mm * a +
-                                     s.radius_mm * (std::cos(t) * u + std::sin(t) * v);
-                points->InsertNextPoint(p.x, p.y, p.z);
-            }
-        for (int k = 0; k < kAround; ++k) {
-            const vtkIdType q[4] = {k, (k + 1) % kAround, kAround + (k + 1) % kAround, kAround + k};
-            cells->InsertNextCell(4, q);
-        }
-    } else {
-        for (int r = 0; r <= kRings; ++r)
-            for (int k = 0; k < kAround; ++k) {
-                const double theta = kPi * r / kRings, phi = 2 * kPi * k / kAround;
-                points->InsertNextPoint(
-                    s.center_mm.x + s.radius_mm * std::sin(theta) * std::cos(phi),
-                    s.center_mm.y + s.radius_mm * std::sin(theta) * std::sin(phi),
-                    s.center_mm.z + s.radius_mm * std::cos(theta));
-            }
-        for (int r = 0; r < kRings; ++r)
-            for (int k = 0; k < kAround; ++k) {
-                const vtkIdType q[4] = {r * kAround + k, r * kAround + (k + 1) % kAround,
-                                        (r + 1) * kAround + (k + 1) % kAround,
-                                        (r + 1) * kAround + k};
-                cells->InsertNextCell(4, q);
-            }
+    const SourceOutline outline = source_outline(s, 0.0, 48);
+    for (const glm::dvec3& p : outline.vertices_mm)
+        points->InsertNextPoint(p.x, p.y, p.z);
+    for (const auto& t : outline.triangles) {
+        const vtkIdType q[3] = {t[0], t[1], t[2]};
+        cells->InsertNextCell(3, q);
     }
     d->SetPoints(points);
     d->SetPolys(cells);

@@ -35,8 +35,8 @@ FastTracer::FastTracer(const vk::Context& ctx, const Scene& scene, std::uint64_t
                        std::uint64_t max_batch_rays)
     : ctx_(&ctx), scene_(scene), origin_(fird::frame_origin(scene.holder)),
       params_(scene_params(scene, seed)), spec_(specialization(params_, scene.reflector.family)),
-      rayset_pipeline_(ctx, fird_spv_rayset_comp, {kSB, kSB, kSB, kSB}, sizeof(gpu::RaysetPush),
-                       "fird.rayset", spec_),
+      rayset_pipeline_(ctx, fird_spv_rayset_comp, {kSB, kSB, kSB, kSB, kSB},
+                       sizeof(gpu::RaysetPush), "fird.rayset", spec_),
       heightfield_pipeline_(ctx, fird_spv_heightfield_comp, {kSB, kSB, kSB, kSB, kSB}, 0,
                             "fird.heightfield", spec_),
       maxmip_pipeline_(ctx, fird_spv_maxmip_comp, {kSB, kSB, kSB, kSB}, sizeof(gpu::MaxMipPush),
@@ -115,6 +115,13 @@ FastTracer::FastTracer(const vk::Context& ctx, const Scene& scene, std::uint64_t
     current_ = make_reflector_state(ctx, params_, "fird");
     order_buckets_ = vk::Buffer(ctx, gpu::kRaysetOrderBuckets * 4, storage, vk::MemoryUse::Device,
                                 "fird.rayset.order_buckets");
+    // A photometric source's distribution (emitter.h); one unused float for the others.
+    const std::vector<float> no_table(1, 0.0f);
+    const std::vector<float>& table =
+        scene.source.table.floats ? *scene.source.table.floats : no_table;
+    emitter_table_ = vk::Buffer(ctx, table.size() * sizeof(float), storage, vk::MemoryUse::Device,
+                                "fird.rayset.emitter_table");
+    emitter_table_.upload(ctx, std::span<const float>(table));
     loop_ = vk::Buffer(ctx, gpu::kLoopWords * 4, storage | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT,
                        vk::MemoryUse::Device, "fird.bounce_loop");
     loop_readback_ = vk::Buffer(ctx, gpu::kLoopWords * 4 * kMaxBatchCandidates, storage,

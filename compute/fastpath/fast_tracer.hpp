@@ -258,6 +258,7 @@ class FastTracer {
     std::optional<vk::ComputePipeline> trace_diagnostics_pipeline_;
     vk::Buffer profile_;
     vk::Buffer order_buckets_;
+    vk::Buffer emitter_table_; // a photometric source's table (fird_shared.h)
     // The bounce loop's state on the device (fird_shared.h, kLoop*: counts and indirect
     // dispatch sizes) and its per-bounce counts as read back.
     vk::Buffer loop_, loop_readback_;

@@ -22,7 +22,8 @@ void FastTracer::record_rayset(VkCommandBuffer cb, std::uint64_t first, std::uin
     }
     timed(cb, &run.timings.rayset_ms, nullptr, [&] {
         const vk::Binding b[] = {vk::storage(state().params_buffer), vk::storage(rays),
-                                 vk::storage(counters_), vk::storage(order_buckets_)};
+                                 vk::storage(counters_), vk::storage(order_buckets_),
+                                 vk::storage(emitter_table_)};
         const gpu::RaysetPush push{.first_lo = std::uint32_t(first),
                                    .first_hi = std::uint32_t(first >> 32),
                                    .count = std::uint32_t(n),

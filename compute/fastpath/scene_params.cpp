@@ -4,6 +4,7 @@
 #include <limits>
 #include <stdexcept>
 
+#include "model/source.hpp"
 #include "model/source_clearance.hpp"
 #include "model/surface.hpp"
 #include "sampling/sobol.hpp"
@@ -40,12 +41,14 @@ gpu::SceneParams scene_params(const Scene& s, std::uint64_t seed) {
     gpu::SceneParams p{};
     const SourceBox box = source_box(s.source);
     const glm::dvec3 origin = frame_origin(s.holder);
+    const gpu::emission::Emitter emitter = emitter_of(s.source, origin);
     double extent_mm = 0.0;
     for (int k = 0; k < 3; ++k) {
         p.holder_min[k] = float(s.holder.min_mm[k] - origin[k]);
         p.holder_max[k] = float(s.holder.max_mm[k] - origin[k]);
-        p.source_center[k] = float(s.source.center_mm[k] - origin[k]);
-        p.source_axis[k] = float(s.source.axis[k]);
+        p.source_center[k] = float(emitter.center[k]);
+        p.source_axis[k] = float(emitter.axis[k]);
+        p.source_x_axis[k] = float(emitter.x_axis[k]);
         p.source_box_min[k] = float(box.lo[k] - origin[k]);
         p.source_box_max[k] = float(box.hi[k] - origin[k]);
         extent_mm = std::max(extent_mm, 0.5 * (s.holder.max_mm[k] - s.holder.min_mm[k]));
@@ -58,20 +61,13 @@ gpu::SceneParams scene_params(const Scene& s, std::uint64_t seed) {
     // extent keeps every reflection steeper than ~0.06 rad clear of its own hit and skips
     // no real second hit longer than 1.5e-5 of the scene's size.
     p.offset_mm = float(128.0 * double(std::numeric_limits<float>::epsilon()) * extent_mm);
-    p.source_length = float(s.source.length_mm);
-    p.source_radius = float(s.source.radius_mm);
-    switch (s.source.kind) {
-    case SourceKind::Cylinder:
-        p.source_kind = gpu::kSourceCylinder;
-        break;
-    case SourceKind::Sphere:
-        p.source_kind = gpu::kSourceSphere;
-        break;
-    case SourceKind::Point:
-        p.source_kind = s.source.emittance == Emittance::Cosine ? gpu::kSourcePointCosine
-                                                                : gpu::kSourcePointIsotropic;
-        break;
-    }
+    p.source_length = float(emitter.length_mm);
+    p.source_radius = float(emitter.radius_mm);
+    p.source_width = float(emitter.width_mm);
+    p.source_height = float(emitter.height_mm);
+    p.source_kind = emitter.kind;
+    p.source_table_c = emitter.table_c;
+    p.source_table_g = emitter.table_g;
     p.sampler_kind = s.trace.sampler == SamplerKind::Sobol    ? gpu::kSamplerSobol
                      : s.trace.sampler == SamplerKind::Random ? gpu::kSamplerRandom
                                                               : gpu::kSamplerStratified;

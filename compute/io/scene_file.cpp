@@ -10,8 +10,13 @@
 #include <fmt/format.h>
 #include <toml++/toml.h>
 
+#include <glm/geometric.hpp>
+
+#include "model/emission_table.hpp"
+#include "model/source.hpp"
 #include "model/source_clearance.hpp"
 #include "model/surface.hpp"
+#include "photometry/photometry_file.hpp"
 
 namespace fird {
 
@@ -157,12 +162,59 @@ class TableReader {
     std::string name_;
 };
 
-SourceDesc read_source(const TableReader& t) {
+// v made unit; one already unit to rounding kept bit for bit (so that a scene written back
+// by scene_to_toml reads as the same scene).
+glm::dvec3 made_unit(const glm::dvec3& v) {
+    return std::abs(glm::length(v) - 1.0) < 1e-14 ? v : glm::normalize(v);
+}
+
+// A disk's or rectangle's orientation: `normal` (default [0, 0, 1]) and `x_axis` (default
+// model/source.hpp's default_x_axis), both made unit, x_axis made perpendicular to normal.
+void read_emitter_frame(const TableReader& t, SourceDesc& s) {
+    s.axis = t.has("normal") ? t.vec3("normal") : glm::dvec3(0.0, 0.0, 1.0);
+    if (!(glm::length(s.axis) > 0.0))
+        t.fail(t.find("normal"), "normal", "must not be the zero vector");
+    s.axis = made_unit(s.axis);
+    if (!t.has("x_axis")) {
+        s.x_axis = default_x_axis(s.axis);
+        return;
+    }
+    const glm::dvec3 x = t.vec3("x_axis");
+    const double along = glm::dot(x, s.axis);
+    const glm::dvec3 across = std::abs(along) < 1e-14 ? x : x - along * s.axis;
+    // Within a thousandth of a radian of the normal, the side's direction is undefined.
+    if (!(glm::length(across) > 1e-3 * glm::length(x)))
+        t.fail(t.find("x_axis"), "x_axis", "must not be parallel to the normal (nor zero)");
+    s.x_axis = made_unit(across);
+}
+
+SourceDesc read_source(const TableReader& t, const std::string& scene_path) {
     SourceDesc s;
-    const std::string type = t.choice("type", {"cylinder", "sphere", "point"}, "");
+    const std::string type =
+        t.choice("type", {"cylinder", "sphere", "point", "disk", "rectangle", "photometric"}, "");
     if (type.empty()) t.need("type");
-    s.flux_lm = t.positive("flux_lm");
     s.center_mm = t.vec3("center_mm");
+    if (type == "photometric") {
+        // The file's own flux unless flux_lm rescales it (its distribution is kept).
+        t.allow_only({"type", "center_mm", "normal", "x_axis", "radius_mm", "file", "flux_lm"});
+        s.kind = SourceKind::Photometric;
+        read_emitter_frame(t, s);
+        s.radius_mm = t.number_or("radius_mm", 0.0);
+        if (s.radius_mm < 0.0) t.fail(t.find("radius_mm"), "radius_mm", "must be >= 0");
+        s.file = t.text("file");
+        s.resolved_path = resolve_beside(scene_path, s.file);
+        try {
+            const CandelaTable table = read_photometry(s.resolved_path);
+            s.table = emission_table(table);
+            s.flux_lm = t.has("flux_lm") ? t.positive("flux_lm") : integrated_flux_lm(table);
+        } catch (const SceneError&) {
+            throw;
+        } catch (const std::exception& e) {
+            t.fail(t.find("file"), "file", e.what());
+        }
+        return s;
+    }
+    s.flux_lm = t.positive("flux_lm");
     if (type == "cylinder") {
         t.allow_only(
             {"type", "center_mm", "axis", "length_mm", "radius_mm", "emittance", "flux_lm"});
@@ -176,6 +228,23 @@ SourceDesc read_source(const TableReader& t) {
         s.kind = SourceKind::Sphere;
         s.radius_mm = t.positive("radius_mm");
         t.choice("emittance", {"cosine"}, "cosine");
+    } else if (type == "disk") {
+        t.allow_only(
+            {"type", "center_mm", "normal", "x_axis", "radius_mm", "emittance", "flux_lm"});
+        s.kind = SourceKind::Disk;
+        read_emitter_frame(t, s);
+        s.radius_mm = t.positive("radius_mm");
+        t.choice("emittance", {"cosine"}, "cosine");
+    } else if (type == "rectangle") {
+        t.allow_only({"type", "center_mm", "normal", "x_axis", "size_mm", "emittance", "flux_lm"});
+        s.kind = SourceKind::Rectangle;
+        read_emitter_frame(t, s);
+        const std::vector<double> size = t.numbers("size_mm", 2);
+        if (!(size[0] > 0.0 && size[1] > 0.0))
+            t.fail(t.find("size_mm"), "size_mm", "both sides must be > 0");
+        s.width_mm = size[0];
+        s.height_mm = size[1];
+        t.choice("emittance", {"cosine"}, "cosine");
     } else {
         t.allow_only({"type", "center_mm", "axis", "emittance", "flux_lm"});
         s.kind = SourceKind::Point;
@@ -184,7 +253,8 @@ SourceDesc read_source(const TableReader& t) {
                           : Emittance::Isotropic;
         if (s.emittance == Emittance::Cosine) s.axis = t.vec3("axis");
     }
-    if ((s.kind == SourceKind::Cylinder || s.emittance == Emittance::Cosine) &&
+    if ((s.kind == SourceKind::Cylinder ||
+         (s.kind == SourceKind::Point && s.emittance == Emittance::Cosine)) &&
         glm::dvec3(s.axis) == glm::dvec3(0.0))
         t.fail(t.find("axis"), "axis", "must not be the zero vector");
     return s;
@@ -390,7 +460,7 @@ Scene parse_scene(const std::string& text, const std::string& path) {
     Scene s;
     s.path = path;
     s.name = top.has("name") ? top.text("name") : std::filesystem::path(path).stem().string();
-    s.source = read_source(top.sub("source"));
+    s.source = read_source(top.sub("source"), path);
     s.holder = read_holder(top.sub("holder"));
     s.reflector = read_reflector(top.sub("reflector"), path);
     s.trace = read_trace(top.sub("trace"));
@@ -412,9 +482,6 @@ namespace {
 toml::array vec(const glm::dvec3& v) {
     return toml::array{v.x, v.y, v.z};
 }
-const char* source_type(SourceKind k) {
-    return k == SourceKind::Cylinder ? "cylinder" : k == SourceKind::Sphere ? "sphere" : "point";
-}
 const char* group_kind(ControlGroup::Kind k) {
     switch (k) {
     case ControlGroup::Kind::Point:
@@ -431,14 +498,25 @@ const char* group_kind(ControlGroup::Kind k) {
 } // namespace
 
 std::string scene_to_toml(const Scene& s) {
-    toml::table source{{"type", source_type(s.source.kind)},
+    toml::table source{{"type", source_type_name(s.source.kind)},
                        {"center_mm", vec(s.source.center_mm)},
                        {"flux_lm", s.source.flux_lm}};
     if (s.source.kind == SourceKind::Cylinder) {
         source.insert("axis", vec(s.source.axis));
         source.insert("length_mm", s.source.length_mm);
     }
-    if (s.source.kind != SourceKind::Point) source.insert("radius_mm", s.source.radius_mm);
+    if (s.source.kind == SourceKind::Disk || s.source.kind == SourceKind::Rectangle ||
+        s.source.kind == SourceKind::Photometric) {
+        source.insert("normal", vec(s.source.axis));
+        source.insert("x_axis", vec(s.source.x_axis));
+    }
+    if (s.source.kind == SourceKind::Photometric) {
+        source.insert("file", s.source.file);
+        if (s.source.radius_mm > 0.0) source.insert("radius_mm", s.source.radius_mm);
+    } else if (s.source.kind == SourceKind::Rectangle)
+        source.insert("size_mm", toml::array{s.source.width_mm, s.source.height_mm});
+    else if (s.source.kind != SourceKind::Point)
+        source.insert("radius_mm", s.source.radius_mm);
     if (s.source.kind == SourceKind::Point) {
         source.insert("emittance",
                       s.source.emittance == Emittance::Cosine ? "cosine" : "isotropic");

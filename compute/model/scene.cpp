@@ -62,6 +62,24 @@ std::optional<SearchMethod> method_from_name(const std::string& name) {
     return value_of(kMethods, name);
 }
 
+const char* source_type_name(SourceKind kind) {
+    switch (kind) {
+    case SourceKind::Cylinder:
+        return "cylinder";
+    case SourceKind::Sphere:
+        return "sphere";
+    case SourceKind::Point:
+        return "point";
+    case SourceKind::Disk:
+        return "disk";
+    case SourceKind::Rectangle:
+        return "rectangle";
+    case SourceKind::Photometric:
+        return "photometric";
+    }
+    return "point";
+}
+
 const char* sampler_name(SamplerKind s) {
     return name_of(kSamplers, s);
 }

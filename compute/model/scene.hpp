@@ -3,6 +3,7 @@
 
 #include <cstdint>
 #include <map>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -11,17 +12,40 @@
 
 namespace fird {
 
-enum class SourceKind { Cylinder, Sphere, Point };
+enum class SourceKind { Cylinder, Sphere, Point, Disk, Rectangle, Photometric };
+
+// A photometric emitter's sampling table (model/emission_table.hpp, read by
+// shaders/emitter.h), shared by the copies of a scene; equal where the tables are.
+struct EmissionTable {
+    std::shared_ptr<const std::vector<float>> floats;
+    std::uint32_t c_angles = 0; // the C angles, the first repeated at 360 degrees
+    std::uint32_t gamma_angles = 0;
+    bool operator==(const EmissionTable& o) const {
+        return c_angles == o.c_angles && gamma_angles == o.gamma_angles &&
+               (floats == o.floats || (floats && o.floats && *floats == *o.floats));
+    }
+};
 enum class Emittance { Cosine, Isotropic };
 
 struct SourceDesc {
     SourceKind kind = SourceKind::Point;
     glm::dvec3 center_mm{0.0};
-    glm::dvec3 axis{0.0, 0.0, 1.0}; // cylinder axis; point-source cosine axis
-    double length_mm = 0.0;         // cylinder
-    double radius_mm = 0.0;         // cylinder, sphere
+    // The emitter's local +z (shaders/emitter.h): a cylinder's axis, a cosine point's axis,
+    // a disk's or rectangle's normal (its emitting side; the scene file's `normal`).
+    glm::dvec3 axis{0.0, 0.0, 1.0};
+    // A disk's or rectangle's local +x, perpendicular to axis (the scene file's `x_axis`;
+    // by default world +x made perpendicular to the normal, or world +y where the normal
+    // lies along x: model/source.hpp).
+    glm::dvec3 x_axis{1.0, 0.0, 0.0};
+    double length_mm = 0.0; // cylinder
+    double radius_mm = 0.0; // cylinder, sphere, disk; photometric: its disk (0: a point)
+    double width_mm = 0.0;  // rectangle, along x_axis
+    double height_mm = 0.0; // rectangle, along axis x x_axis
     Emittance emittance = Emittance::Cosine;
     double flux_lm = 1100.0;
+    std::string file;          // photometric: the IES / LDT file as written in the scene
+    std::string resolved_path; // ... and found beside the scene
+    EmissionTable table;       // ... its distribution, to sample
     bool operator==(const SourceDesc&) const = default;
 };
 
@@ -144,6 +168,8 @@ std::optional<SearchMethod> method_from_name(const std::string& name);
 std::vector<std::string> method_names();
 
 const char* sampler_name(SamplerKind s);
+// A source's `type` in a scene file ("cylinder", ..., "photometric").
+const char* source_type_name(SourceKind kind);
 std::optional<SamplerKind> sampler_from_name(const std::string& name);
 std::vector<std::string> sampler_names();
 

@@ -4,7 +4,6 @@
 
 #include <cmath>
 #include <limits>
-#include <numbers>
 #include <stdexcept>
 
 #include <fmt/format.h>
@@ -19,66 +18,63 @@ namespace fird {
 
 namespace {
 
-constexpr double kTwoPi = 2.0 * std::numbers::pi;
 // The Philox stream that picks the rays sample_effective_rays shows (the rays use stream 0).
 constexpr std::uint32_t kSampleStream = 1;
 
-// Two unit vectors completing n to a right-handed orthonormal frame
-// (Duff et al., "Building an orthonormal basis, revisited", 2017).
-void frame(const glm::dvec3& n, glm::dvec3& t, glm::dvec3& b) {
-    const double sign = std::copysign(1.0, n.z);
-    const double a = -1.0 / (sign + n.z);
-    const double c = n.x * n.y * a;
-    t = {1.0 + sign * n.x * n.x * a, sign * c, -sign * n.x};
-    b = {c, sign + n.y * n.y * a, -n.y};
-}
-
-// Lambertian (cosine-weighted) direction about unit normal n.
-glm::dvec3 cosine_direction(const glm::dvec3& n, double u1, double u2) {
-    const double r = std::sqrt(u1);
-    const double phi = kTwoPi * u2;
-    const double cos_theta = std::sqrt(std::max(0.0, 1.0 - u1));
-    glm::dvec3 t, b;
-    frame(n, t, b);
-    return glm::normalize(r * std::cos(phi) * t + r * std::sin(phi) * b + cos_theta * n);
-}
-
-glm::dvec3 uniform_sphere(double u1, double u2) {
-    const double z = 1.0 - 2.0 * u1;
-    const double r = std::sqrt(std::max(0.0, 1.0 - z * z));
-    const double phi = kTwoPi * u2;
-    return {r * std::cos(phi), r * std::sin(phi), z};
-}
-
 } // namespace
 
-Ray sample_source(const SourceDesc& s, const std::array<double, 4>& u) {
+glm::dvec3 default_x_axis(const glm::dvec3& normal) {
+    const glm::dvec3 n = glm::normalize(normal);
+    const glm::dvec3 x =
+        std::abs(n.x) < 0.9 ? glm::dvec3(1.0, 0.0, 0.0) : glm::dvec3(0.0, 1.0, 0.0);
+    return glm::normalize(x - glm::dot(x, n) * n);
+}
+
+gpu::emission::Emitter emitter_of(const SourceDesc& s, const glm::dvec3& origin) {
+    gpu::emission::Emitter e{};
     switch (s.kind) {
-    case SourceKind::Cylinder: {
-        const glm::dvec3 axis = glm::normalize(s.axis);
-        glm::dvec3 t, b;
-        frame(axis, t, b);
-        const double along = (u[0] - 0.5) * s.length_mm;
-        const double phi = kTwoPi * u[1];
-        const glm::dvec3 normal = std::cos(phi) * t + std::sin(phi) * b;
-        return {s.center_mm + along * axis + s.radius_mm * normal,
-                cosine_direction(normal, u[2], u[3])};
-    }
-    case SourceKind::Sphere: {
-        // Direction first: the joint density of the surface normal n (uniform) and the
-        // direction d (Lambertian about n) is max(0, n.d) / (4 pi^2), symmetric in n and d;
-        // so d uniform and n Lambertian about d is the same distribution, and the
-        // direction now comes from the stratified uniforms (sampling/strata.hpp).
-        const glm::dvec3 direction = uniform_sphere(u[0], u[1]);
-        const glm::dvec3 normal = cosine_direction(direction, u[2], u[3]);
-        return {s.center_mm + s.radius_mm * normal, direction};
-    }
+    case SourceKind::Cylinder:
+        e.kind = gpu::kSourceCylinder;
+        break;
+    case SourceKind::Sphere:
+        e.kind = gpu::kSourceSphere;
+        break;
     case SourceKind::Point:
-        if (s.emittance == Emittance::Cosine)
-            return {s.center_mm, cosine_direction(glm::normalize(s.axis), u[0], u[1])};
-        return {s.center_mm, uniform_sphere(u[0], u[1])};
+        e.kind =
+            s.emittance == Emittance::Cosine ? gpu::kSourcePointCosine : gpu::kSourcePointIsotropic;
+        break;
+    case SourceKind::Disk:
+        e.kind = gpu::kSourceDisk;
+        break;
+    case SourceKind::Rectangle:
+        e.kind = gpu::kSourceRectangle;
+        break;
+    case SourceKind::Photometric:
+        e.kind = gpu::kSourcePhotometric;
+        if (!s.table.floats)
+            throw std::invalid_argument("a photometric source without its distribution");
+        e.table_c = s.table.c_angles;
+        e.table_g = s.table.gamma_angles;
+        break;
     }
-    return {s.center_mm, {0.0, 0.0, 1.0}};
+    e.center = s.center_mm - origin;
+    e.axis = glm::normalize(s.axis);
+    // Perpendicular to the axis whatever the caller passed (the scene file refuses an
+    // x_axis along the normal; a cylinder or a point has no use for one).
+    const glm::dvec3 across = s.x_axis - glm::dot(s.x_axis, e.axis) * e.axis;
+    e.x_axis = glm::length(across) > 1e-3 ? glm::normalize(across) : default_x_axis(e.axis);
+    e.length_mm = s.length_mm;
+    e.radius_mm = s.radius_mm;
+    e.width_mm = s.width_mm;
+    e.height_mm = s.height_mm;
+    return e;
+}
+
+Ray sample_source(const SourceDesc& s, const std::array<double, 4>& u) {
+    const gpu::emission::Emission m =
+        gpu::emission::sample_emitter(emitter_of(s), glm::dvec4(u[0], u[1], u[2], u[3]),
+                                      s.table.floats ? s.table.floats->data() : nullptr);
+    return {m.origin, m.direction};
 }
 
 std::array<double, 4> ray_uniforms(SamplerKind sampler, std::uint64_t seed, std::uint64_t index,

@@ -8,6 +8,7 @@
 
 #include <glm/vec3.hpp>
 
+#include "emitter.h"
 #include "scene.hpp"
 
 namespace fird {
@@ -17,11 +18,16 @@ struct Ray {
     glm::dvec3 direction; // unit length
 };
 
-// Maps four uniforms in (0, 1) to an emitted ray:
-// cylinder: uniform on the lateral surface (caps dark), Lambertian about the outward normal;
-// sphere: uniform on the surface, Lambertian about the outward normal (the direction from
-// u[0], u[1], then the point: the same distribution, see source.cpp);
-// point: isotropic, or Lambertian about `axis`.
+// A disk's or rectangle's local +x where the scene gives none: world +x made perpendicular
+// to the normal, or world +y where the normal lies within 26 degrees of the x axis.
+glm::dvec3 default_x_axis(const glm::dvec3& normal);
+
+// The source as shaders/emitter.h's emitter (the one definition of its sampling), in a
+// frame whose origin is `origin` (the fast path's is the holder box's centre).
+gpu::emission::Emitter emitter_of(const SourceDesc& source, const glm::dvec3& origin = {});
+
+// Maps four uniforms in (0, 1) to an emitted ray: shaders/emitter.h's sample_emitter (which
+// says how each emitter samples), in double.
 Ray sample_source(const SourceDesc& source, const std::array<double, 4>& u);
 
 // The uniforms for ray `index` of the `rays` emitted, keyed by seed: Philox stratified in

@@ -8,19 +8,37 @@
 #include <fmt/format.h>
 #include <glm/geometric.hpp>
 
+#include "model/source.hpp"
+
 namespace fird {
 
 SourceBox source_box(const SourceDesc& s) {
-    // Half extents: a cylinder of axis a reaches L/2 |a_k| + r sqrt(1 - a_k^2) along
-    // axis k; a sphere r; a point 0.
-    glm::dvec3 half(s.radius_mm);
-    if (s.kind == SourceKind::Cylinder) {
-        const glm::dvec3 a = glm::normalize(s.axis);
-        for (int k = 0; k < 3; ++k)
-            half[k] = 0.5 * s.length_mm * std::abs(a[k]) +
-                      s.radius_mm * std::sqrt(std::max(0.0, 1.0 - a[k] * a[k]));
-    } else if (s.kind == SourceKind::Point) {
-        half = glm::dvec3(0.0);
+    // Half extents along axis k: a cylinder of axis a reaches L/2 |a_k| + r sqrt(1 - a_k^2);
+    // a disk of normal n r sqrt(1 - n_k^2); a rectangle w/2 |x_k| + h/2 |y_k| with x, y its
+    // sides' directions; a sphere r; a point 0.
+    const gpu::emission::Emitter e = emitter_of(s);
+    const glm::dvec3 y_axis = glm::cross(e.axis, e.x_axis);
+    glm::dvec3 half(0.0);
+    for (int k = 0; k < 3; ++k) {
+        const double across = std::sqrt(std::max(0.0, 1.0 - e.axis[k] * e.axis[k]));
+        switch (s.kind) {
+        case SourceKind::Cylinder:
+            half[k] = 0.5 * s.length_mm * std::abs(e.axis[k]) + s.radius_mm * across;
+            break;
+        case SourceKind::Disk:
+        case SourceKind::Photometric:
+            half[k] = s.radius_mm * across;
+            break;
+        case SourceKind::Rectangle:
+            half[k] =
+                0.5 * s.width_mm * std::abs(e.x_axis[k]) + 0.5 * s.height_mm * std::abs(y_axis[k]);
+            break;
+        case SourceKind::Sphere:
+            half[k] = s.radius_mm;
+            break;
+        case SourceKind::Point:
+            break;
+        }
     }
     return {s.center_mm - half, s.center_mm + half};
 }

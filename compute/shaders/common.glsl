@@ -1,5 +1,6 @@
 // Shared GLSL for the fast path: the scene parameters, Philox and Sobol, the light
-// sources and the reflector families (the GLSL twins of compute/sampling and model/).
+// reflector families (the GLSL twins of compute/sampling and model/; the sources are
+// source.glsl's).
 #ifndef FIRD_COMMON_GLSL
 #define FIRD_COMMON_GLSL
 
@@ -112,56 +113,6 @@ vec4 ray_uniforms(uint index_lo, uint index_hi) {
     x = uvec4(owen_scramble(x.x, P.sobol_scramble[0]), owen_scramble(x.y, P.sobol_scramble[1]),
               owen_scramble(x.z, P.sobol_scramble[2]), owen_scramble(x.w, P.sobol_scramble[3]));
     return to_unit(x);
-}
-
-void onb(vec3 n, out vec3 t, out vec3 b) {
-    const float s = n.z >= 0.0 ? 1.0 : -1.0;
-    const float a = -1.0 / (s + n.z);
-    const float c = n.x * n.y * a;
-    t = vec3(1.0 + s * n.x * n.x * a, s * c, -s * n.x);
-    b = vec3(c, s + n.y * n.y * a, -n.y);
-}
-
-vec3 cosine_direction(vec3 n, float u1, float u2) {
-    const float r = sqrt(u1);
-    const float phi = 2.0 * kPi * u2;
-    vec3 t, b;
-    onb(n, t, b);
-    return normalize(r * cos(phi) * t + r * sin(phi) * b + sqrt(max(0.0, 1.0 - u1)) * n);
-}
-
-vec3 uniform_sphere(float u1, float u2) {
-    const float z = 1.0 - 2.0 * u1;
-    const float r = sqrt(max(0.0, 1.0 - z * z));
-    const float phi = 2.0 * kPi * u2;
-    return vec3(r * cos(phi), r * sin(phi), z);
-}
-
-// As model/source.cpp sample_source.
-Ray sample_source(vec4 u) {
-    const vec3 c = vec3(P.source_center[0], P.source_center[1], P.source_center[2]);
-    const vec3 axis = normalize(vec3(P.source_axis[0], P.source_axis[1], P.source_axis[2]));
-    Ray r;
-    if (kSourceKind == kSourceCylinder) {
-        vec3 t, b;
-        onb(axis, t, b);
-        const float phi = 2.0 * kPi * u.y;
-        const vec3 n = cos(phi) * t + sin(phi) * b;
-        r.origin = vec4(c + (u.x - 0.5) * P.source_length * axis + P.source_radius * n, 0.0);
-        r.direction = vec4(cosine_direction(n, u.z, u.w), 0.0);
-    } else if (kSourceKind == kSourceSphere) {
-        // Direction first (model/source.cpp says why it is the same distribution).
-        const vec3 d = uniform_sphere(u.x, u.y);
-        r.origin = vec4(c + P.source_radius * cosine_direction(d, u.z, u.w), 0.0);
-        r.direction = vec4(d, 0.0);
-    } else if (kSourceKind == kSourcePointCosine) {
-        r.origin = vec4(c, 0.0);
-        r.direction = vec4(cosine_direction(axis, u.x, u.y), 0.0);
-    } else {
-        r.origin = vec4(c, 0.0);
-        r.direction = vec4(uniform_sphere(u.x, u.y), 0.0);
-    }
-    return r;
 }
 
 vec3 holder_min() { return vec3(P.holder_min[0], P.holder_min[1], P.holder_min[2]); }

@@ -61,6 +61,9 @@ FIRD_CONSTANT(uint, kSourceCylinder, 0u);
 FIRD_CONSTANT(uint, kSourceSphere, 1u);
 FIRD_CONSTANT(uint, kSourcePointIsotropic, 2u);
 FIRD_CONSTANT(uint, kSourcePointCosine, 3u);
+FIRD_CONSTANT(uint, kSourceDisk, 4u);        // one-sided Lambertian disk (an LED die)
+FIRD_CONSTANT(uint, kSourceRectangle, 5u);   // one-sided Lambertian rectangle (a COB)
+FIRD_CONSTANT(uint, kSourcePhotometric, 6u); // an IES / LDT distribution (emitter.h's table)
 
 FIRD_CONSTANT(uint, kSamplerRandom, 0u); // independent Philox rays
 FIRD_CONSTANT(uint, kSamplerSobol, 1u);
@@ -77,9 +80,11 @@ FIRD_CONSTANT(uint, kStratumOffsetBits, 23u - kStratumBits);
 // A sphere's or a point's direction is a function of the first two uniforms alone, so with
 // the stratified sampler its rayset is emitted already ordered by direction: rayset.comp
 // writes it in place and no sort follows. A cylinder's direction also depends on the last
-// two, and the other samplers' rays come in no order: those raysets are sorted.
+// two, a photometric source's cells come in C-major order (a turn of gamma per C), and the
+// other samplers' rays come in no order: those raysets are sorted.
 FIRD_FUNCTION bool rayset_ordered_at_birth(uint sampler_kind, uint source_kind) {
-    return sampler_kind == kSamplerStratified && source_kind != kSourceCylinder;
+    return sampler_kind == kSamplerStratified && source_kind != kSourceCylinder &&
+           source_kind != kSourcePhotometric;
 }
 
 FIRD_CONSTANT(uint, kHitModePaper, 0u);
@@ -102,7 +107,8 @@ FIRD_CONSTANT(uint, kHitModeRefined, 1u);
 FIRD_CONSTANT(uint, kBindParams, 0u);
 FIRD_CONSTANT(uint, kRaysetBindRays, 1u);
 FIRD_CONSTANT(uint, kRaysetBindCounters, 2u);
-FIRD_CONSTANT(uint, kRaysetBindBuckets, 3u); // rays per direction bucket (rayset_order.comp)
+FIRD_CONSTANT(uint, kRaysetBindBuckets, 3u);      // rays per direction bucket (rayset_order.comp)
+FIRD_CONSTANT(uint, kRaysetBindEmitterTable, 4u); // float[]: a photometric emitter's table
 FIRD_CONSTANT(uint, kHeightfieldBindHeights, 1u);
 FIRD_CONSTANT(uint, kHeightfieldBindGradients, 2u);
 FIRD_CONSTANT(uint, kHeightfieldBindControl, 3u);
@@ -183,12 +189,17 @@ struct SceneParams {
     float holder_min[4];
     float holder_max[4];
     float source_center[4];
-    float source_axis[4];
+    float source_axis[4];    // the emitter's local +z (emitter.h)
+    float source_x_axis[4];  // its local +x (disk, rectangle)
     float source_box_min[4]; // the source's bounding box (walk_start.comp)
     float source_box_max[4];
     float source_length;
     float source_radius;
+    float source_width;  // rectangle, along source_x_axis
+    float source_height; // rectangle, along source_axis x source_x_axis
     uint source_kind;
+    uint source_table_c; // photometric: the emitter table's C and gamma angles (emitter.h)
+    uint source_table_g;
     uint sampler_kind; // kSamplerRandom, kSamplerSobol or kSamplerStratified
     uint seed_lo;
     uint seed_hi;

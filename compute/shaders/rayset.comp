@@ -6,6 +6,7 @@
 // ones) are also counted per direction bucket for rayset_order.comp to sort.
 #extension GL_GOOGLE_include_directive : require
 #include "common.glsl"
+#include "source.glsl"
 #include "direction_bucket.glsl"
 
 layout(local_size_x = FIRD_RAYSET_WORKGROUP_SIZE) in;

@@ -2,7 +2,9 @@
 // error naming the file, the key and the line.
 #include <filesystem>
 #include <fstream>
+#include <numbers>
 
+#include <glm/geometric.hpp>
 #include <gtest/gtest.h>
 
 #include "io/scene_file.hpp"
@@ -40,6 +42,92 @@ TEST(SceneFile, PaperScenesHaveThePaperValues) {
     const Scene c = load_scene(kScenes + "model_c.toml");
     EXPECT_EQ(c.trace.max_bounces, 6u);
     EXPECT_EQ(c.target.parameters.at("w"), 0.5);
+}
+
+// A flat mirror's holder, reflector and trace: the rest of a scene whose [source] a test writes.
+const std::string kAfterSource = R"(
+[holder]
+min_mm = [-10.0, -10.0, -12.0]
+max_mm = [10.0, 10.0, 0.0]
+[reflector]
+family = "plane"
+z0 = -10.0
+sx = 0.0
+sy = 0.0
+cx = 0.0
+cy = 0.0
+[trace]
+rays = 1000
+max_bounces = 1
+)";
+
+// A disk and a rectangle, tilted and turned, read as written and round-trip; a normal and
+// an x_axis not of unit length are made unit, the x_axis perpendicular to the normal.
+TEST(SceneFile, DiskAndRectangleSourcesReadTheirFrameAndRoundTrip) {
+    const std::string head = R"([source]
+center_mm = [0.0, 0.0, -2.0]
+flux_lm = 100.0
+)";
+    const Scene disk = parse_scene(
+        head + "type = \"disk\"\nradius_mm = 1.5\nnormal = [0.0, 0.0, -2.0]\n" + kAfterSource,
+        "disk.toml");
+    EXPECT_EQ(disk.source.kind, SourceKind::Disk);
+    EXPECT_EQ(disk.source.axis, glm::dvec3(0, 0, -1));
+    EXPECT_EQ(disk.source.x_axis, glm::dvec3(1, 0, 0)) << "the default";
+    EXPECT_EQ(disk.source.radius_mm, 1.5);
+    const Scene rect = parse_scene(head +
+                                       "type = \"rectangle\"\nsize_mm = [4.0, 1.0]\n"
+                                       "normal = [0.0, 1.0, -1.0]\nx_axis = [3.0, 1.0, 0.0]\n" +
+                                       kAfterSource,
+                                   "rect.toml");
+    EXPECT_EQ(rect.source.kind, SourceKind::Rectangle);
+    EXPECT_NEAR(glm::length(rect.source.axis - glm::dvec3(0, 1, -1) / std::sqrt(2.0)), 0, 1e-15);
+    EXPECT_NEAR(glm::dot(rect.source.x_axis, rect.source.axis), 0.0, 1e-15);
+    EXPECT_NEAR(glm::length(rect.source.x_axis), 1.0, 1e-15);
+    EXPECT_GT(rect.source.x_axis.x, 0.9) << "+x, the given side, made perpendicular";
+    EXPECT_EQ(rect.source.width_mm, 4.0);
+    EXPECT_EQ(rect.source.height_mm, 1.0);
+    for (const Scene& s : {disk, rect})
+        EXPECT_EQ(parse_scene(scene_to_toml(s), "again.toml"), s) << scene_to_toml(s);
+}
+
+// A photometric source reads its file beside the scene, takes the file's flux unless
+// flux_lm rescales it, and round-trips; a file that is not there is refused naming `file`.
+TEST(SceneFile, APhotometricSourceReadsItsFileBesideTheScene) {
+    const std::string path = kScenes + "test/photometric.toml"; // not read: names the folder
+    const std::string head = R"([source]
+type = "photometric"
+center_mm = [0.0, 0.0, -2.0]
+file = "../../tests/photometry/data/lm63_2002_asymmetric_emitter.ies"
+)";
+    const Scene own = parse_scene(head + kAfterSource, path);
+    EXPECT_EQ(own.source.kind, SourceKind::Photometric);
+    EXPECT_EQ(own.source.radius_mm, 0.0) << "a point by default";
+    ASSERT_TRUE(own.source.table.floats);
+    // The file: I = 100 (1 + 0.5 cos C) cos(gamma) over the lower hemisphere, whose flux is
+    // 100 pi lm for the cosine lobe (the cos C term integrates to 0), less the table's
+    // linear interpolation in cos(gamma) between 10-degree steps, which is exact for
+    // cos(gamma) itself: 100 pi.
+    EXPECT_NEAR(own.source.flux_lm, 100.0 * std::numbers::pi, 1e-3);
+    EXPECT_EQ(parse_scene(scene_to_toml(own), path), own) << scene_to_toml(own);
+    const Scene scaled =
+        parse_scene(head + "flux_lm = 500.0\nradius_mm = 1.0\n" + kAfterSource, path);
+    EXPECT_EQ(scaled.source.flux_lm, 500.0);
+    EXPECT_EQ(scaled.source.radius_mm, 1.0);
+    EXPECT_EQ(parse_scene(scene_to_toml(scaled), path), scaled);
+    try {
+        (void)parse_scene(R"([source]
+type = "photometric"
+center_mm = [0.0, 0.0, -2.0]
+file = "nowhere.ies"
+)" + kAfterSource,
+                          path);
+        FAIL() << "a missing file was accepted";
+    } catch (const SceneError& e) {
+        const std::string what = e.what();
+        EXPECT_NE(what.find("[source] file:"), std::string::npos) << what;
+        EXPECT_EQ(what.find('\n'), std::string::npos) << what;
+    }
 }
 
 // A valid base scene; each bad case replaces one line of it.
@@ -103,6 +191,17 @@ INSTANTIATE_TEST_SUITE_P(
         BadCase{"flux_lm = 100.0", "flux_lm = inf", "flux_lm: must be finite"},
         BadCase{"flux_lm = 100.0", "", "flux_lm: required key is missing"},
         BadCase{"type = \"sphere\"", "type = \"laser\"", "type: must be one of"},
+        BadCase{"type = \"sphere\"",
+                "type = \"disk\"\nnormal = [1.0, 0.0, 0.0]\nx_axis = [-2.0, 0.0, 0.0]",
+                "x_axis: must not be parallel to the normal"},
+        BadCase{"type = \"sphere\"", "type = \"disk\"\nnormal = [0.0, 0.0, 0.0]",
+                "normal: must not be the zero vector"},
+        BadCase{"type = \"sphere\"\ncenter_mm = [5.0, 5.0, -2.0]\nradius_mm = 0.5",
+                "type = \"rectangle\"\ncenter_mm = [5.0, 5.0, -2.0]\nsize_mm = [1.0, 0.0]",
+                "bad.toml:4: [source] size_mm: both sides must be > 0"},
+        BadCase{"type = \"sphere\"\ncenter_mm = [5.0, 5.0, -2.0]\nradius_mm = 0.5",
+                "type = \"rectangle\"\ncenter_mm = [5.0, 5.0, -2.0]\nradius_mm = 0.5",
+                "[source] radius_mm: unknown key"},
         BadCase{"center_mm = [5.0, 5.0, -2.0]", "center_mm = [5.0, 5.0]",
                 "center_mm: must be an array of 3"},
         BadCase{"center_mm = [5.0, 5.0, -2.0]", "center_mm = [50.0, 5.0, -2.0]",

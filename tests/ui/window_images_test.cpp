@@ -1,6 +1,7 @@
-// After the scripted windowed session (tests/ui/change_parameter.fird, run under Xvfb by
-// the fixture test before this one): the far field the window shows changed with the
-// parameter, and the scene panel did not move.
+// After the scripted windowed sessions (tests/ui/change_parameter.fird and
+// change_source.fird, run under Xvfb by the fixture tests before this one): the far field
+// the window shows changed with the parameter and with the source, and the scene panel did
+// not move.
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -37,6 +38,22 @@ TEST(WindowedSession, AParameterChangeChangesTheFarFieldShown) {
     // The far-field panel (right, top) changed; the log panel (left, bottom) did not.
     EXPECT_GT(region_difference(before, after, wa, ha, 0.66, 0.08, 0.99, 0.58), 2.0);
     EXPECT_LT(region_difference(before, after, wa, ha, 0.01, 0.70, 0.22, 0.99), 0.5);
+}
+
+// After tests/ui/change_source.fird: the LED die, a tilted disk and an IES file's
+// distribution each give another far field in the panel.
+TEST(WindowedSession, AChangedSourceChangesTheFarFieldShown) {
+    int w[3] = {}, h[3] = {};
+    const std::vector<std::uint8_t> shot[3] = {
+        plot::read_png_rgba("ui_source_die.png", w[0], h[0]),
+        plot::read_png_rgba("ui_source_disk.png", w[1], h[1]),
+        plot::read_png_rgba("ui_source_photometric.png", w[2], h[2])};
+    for (int k = 1; k < 3; ++k) {
+        ASSERT_EQ(w[k], w[0]);
+        ASSERT_EQ(h[k], h[0]);
+        EXPECT_GT(region_difference(shot[k - 1], shot[k], w[0], h[0], 0.66, 0.08, 0.99, 0.58), 2.0)
+            << "shot " << k;
+    }
 }
 
 // The panel layout (its splits) is saved with the settings in the config directory when

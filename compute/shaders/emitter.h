@@ -1,0 +1,222 @@
+// One definition of the light sources' emission (DESIGN.md §2): where an emitter's ray
+// starts and where it leaves, as a function of four uniforms in (0, 1). GLSL compiles it
+// in float (common.glsl, for rayset.comp); C++ in double (model/source.cpp, for the CPU
+// reference), so both tracers sample their rays from this one text. A new emitter is a
+// kind in fird_shared.h, a branch in sample_emitter and its keys in the scene file.
+//
+// The text is the common subset of GLSL and C++ with glm: value parameters only (no
+// out), structs filled member by member, vector constructors and +, -, * on vectors.
+#ifndef FIRD_EMITTER_H
+#define FIRD_EMITTER_H
+
+#ifdef __cplusplus
+#include <algorithm>
+#include <cmath>
+
+#include <glm/geometric.hpp>
+#include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
+
+#include "fird_shared.h"
+
+namespace fird::gpu::emission {
+using real_t = double;
+using vec3 = glm::dvec3;
+using vec4 = glm::dvec4;
+using glm::cross;
+using glm::normalize;
+using std::cos;
+using std::max;
+using std::min;
+using std::sin;
+using std::sqrt;
+#define FIRD_EMITTER_INLINE inline
+// A photometric emitter's table (emission_table.hpp lays it out): a pointer in C++, the
+// rayset pass's buffer `emitter_table` in GLSL (source.glsl binds it).
+#define FIRD_TABLE_ARG , const float* emitter_table
+#define FIRD_TABLE_PASS , emitter_table
+#else
+#define real_t float
+#define FIRD_EMITTER_INLINE
+#define FIRD_TABLE_ARG
+#define FIRD_TABLE_PASS
+#endif
+
+const real_t kEmitterPi = 3.14159265358979323846;
+
+// An emitter in the frame its tracer works in. `axis` is the emitter's local +z (unit): a
+// cylinder's axis, a cosine point's axis, a disk's or rectangle's normal (the emitting
+// side). `x_axis` is its local +x (unit, perpendicular to axis; disk and rectangle), and
+// its local +y is axis x x_axis, so that (x, y, z) is right-handed.
+struct Emitter {
+    uint kind; // kSourceCylinder, ... (fird_shared.h)
+    vec3 center;
+    vec3 axis;
+    vec3 x_axis;
+    real_t length_mm; // cylinder, along its axis
+    real_t radius_mm; // cylinder, sphere, disk
+    real_t width_mm;  // rectangle, along x_axis
+    real_t height_mm; // rectangle, along axis x x_axis
+    // photometric: the table's C angles (the first repeated at 360 degrees) and gamma
+    // angles; a radius_mm above 0 emits from a disk across the axis, else from the centre.
+    uint table_c;
+    uint table_g;
+};
+
+struct Emission {
+    vec3 origin;
+    vec3 direction; // unit length
+};
+
+// Two unit vectors completing n to a right-handed orthonormal frame
+// (Duff et al., "Building an orthonormal basis, revisited", 2017).
+struct Basis {
+    vec3 t;
+    vec3 b;
+};
+FIRD_EMITTER_INLINE Basis basis_about(vec3 n) {
+    const real_t s = n.z >= 0.0 ? 1.0 : -1.0;
+    const real_t a = -1.0 / (s + n.z);
+    const real_t c = n.x * n.y * a;
+    Basis f;
+    f.t = vec3(1.0 + s * n.x * n.x * a, s * c, -s * n.x);
+    f.b = vec3(c, s + n.y * n.y * a, -n.y);
+    return f;
+}
+
+// A Lambertian (cosine-weighted) direction about unit n, in the frame (t, b, n).
+FIRD_EMITTER_INLINE vec3 cosine_direction_in(vec3 n, vec3 t, vec3 b, real_t u1, real_t u2) {
+    const real_t r = sqrt(u1);
+    const real_t phi = 2.0 * kEmitterPi * u2;
+    const real_t cos_theta = sqrt(max(real_t(0.0), real_t(1.0) - u1));
+    return normalize(r * cos(phi) * t + r * sin(phi) * b + cos_theta * n);
+}
+
+FIRD_EMITTER_INLINE vec3 cosine_direction(vec3 n, real_t u1, real_t u2) {
+    const Basis f = basis_about(n);
+    return cosine_direction_in(n, f.t, f.b, u1, u2);
+}
+
+FIRD_EMITTER_INLINE vec3 uniform_sphere(real_t u1, real_t u2) {
+    const real_t z = 1.0 - 2.0 * u1;
+    const real_t r = sqrt(max(real_t(0.0), real_t(1.0) - z * z));
+    const real_t phi = 2.0 * kEmitterPi * u2;
+    return vec3(r * cos(phi), r * sin(phi), z);
+}
+
+// t in [0, 1) under the density proportional to a (1 - t) + b t, for the uniform u:
+// the root of (a t + (b - a) t^2 / 2) / ((a + b) / 2) = u, in the form without
+// cancellation (and t = u where a = b).
+FIRD_EMITTER_INLINE real_t linear_density_inverse(real_t a, real_t b, real_t u) {
+    const real_t root = sqrt(max(real_t(0.0), a * a + (b * b - a * a) * u));
+    const real_t denominator = a + root;
+    return denominator > 0.0 ? min(u * (a + b) / denominator, real_t(1.0)) : u;
+}
+
+// A photometric emitter's direction in its local frame (C = 0 along +x, C = 90 along +y,
+// gamma = 0 the nadir, local -z: d = (sin g cos C, sin g sin C, -cos g)), exactly under the
+// table's interpolation (photometry/candela_table.hpp: linear in C and in cos gamma, so
+// bilinear in (C, cos gamma), where the solid angle is dC dcos(gamma)). The table holds C
+// (radians, table_c), cos gamma (table_g), the intensity at each (C, gamma) and the
+// cumulative flux of each cell (C_j..C_j+1, gamma_i..gamma_i+1), cell j (table_g - 1) + i,
+// normalised to end at 1. u.x picks the cell (its remainder, the cos gamma inside it), u.y
+// the C inside it.
+FIRD_EMITTER_INLINE vec3 photometric_direction(uint nc, uint ng, real_t ux,
+                                               real_t uy FIRD_TABLE_ARG) {
+    const uint cells = (nc - 1u) * (ng - 1u);
+    const uint cdf_at = nc + ng + nc * ng;
+    // The first cell whose cumulative flux exceeds ux (binary search, at most 32 steps).
+    uint lo = 0u;
+    uint hi = cells - 1u;
+    for (int step = 0; step < 32 && lo < hi; ++step) {
+        const uint mid = (lo + hi) / 2u;
+        if (real_t(emitter_table[cdf_at + mid]) > ux)
+            hi = mid;
+        else
+            lo = mid + 1u;
+    }
+    const uint j = lo / (ng - 1u);
+    const uint i = lo - j * (ng - 1u);
+    const real_t before = lo > 0u ? real_t(emitter_table[cdf_at + lo - 1u]) : real_t(0.0);
+    const real_t share = real_t(emitter_table[cdf_at + lo]) - before;
+    const real_t v =
+        share > 0.0 ? min(max((ux - before) / share, real_t(0.0)), real_t(1.0)) : real_t(0.5);
+    const uint cd_at = nc + ng;
+    const real_t i00 = real_t(emitter_table[cd_at + j * ng + i]);
+    const real_t i01 = real_t(emitter_table[cd_at + j * ng + i + 1u]);
+    const real_t i10 = real_t(emitter_table[cd_at + (j + 1u) * ng + i]);
+    const real_t i11 = real_t(emitter_table[cd_at + (j + 1u) * ng + i + 1u]);
+    // cos gamma first (its marginal is linear), then C at that cos gamma (linear too).
+    const real_t tg = linear_density_inverse(i00 + i10, i01 + i11, v);
+    const real_t tc = linear_density_inverse(i00 + (i01 - i00) * tg, i10 + (i11 - i10) * tg, uy);
+    const real_t mu0 = real_t(emitter_table[nc + i]);
+    const real_t mu1 = real_t(emitter_table[nc + i + 1u]);
+    const real_t c0 = real_t(emitter_table[j]);
+    const real_t c1 = real_t(emitter_table[j + 1u]);
+    const real_t mu = mu0 + (mu1 - mu0) * tg;
+    const real_t c = c0 + (c1 - c0) * tc;
+    const real_t sin_g = sqrt(max(real_t(0.0), real_t(1.0) - mu * mu));
+    return vec3(sin_g * cos(c), sin_g * sin(c), -mu);
+}
+
+// cylinder: uniform on the lateral surface (the caps dark), Lambertian about the outward
+// normal. sphere: uniform on the surface, Lambertian about the outward normal, the
+// direction sampled first: the joint density of the normal n (uniform) and the direction
+// d (Lambertian about n) is max(0, n.d) / (4 pi^2), symmetric in n and d, so d uniform
+// and n Lambertian about d is the same distribution, and the direction comes from the
+// stratified first two uniforms. point: isotropic, or Lambertian about `axis`. disk and
+// rectangle: one-sided Lambertian about `axis`, uniform over the area; the direction from
+// the first two uniforms for the same reason (a stratified rayset then comes ordered by
+// direction, fird_shared.h's rayset_ordered_at_birth).
+// photometric: the direction from the table (photometric_direction) turned into the scene
+// by (x_axis, axis x x_axis, axis), the point the centre or uniform over a disk across the
+// axis.
+FIRD_EMITTER_INLINE Emission sample_emitter(Emitter e, vec4 u FIRD_TABLE_ARG) {
+    Emission r;
+    if (e.kind == kSourceCylinder) {
+        const Basis f = basis_about(e.axis);
+        const real_t phi = 2.0 * kEmitterPi * u.y;
+        const vec3 n = cos(phi) * f.t + sin(phi) * f.b;
+        r.origin = e.center + (u.x - 0.5) * e.length_mm * e.axis + e.radius_mm * n;
+        r.direction = cosine_direction(n, u.z, u.w);
+    } else if (e.kind == kSourceSphere) {
+        r.direction = uniform_sphere(u.x, u.y);
+        r.origin = e.center + e.radius_mm * cosine_direction(r.direction, u.z, u.w);
+    } else if (e.kind == kSourcePointCosine) {
+        r.origin = e.center;
+        r.direction = cosine_direction(e.axis, u.x, u.y);
+    } else if (e.kind == kSourcePhotometric) {
+        const vec3 y_axis = cross(e.axis, e.x_axis);
+        const vec3 d = photometric_direction(e.table_c, e.table_g, u.x, u.y FIRD_TABLE_PASS);
+        r.direction = normalize(d.x * e.x_axis + d.y * y_axis + d.z * e.axis);
+        const real_t rho = e.radius_mm * sqrt(u.z);
+        const real_t phi = 2.0 * kEmitterPi * u.w;
+        r.origin = e.center + rho * cos(phi) * e.x_axis + rho * sin(phi) * y_axis;
+    } else if (e.kind == kSourceDisk || e.kind == kSourceRectangle) {
+        const vec3 y_axis = cross(e.axis, e.x_axis);
+        r.direction = cosine_direction_in(e.axis, e.x_axis, y_axis, u.x, u.y);
+        if (e.kind == kSourceDisk) {
+            // Uniform over the area: radius sqrt(u) R.
+            const real_t rho = e.radius_mm * sqrt(u.z);
+            const real_t phi = 2.0 * kEmitterPi * u.w;
+            r.origin = e.center + rho * cos(phi) * e.x_axis + rho * sin(phi) * y_axis;
+        } else {
+            r.origin =
+                e.center + (u.z - 0.5) * e.width_mm * e.x_axis + (u.w - 0.5) * e.height_mm * y_axis;
+        }
+    } else {
+        r.origin = e.center;
+        r.direction = uniform_sphere(u.x, u.y);
+    }
+    return r;
+}
+
+#undef FIRD_EMITTER_INLINE
+#undef FIRD_TABLE_ARG
+#undef FIRD_TABLE_PASS
+#ifdef __cplusplus
+} // namespace fird::gpu::emission
+#else
+#undef real_t
+#endif
+#endif
