@@ -1,0 +1,64 @@
+#include "cad_export.hpp"
+
+#include <algorithm>
+#include <filesystem>
+
+#include <fmt/format.h>
+
+#include "cad_curvature.hpp"
+#include "cad_step.hpp"
+#include "cad_stl.hpp"
+#include "cad_surface.hpp"
+#include "io/atomic_file.hpp"
+
+namespace fird {
+
+namespace {
+
+// Grid points that put `per` samples in each of a grid's intervals (n points).
+int refined(int n, int per) {
+    return per * (n - 1) + 1;
+}
+
+} // namespace
+
+CadReport export_cad(const Surface& surface, const CadOptions& o, const std::string& directory) {
+    if (!(o.tolerance_mm > 0.0))
+        throw CadOptionError(fmt::format("--cad-tolerance {:g}: must be > 0 mm", o.tolerance_mm));
+    if (o.thickness_mm < 0.0)
+        throw CadOptionError(fmt::format("--thickness {:g}: must be >= 0 mm", o.thickness_mm));
+    const CadSurface cad = make_cad_surface(surface, o.tolerance_mm);
+    CadReport r{.exact = cad.exact,
+                .max_deviation_mm = cad.max_deviation_mm,
+                .worst_xy_mm = cad.worst_xy_mm,
+                .fit_nx = cad.fit_nx,
+                .fit_ny = cad.fit_ny,
+                .check_nx = cad.check_nx,
+                .check_ny = cad.check_ny};
+    // The exact B-spline has few knot intervals: eight samples in each (at least 129 an
+    // axis) for the STL and the curvature; a fit's own samples already resolve its detail.
+    r.stl_nx = cad.exact ? std::max(129, refined(cad.fit_nx, 8)) : cad.fit_nx;
+    r.stl_ny = cad.exact ? std::max(129, refined(cad.fit_ny, 8)) : cad.fit_ny;
+    const BackCurvature back =
+        smallest_back_radius(cad.surface, refined(r.stl_nx, 2), refined(r.stl_ny, 2));
+    r.back_radius_mm = back.smallest_radius_mm;
+    r.back_radius_xy_mm = back.where_xy_mm;
+    if (o.thickness_mm > 0.0 && o.thickness_mm >= r.back_radius_mm)
+        throw CadOptionError(fmt::format(
+            "--thickness {:g}: the back face would intersect itself where the surface bends "
+            "towards it with a radius of {:.3g} mm at ({:.2f}, {:.2f}) mm; use a thinner sheet",
+            o.thickness_mm, back.smallest_radius_mm, back.where_xy_mm.x, back.where_xy_mm.y));
+    const TopoDS_Shape shape = reflector_shape(cad.surface, o.thickness_mm);
+    const SurfaceGrid grid = sample_surface(cad.surface, r.stl_nx, r.stl_ny);
+    r.stl_chord_mm = chord_error_mm(grid, cad.surface);
+
+    create_output_directory(directory);
+    const std::string step = (std::filesystem::path(directory) / "reflector.step").string();
+    write_step(shape, step);
+    r.files.push_back({"reflector.step", std::filesystem::file_size(step)});
+    const std::string stl = (std::filesystem::path(directory) / "reflector.stl").string();
+    r.files.push_back({"reflector.stl", write_reflector_stl(grid, o.thickness_mm, stl)});
+    return r;
+}
+
+} // namespace fird
