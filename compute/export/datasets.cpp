@@ -73,6 +73,7 @@ vtkSmartPointer<vtkStructuredGrid> grid(std::uint32_t w, std::uint32_t h,
 
 } // namespace
 
+
 vtkSmartPointer<vtkStructuredGrid> reflector_grid(const Holder& hd, std::uint32_t w,
                                                   std::uint32_t h,
                                                   const std::vector<float>& heights,
