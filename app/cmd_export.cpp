@@ -67,12 +67,10 @@ void register_export(CLI::App& app, const GlobalOptions& global, std::function<i
                     "Write the reflector as CAD here: reflector.step (B-spline surface, mm) and "
                     "reflector.stl (binary); the VTK files then only with --out");
     cmd->add_option("--cad-tolerance", a->cad_options.tolerance_mm,
-                    "Largest height deviation of a fitted CAD surface, mm (default 0.01)")
-        ->check(CLI::PositiveNumber);
+                    "Largest height deviation of a fitted CAD surface, mm (default 0.01)");
     cmd->add_option("--thickness", a->cad_options.thickness_mm,
                     "Thicken the CAD reflector into a solid sheet this thick, mm, its back face "
-                    "offset along the normal (default: the surface alone)")
-        ->check(CLI::PositiveNumber);
+                    "offset along the normal (default: the surface alone)");
     cmd->callback([&global, &run, a, out] {
         const bool vtk = a->cad.empty() || out->count() > 0;
         run = [&global, a, vtk] {

@@ -25,8 +25,9 @@ int refined(int n, int per) {
 CadReport export_cad(const Surface& surface, const CadOptions& o, const std::string& directory) {
     if (!(o.tolerance_mm > 0.0))
         throw CadOptionError(fmt::format("--cad-tolerance {:g}: must be > 0 mm", o.tolerance_mm));
-    if (o.thickness_mm < 0.0)
-        throw CadOptionError(fmt::format("--thickness {:g}: must be >= 0 mm", o.thickness_mm));
+    if (!(o.thickness_mm >= 0.0))
+        throw CadOptionError(fmt::format("--thickness {:g}: must be >= 0 mm (0: the surface alone)",
+                                         o.thickness_mm));
     const CadSurface cad = make_cad_surface(surface, o.tolerance_mm);
     CadReport r{.exact = cad.exact,
                 .max_deviation_mm = cad.max_deviation_mm,

@@ -138,6 +138,19 @@ GmshMesh gmsh_mesh(const std::string& step, int dimension) {
     return m;
 }
 
+// fird export SCENE --cad DIR OPTIONS, then gmsh's mesh of its STEP file in `dimension`.
+struct Exported {
+    Result run;
+    GmshMesh mesh;
+};
+Exported export_and_mesh(const std::string& name, const std::string& scene,
+                         const std::string& options, int dimension) {
+    const std::string out = dir(name);
+    Exported e{fird("export " + scene + " --cad " + out + " " + options), {}};
+    if (e.run.code == 0) e.mesh = gmsh_mesh(out + "/reflector.step", dimension);
+    return e;
+}
+
 // A binary STL: facets with their stored normal.
 struct Facet {
     glm::dvec3 normal;
@@ -244,11 +257,9 @@ TEST(CadSurface, DomeSmallestBackRadiusIsTheApexRadius) {
 }
 
 TEST(CadStep, GmshReadsTheBSplineExactly) {
-    const std::string out = dir("step_bspline");
     const std::string scene = source("scenes/test/bspline_dish.toml");
-    const Result r = fird("export " + scene + " --cad " + out);
+    const auto [r, m] = export_and_mesh("step_bspline", scene, "", 2);
     ASSERT_EQ(r.code, 0) << r.out;
-    const GmshMesh m = gmsh_mesh(out + "/reflector.step", 2);
     ASSERT_GT(m.nodes.size(), 50u);
     const Surface f = surface_of(scene);
     // gmsh puts its nodes on the surface it read and writes 13 significant digits: x, y
@@ -263,12 +274,10 @@ TEST(CadStep, GmshReadsTheBSplineExactly) {
 }
 
 TEST(CadStep, GmshReadsModelAWithinTheFitTolerance) {
-    const std::string out = dir("step_a");
     const std::string scene = source("scenes/model_a.toml");
     const double tolerance = 0.05;
-    const Result r = fird("export " + scene + " --cad " + out + " --cad-tolerance 0.05");
+    const auto [r, m] = export_and_mesh("step_a", scene, "--cad-tolerance 0.05", 2);
     ASSERT_EQ(r.code, 0) << r.out;
-    const GmshMesh m = gmsh_mesh(out + "/reflector.step", 2);
     ASSERT_GT(m.nodes.size(), 100u);
     const Surface f = surface_of(scene);
     // The fit met the tolerance on a grid of a quarter of its sampling step h (the report's
@@ -283,7 +292,8 @@ TEST(CadStep, GmshReadsModelAWithinTheFitTolerance) {
     for (const glm::dvec3& p : m.nodes) {
         const double gap = std::abs(p.z - f.height(p.x, p.y));
         const glm::dvec2 g = f.raw_gradient(p.x, p.y);
-        const bool by_rim = std::abs(f.raw(p.x, p.y) - 0.0) < 2.0 * h * glm::length(g) + 1e-9;
+        const bool by_rim =
+            std::abs(f.raw(p.x, p.y) - f.holder().max_mm.z) < 2.0 * h * glm::length(g) + 1e-9;
         (by_rim ? near : far) = std::max(by_rim ? near : far, gap);
         if (by_rim) slope = std::max(slope, glm::length(g));
     }
@@ -293,12 +303,10 @@ TEST(CadStep, GmshReadsModelAWithinTheFitTolerance) {
 }
 
 TEST(CadStep, GmshMeshesTheSheetWithThicknessTimesArea) {
-    const std::string out = dir("step_sheet");
     const std::string scene = source("scenes/test/bspline_dish.toml");
     const double t = 0.5;
-    const Result r = fird("export " + scene + " --cad " + out + " --thickness 0.5");
+    const auto [r, m] = export_and_mesh("step_sheet", scene, "--thickness 0.5", 3);
     ASSERT_EQ(r.code, 0) << r.out;
-    const GmshMesh m = gmsh_mesh(out + "/reflector.step", 3);
     ASSERT_GT(m.tetrahedra.size(), 100u);
     double volume = 0.0;
     for (const auto& k : m.tetrahedra) {
@@ -420,16 +428,18 @@ TEST(CadBadInput, UnreachableToleranceIsRefusedNamingTheOption) {
     EXPECT_EQ(r.code, 2) << r.out;
     EXPECT_NE(r.out.find("fird: error: --cad-tolerance 1e-07 mm"), std::string::npos) << r.out;
     EXPECT_FALSE(has_cad_files(out));
-    for (const char* bad : {"0", "-1", "x"}) {
+    // Not numbers, or out of range (a tolerance must be > 0 mm, a thickness >= 0 mm).
+    const auto refused = [&](const std::string& option, const char* value) {
         const Result b = fird("export " + source("scenes/test/bspline_dish.toml") + " --cad " +
-                              out + " --cad-tolerance " + bad);
+                              out + " " + option + " " + value);
         EXPECT_EQ(b.code, 2) << b.out;
-        EXPECT_NE(b.out.find("--cad-tolerance"), std::string::npos) << b.out;
-        const Result t = fird("export " + source("scenes/test/bspline_dish.toml") + " --cad " +
-                              out + " --thickness " + bad);
-        EXPECT_EQ(t.code, 2) << t.out;
-        EXPECT_NE(t.out.find("--thickness"), std::string::npos) << t.out;
-    }
+        EXPECT_NE(b.out.find(option), std::string::npos) << b.out;
+    };
+    for (const char* bad : {"0", "-1", "nan", "x"})
+        refused("--cad-tolerance", bad);
+    for (const char* bad : {"-1", "nan", "x"})
+        refused("--thickness", bad);
+    EXPECT_FALSE(has_cad_files(out));
 }
 
 TEST(CadBadInput, UnwritableDirectoryIsARuntimeErrorNamingIt) {
