@@ -174,21 +174,19 @@ CadSurface make_cad_surface(const Surface& surface, double tolerance_mm) {
         check(std::max(b->nx, 65), std::max(b->ny, 65));
         return c;
     }
-    // Start near 1 mm spacing (at least 17 samples an axis), double the intervals until
-    // the check passes.
+    // Start near 1 mm spacing (at least 17 samples an axis, at most the limit, for holders
+    // of any size), double the intervals until the check passes.
     const Holder& h = surface.holder();
     const double w = h.max_mm.x - h.min_mm.x;
     const double d = h.max_mm.y - h.min_mm.y;
-    int nx = std::max(17, int(std::ceil(w)) + 1);
-    int ny = std::max(17, int(std::ceil(d)) + 1);
+    int nx = int(std::clamp(std::ceil(w) + 1.0, 17.0, double(kMaxFitSamples)));
+    int ny = int(std::clamp(std::ceil(d) + 1.0, 17.0, double(kMaxFitSamples)));
     for (;;) {
         c.surface = fit(surface, nx, ny);
         c.fit_nx = nx;
         c.fit_ny = ny;
-        if (!c.surface.IsNull()) {
-            check(nx, ny);
-            if (c.max_deviation_mm <= tolerance_mm) return c;
-        }
+        check(nx, ny);
+        if (c.max_deviation_mm <= tolerance_mm) return c;
         if (2 * (nx - 1) + 1 > kMaxFitSamples || 2 * (ny - 1) + 1 > kMaxFitSamples) break;
         nx = 2 * (nx - 1) + 1;
         ny = 2 * (ny - 1) + 1;

@@ -29,7 +29,7 @@ struct CadOptionError : std::invalid_argument {
 };
 
 // The largest height sample grid a fit may use per axis (the STEP file grows with its
-// square: about 60 bytes a control point).
+// square: about 85 bytes a control point).
 inline constexpr int kMaxFitSamples = 1025;
 
 // Throws CadOptionError naming --cad-tolerance when no fit within kMaxFitSamples meets it.
