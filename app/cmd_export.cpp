@@ -17,27 +17,36 @@ namespace fird::app {
 namespace {
 
 void print_cad_report(const std::string& dir, const CadReport& r) {
-    if (r.exact)
-        std::printf("%s",
-                    fmt::format("CAD surface: the family's B-spline, exact ({} x {} control "
-                                "heights; largest deviation {:.2g} mm on {} x {} points)\n",
-                                r.fit_nx, r.fit_ny, r.max_deviation_mm, r.check_nx, r.check_ny)
-                        .c_str());
-    else
-        std::printf("%s", fmt::format("CAD surface: B-spline fitted to {} x {} heights; largest "
-                                      "deviation {:.4f} mm at ({:.2f}, {:.2f}) mm on {} x {} "
-                                      "points\n",
-                                      r.fit_nx, r.fit_ny, r.max_deviation_mm, r.worst_xy_mm.x,
-                                      r.worst_xy_mm.y, r.check_nx, r.check_ny)
+    const std::string surface =
+        r.exact ? fmt::format("the family's B-spline, exact ({} x {} control heights)", r.fit_nx,
+                              r.fit_ny)
+                : fmt::format("B-spline fitted to {} x {} heights", r.fit_nx, r.fit_ny);
+    std::printf("%s", fmt::format("CAD surface: {}{}; largest deviation {:.2g} mm at ({:.2f}, "
+                                  "{:.2f}) mm on {} x {} points\n",
+                                  r.creased ? "the family without its clamp, " : "", surface,
+                                  r.max_deviation_mm, r.worst_xy_mm.x, r.worst_xy_mm.y, r.check_nx,
+                                  r.check_ny)
+                          .c_str());
+    if (r.creased) {
+        std::printf("%s", fmt::format("trimmed where the holder's z range clamps it, flat "
+                                      "beyond; crease edges within {:.2g} mm\n",
+                                      r.edge_tolerance_mm)
                               .c_str());
-    std::printf("%s", fmt::format("smallest radius of curvature towards the back: {:.4g} mm at "
-                                  "({:.2f}, {:.2f}) mm (a sheet must be thinner)\n",
-                                  r.back_radius_mm, r.back_radius_xy_mm.x, r.back_radius_xy_mm.y)
-                          .c_str());
-    std::printf("%s", fmt::format("STL: {} x {} samples, facets within {:.2g} mm of the CAD "
-                                  "surface\n",
-                                  r.stl_nx, r.stl_ny, r.stl_chord_mm)
-                          .c_str());
+        std::printf("%s", fmt::format("STL: OpenCASCADE's tessellation, facets within {:.2g} mm "
+                                      "of the faces\n",
+                                      r.stl_chord_mm)
+                              .c_str());
+    } else {
+        std::printf("%s",
+                    fmt::format("smallest radius of curvature towards the back: {:.4g} mm "
+                                "at ({:.2f}, {:.2f}) mm (a sheet must be thinner)\n",
+                                r.back_radius_mm, r.back_radius_xy_mm.x, r.back_radius_xy_mm.y)
+                        .c_str());
+        std::printf("%s", fmt::format("STL: {} x {} samples, facets within {:.2g} mm of the CAD "
+                                      "surface\n",
+                                      r.stl_nx, r.stl_ny, r.stl_chord_mm)
+                              .c_str());
+    }
     for (const ExportedFile& f : r.files)
         std::printf("%s",
                     fmt::format("{}/{}: {:.2f} MB\n", dir, f.name, double(f.bytes) * 1e-6).c_str());

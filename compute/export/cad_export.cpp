@@ -5,6 +5,9 @@
 
 #include <fmt/format.h>
 
+#include <BRep_Tool.hxx>
+
+#include "cad_crease.hpp"
 #include "cad_curvature.hpp"
 #include "cad_step.hpp"
 #include "cad_stl.hpp"
@@ -20,6 +23,42 @@ int refined(int n, int per) {
     return per * (n - 1) + 1;
 }
 
+std::string file_in(const std::string& directory, const char* name) {
+    return (std::filesystem::path(directory) / name).string();
+}
+
+// A reflector clamped to the holder's z range: the unclamped family fitted (or exact) and
+// trimmed there, flat beyond; no sheet (the crease would need a bend radius).
+CadReport export_creased(const Surface& surface, const Creases& creases, const CadOptions& o,
+                         const std::string& directory) {
+    if (o.thickness_mm > 0.0)
+        throw CadOptionError(fmt::format(
+            "--thickness {:g}: the reflector meets the holder's {} in a crease (it is clamped "
+            "there), and a sheet needs a bend radius there, which this export does not make; "
+            "export the surface alone",
+            o.thickness_mm, creases.top ? "top" : "floor"));
+    const CadSurface cad = make_cad_surface(surface, o.tolerance_mm, Heights::Unclamped);
+    CadReport r{.exact = cad.exact,
+                .creased = true,
+                .max_deviation_mm = cad.max_deviation_mm,
+                .worst_xy_mm = cad.worst_xy_mm,
+                .fit_nx = cad.fit_nx,
+                .fit_ny = cad.fit_ny,
+                .check_nx = cad.check_nx,
+                .check_ny = cad.check_ny};
+    const TopoDS_Shape shell = creased_shell(cad.surface, surface, creases);
+    r.edge_tolerance_mm = BRep_Tool::MaxTolerance(shell, TopAbs_EDGE);
+    r.stl_chord_mm = o.tolerance_mm;
+    create_output_directory(directory);
+    write_step(shell, file_in(directory, "reflector.step"));
+    r.files.push_back(
+        {"reflector.step", std::filesystem::file_size(file_in(directory, "reflector.step"))});
+    r.files.push_back(
+        {"reflector.stl",
+         write_tessellated_stl(shell, o.tolerance_mm, file_in(directory, "reflector.stl"))});
+    return r;
+}
+
 } // namespace
 
 CadReport export_cad(const Surface& surface, const CadOptions& o, const std::string& directory) {
@@ -28,6 +67,9 @@ CadReport export_cad(const Surface& surface, const CadOptions& o, const std::str
     if (!(o.thickness_mm >= 0.0))
         throw CadOptionError(fmt::format("--thickness {:g}: must be >= 0 mm (0: the surface alone)",
                                          o.thickness_mm));
+    if (!std::holds_alternative<MeshFn>(surface.function()))
+        if (const Creases creases = clamp_creases(surface); creases.any())
+            return export_creased(surface, creases, o, directory);
     const CadSurface cad = make_cad_surface(surface, o.tolerance_mm);
     CadReport r{.exact = cad.exact,
                 .max_deviation_mm = cad.max_deviation_mm,
@@ -54,10 +96,10 @@ CadReport export_cad(const Surface& surface, const CadOptions& o, const std::str
     r.stl_chord_mm = chord_error_mm(grid, cad.surface);
 
     create_output_directory(directory);
-    const std::string step = (std::filesystem::path(directory) / "reflector.step").string();
+    const std::string step = file_in(directory, "reflector.step");
     write_step(shape, step);
     r.files.push_back({"reflector.step", std::filesystem::file_size(step)});
-    const std::string stl = (std::filesystem::path(directory) / "reflector.stl").string();
+    const std::string stl = file_in(directory, "reflector.stl");
     r.files.push_back({"reflector.stl", write_reflector_stl(grid, o.thickness_mm, stl)});
     return r;
 }

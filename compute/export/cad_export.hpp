@@ -19,8 +19,10 @@ struct CadOptions {
 };
 
 struct CadReport {
-    bool exact = false;            // the family's own B-spline (no fit)
-    double max_deviation_mm = 0.0; // largest |CAD - family| height on the check grid
+    bool exact = false;   // the family's own B-spline (no fit)
+    bool creased = false; // trimmed at the holder's top, a flat flange beyond (cad_crease)
+    double edge_tolerance_mm = 0.0; // the crease edges' (OpenCASCADE's intersection) tolerance
+    double max_deviation_mm = 0.0;  // largest |CAD - family| height on the check grid
     glm::dvec2 worst_xy_mm{0.0};
     int fit_nx = 0, fit_ny = 0, check_nx = 0, check_ny = 0;
     // Smallest radius of curvature bending towards the back (the thickness must stay under it).
@@ -28,6 +30,7 @@ struct CadReport {
     glm::dvec2 back_radius_xy_mm{0.0};
     int stl_nx = 0, stl_ny = 0;
     double stl_chord_mm = 0.0; // largest gap between the STL's facets and the CAD surface
+                               // (a creased one: BRepMesh's deflection, the tolerance)
     std::vector<ExportedFile> files;
 };
 

@@ -4,9 +4,12 @@
 #include <array>
 #include <cmath>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <stdexcept>
 
+#include <BRepMesh_IncrementalMesh.hxx>
+#include <StlAPI_Writer.hxx>
 #include <fmt/format.h>
 #include <glm/geometric.hpp>
 #include <gp_Pnt.hxx>
@@ -133,6 +136,22 @@ std::uint64_t write_reflector_stl(const SurfaceGrid& g, double thickness_mm,
         if (!f) throw std::runtime_error(fmt::format("{}: write failed", path));
     });
     return out.size();
+}
+
+std::uint64_t write_tessellated_stl(const TopoDS_Shape& shape, double deflection_mm,
+                                    const std::string& path) {
+    BRepMesh_IncrementalMesh mesh(shape, deflection_mm, Standard_False, 0.5);
+    if (!mesh.IsDone())
+        throw std::runtime_error(fmt::format("{}: OpenCASCADE could not mesh the "
+                                             "reflector",
+                                             path));
+    StlAPI_Writer writer;
+    writer.ASCIIMode() = Standard_False;
+    write_atomically(path, [&](const std::string& temporary) {
+        if (!writer.Write(shape, temporary.c_str()))
+            throw std::runtime_error(fmt::format("{}: cannot write", path));
+    });
+    return std::filesystem::file_size(path);
 }
 
 } // namespace fird

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include <Geom_BSplineSurface.hxx>
+#include <TopoDS_Shape.hxx>
 #include <glm/vec3.hpp>
 
 namespace fird {
@@ -27,6 +28,12 @@ SurfaceGrid sample_surface(const Handle(Geom_BSplineSurface) & surface, int nx, 
 // Largest vertical gap between the triangles and the surface, at each triangle's centroid
 // and edge midpoints (where a flat facet strays furthest from a smooth surface).
 double chord_error_mm(const SurfaceGrid& grid, const Handle(Geom_BSplineSurface) & surface);
+
+// A creased reflector (cad_crease) as OpenCASCADE tessellates it (BRepMesh, facets within
+// deflection_mm of the faces, the crease an edge of the mesh, which no regular grid
+// follows), written by StlAPI_Writer in binary, whole or not at all; returns its size.
+std::uint64_t write_tessellated_stl(const TopoDS_Shape& shape, double deflection_mm,
+                                    const std::string& path);
 
 // Writes the STL whole or not at all; returns its size in bytes.
 std::uint64_t write_reflector_stl(const SurfaceGrid& grid, double thickness_mm,

@@ -94,8 +94,8 @@ std::vector<double> clamped_spline(const std::vector<double>& f, double h, doubl
 
 // The clamped bicubic spline interpolating the heights on an nx x ny grid over the holder
 // rectangle, its edge slopes and corner twists from the family's gradient.
-Handle(Geom_BSplineSurface) fit(const Surface& f, int nx, int ny) {
-    const Holder& h = f.holder();
+Handle(Geom_BSplineSurface) fit(const HeightFunction& f, int nx, int ny) {
+    const Holder& h = f.surface.holder();
     const double x0 = h.min_mm.x, y0 = h.min_mm.y;
     const double dx = (h.max_mm.x - x0) / (nx - 1);
     const double dy = (h.max_mm.y - y0) / (ny - 1);
@@ -136,7 +136,7 @@ Handle(Geom_BSplineSurface) fit(const Surface& f, int nx, int ny) {
 
 } // namespace
 
-double max_vertical_deviation(const Geom_BSplineSurface& s, const Surface& f, int nx, int ny,
+double max_vertical_deviation(const Geom_BSplineSurface& s, const HeightFunction& f, int nx, int ny,
                               glm::dvec2* where) {
     double u0, u1, v0, v1;
     s.Bounds(u0, u1, v0, v1);
@@ -155,7 +155,8 @@ double max_vertical_deviation(const Geom_BSplineSurface& s, const Surface& f, in
     return worst;
 }
 
-CadSurface make_cad_surface(const Surface& surface, double tolerance_mm) {
+CadSurface make_cad_surface(const Surface& surface, double tolerance_mm, Heights heights) {
+    const HeightFunction f{surface, heights};
     CadSurface c;
     // The check grid: four intervals per fitted interval, so it holds every interval's
     // midpoint, where an interpolating spline strays furthest from a smooth function.
@@ -163,10 +164,10 @@ CadSurface make_cad_surface(const Surface& surface, double tolerance_mm) {
         c.check_nx = 4 * (nx - 1) + 1;
         c.check_ny = 4 * (ny - 1) + 1;
         c.max_deviation_mm =
-            max_vertical_deviation(*c.surface, surface, c.check_nx, c.check_ny, &c.worst_xy_mm);
+            max_vertical_deviation(*c.surface, f, c.check_nx, c.check_ny, &c.worst_xy_mm);
     };
     if (const auto* b = std::get_if<BSplineFn>(&surface.function());
-        b && within_holder(*b, surface.holder())) {
+        b && (heights == Heights::Unclamped || within_holder(*b, surface.holder()))) {
         c.surface = exact_bspline(*b);
         c.exact = true;
         c.fit_nx = b->nx;
@@ -182,7 +183,7 @@ CadSurface make_cad_surface(const Surface& surface, double tolerance_mm) {
     int nx = int(std::clamp(std::ceil(w) + 1.0, 17.0, double(kMaxFitSamples)));
     int ny = int(std::clamp(std::ceil(d) + 1.0, 17.0, double(kMaxFitSamples)));
     for (;;) {
-        c.surface = fit(surface, nx, ny);
+        c.surface = fit(f, nx, ny);
         c.fit_nx = nx;
         c.fit_ny = ny;
         check(nx, ny);

@@ -32,12 +32,28 @@ struct CadOptionError : std::invalid_argument {
 // square: about 85 bytes a control point).
 inline constexpr int kMaxFitSamples = 1025;
 
+// Which function the CAD surface follows: the family as the tracer sees it (clamped to the
+// holder's z range) or without the clamp (to be trimmed at the holder's top: cad_crease).
+enum class Heights { Clamped, Unclamped };
+
+struct HeightFunction {
+    const Surface& surface;
+    Heights heights;
+    double height(double x, double y) const {
+        return heights == Heights::Clamped ? surface.height(x, y) : surface.raw(x, y);
+    }
+    glm::dvec2 gradient(double x, double y) const {
+        return heights == Heights::Clamped ? surface.gradient(x, y) : surface.raw_gradient(x, y);
+    }
+};
+
 // Throws CadOptionError naming --cad-tolerance when no fit within kMaxFitSamples meets it.
-CadSurface make_cad_surface(const Surface& surface, double tolerance_mm);
+CadSurface make_cad_surface(const Surface& surface, double tolerance_mm,
+                            Heights heights = Heights::Clamped);
 
 // Largest vertical distance |S_z(u, v) - f(S_x, S_y)| over an nx x ny grid of the
 // surface's parameter rectangle (vertical distance bounds the normal distance from above).
-double max_vertical_deviation(const Geom_BSplineSurface& s, const Surface& f, int nx, int ny,
+double max_vertical_deviation(const Geom_BSplineSurface& s, const HeightFunction& f, int nx, int ny,
                               glm::dvec2* where = nullptr);
 
 } // namespace fird
