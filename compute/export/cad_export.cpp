@@ -23,6 +23,17 @@ int refined(int n, int per) {
     return per * (n - 1) + 1;
 }
 
+// What the CAD surface is and how far it strays.
+CadReport report_of(const CadSurface& cad) {
+    return CadReport{.exact = cad.exact,
+                     .max_deviation_mm = cad.max_deviation_mm,
+                     .worst_xy_mm = cad.worst_xy_mm,
+                     .fit_nx = cad.fit_nx,
+                     .fit_ny = cad.fit_ny,
+                     .check_nx = cad.check_nx,
+                     .check_ny = cad.check_ny};
+}
+
 std::string file_in(const std::string& directory, const char* name) {
     return (std::filesystem::path(directory) / name).string();
 }
@@ -38,14 +49,8 @@ CadReport export_creased(const Surface& surface, const Creases& creases, const C
             "export the surface alone",
             o.thickness_mm, creases.top ? "top" : "floor"));
     const CadSurface cad = make_cad_surface(surface, o.tolerance_mm, Heights::Unclamped);
-    CadReport r{.exact = cad.exact,
-                .creased = true,
-                .max_deviation_mm = cad.max_deviation_mm,
-                .worst_xy_mm = cad.worst_xy_mm,
-                .fit_nx = cad.fit_nx,
-                .fit_ny = cad.fit_ny,
-                .check_nx = cad.check_nx,
-                .check_ny = cad.check_ny};
+    CadReport r = report_of(cad);
+    r.creased = true;
     const TopoDS_Shape shell = creased_shell(cad.surface, surface, creases);
     r.edge_tolerance_mm = BRep_Tool::MaxTolerance(shell, TopAbs_EDGE);
     r.stl_chord_mm = o.tolerance_mm;
@@ -71,13 +76,7 @@ CadReport export_cad(const Surface& surface, const CadOptions& o, const std::str
         if (const Creases creases = clamp_creases(surface); creases.any())
             return export_creased(surface, creases, o, directory);
     const CadSurface cad = make_cad_surface(surface, o.tolerance_mm);
-    CadReport r{.exact = cad.exact,
-                .max_deviation_mm = cad.max_deviation_mm,
-                .worst_xy_mm = cad.worst_xy_mm,
-                .fit_nx = cad.fit_nx,
-                .fit_ny = cad.fit_ny,
-                .check_nx = cad.check_nx,
-                .check_ny = cad.check_ny};
+    CadReport r = report_of(cad);
     // The exact B-spline has few knot intervals: eight samples in each (at least 129 an
     // axis) for the STL and the curvature; a fit's own samples already resolve its detail.
     r.stl_nx = cad.exact ? std::max(129, refined(cad.fit_nx, 8)) : cad.fit_nx;
