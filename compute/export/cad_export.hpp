@@ -1,5 +1,7 @@
-// fird export --cad: the reflector as CAD, reflector.step (OpenCASCADE, B-spline surface
-// or solid sheet, mm) and reflector.stl (binary), with how far each strays from the family.
+// fird export --cad: the reflector as CAD, reflector.step (OpenCASCADE, mm: a B-spline
+// surface, a solid sheet of it, or where the holder clamps the family a trimmed B-spline
+// face and the flat flange beyond) and reflector.stl (binary), with how far each strays
+// from the family.
 #pragma once
 
 #include <limits>
