@@ -13,6 +13,8 @@ packages=(
   libglfw3-dev libglm-dev libimgui-dev libcairo2-dev fonts-dejavu-core
   libtomlplusplus-dev libcli11-dev nlohmann-json3-dev libfmt-dev libnlopt-cxx-dev nettle-dev
   libvtk9-dev
+  libocct-data-exchange-dev libocct-modeling-algorithms-dev libocct-modeling-data-dev
+  libocct-foundation-dev gmsh
   libgtest-dev libgmock-dev libbenchmark-dev libeigen3-dev
   xvfb xauth xdotool
   clang libclang-rt-14-dev

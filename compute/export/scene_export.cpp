@@ -20,8 +20,6 @@
 
 namespace fird {
 
-namespace {
-
 ReflectorDesc overridden(const Scene& scene, const std::map<std::string, double>& params) {
     ReflectorDesc r = scene.reflector;
     const auto names = family_parameters(r.family);
@@ -36,6 +34,8 @@ ReflectorDesc overridden(const Scene& scene, const std::map<std::string, double>
     if (!f.feasible) throw std::invalid_argument("--parameters: " + f.reason);
     return r;
 }
+
+namespace {
 
 // The coarsest levels that stay within `budget` boxes.
 std::vector<std::uint32_t> coarsest_levels(const QuadtreeLayout& q, std::uint32_t count) {

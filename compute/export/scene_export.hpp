@@ -35,11 +35,15 @@ struct ExportedFile {
 
 struct ExportReport {
     std::vector<ExportedFile> files;
-    RayTally tally;           // the traced run's
+    RayTally tally; // the traced run's
     double energy_per_ray_lm = 0.0;
     std::vector<std::string> notes; // clamped requests, said once each
     std::uint32_t quadtree_levels = 0;
 };
+
+// The scene's reflector with --parameters overrides; throws std::invalid_argument naming
+// --parameters for a parameter the family lacks or values that make no feasible reflector.
+ReflectorDesc overridden(const Scene& scene, const std::map<std::string, double>& params);
 
 // Throws std::invalid_argument for a bad override (a parameter the family lacks, a
 // value that makes no surface or cuts the source) or a request past the limits.

@@ -55,8 +55,11 @@ class Surface {
     double raw(double x, double y) const;
     glm::dvec2 raw_gradient(double x, double y) const;
 
-  private:
+    // The family function itself, for exports that write it exactly (a B-spline as CAD).
     using Fn = std::variant<PlaneFn, ParaboloidFn, CupFn, FlutedCupFn, BSplineFn, MeshFn>;
+    const Fn& function() const { return fn_; }
+
+  private:
     Surface(Fn fn, const Holder& holder) : fn_(std::move(fn)), holder_(holder) {}
     Fn fn_;
     Holder holder_;

@@ -1,0 +1,20 @@
+// Where a sheet thickened from the reflector surface would intersect itself: the back
+// face, offset by the thickness against the upward normal, folds over wherever the
+// surface bends towards its back (the centre of curvature below it) with a radius of
+// curvature at or under the thickness.
+#pragma once
+
+#include <Geom_BSplineSurface.hxx>
+#include <glm/vec2.hpp>
+
+namespace fird {
+
+struct BackCurvature {
+    double smallest_radius_mm = 0.0; // infinity where the surface never bends towards its back
+    glm::dvec2 where_xy_mm{0.0};
+};
+
+// Principal curvatures on an nx x ny grid over the surface's parameter rectangle.
+BackCurvature smallest_back_radius(const Handle(Geom_BSplineSurface) & s, int nx, int ny);
+
+} // namespace fird

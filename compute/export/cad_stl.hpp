@@ -1,0 +1,42 @@
+// The reflector as a binary STL: the CAD surface sampled on a grid and triangulated, as
+// an open surface (normals up) or, given a thickness, a closed solid sheet: the top, the
+// back (each vertex offset by the thickness against the surface's upward normal, as the
+// STEP solid's back face) and the four side walls joining their rims, every facet
+// facing out. Written directly (binary STL is 50 bytes a triangle): a mesher on the
+// offset solid would add OpenCASCADE's tessellation tolerances to the heights.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <Geom_BSplineSurface.hxx>
+#include <TopoDS_Shape.hxx>
+#include <glm/vec3.hpp>
+
+namespace fird {
+
+struct SurfaceGrid {
+    int nx = 0, ny = 0;
+    std::vector<glm::dvec3> points;  // (i, j) at j * nx + i, mm
+    std::vector<glm::dvec3> normals; // unit, up
+};
+
+// nx x ny points evenly over the surface's parameter rectangle.
+SurfaceGrid sample_surface(const Handle(Geom_BSplineSurface) & surface, int nx, int ny);
+
+// Largest vertical gap between the triangles and the surface, at each triangle's centroid
+// and edge midpoints (where a flat facet strays furthest from a smooth surface).
+double chord_error_mm(const SurfaceGrid& grid, const Handle(Geom_BSplineSurface) & surface);
+
+// A creased reflector (cad_crease) as OpenCASCADE tessellates it (BRepMesh, facets within
+// deflection_mm of the faces, the crease an edge of the mesh, which no regular grid
+// follows), written by StlAPI_Writer in binary, whole or not at all; returns its size.
+std::uint64_t write_tessellated_stl(const TopoDS_Shape& shape, double deflection_mm,
+                                    const std::string& path);
+
+// Writes the STL whole or not at all; returns its size in bytes.
+std::uint64_t write_reflector_stl(const SurfaceGrid& grid, double thickness_mm,
+                                  const std::string& path);
+
+} // namespace fird
