@@ -153,7 +153,14 @@ StopReason PopulationSearch::run_stage(std::uint64_t max_evaluations) {
         // each point recorded in pagmo's order; a stop (budget, threshold, interruption)
         // comes out of here, between generations as far as pagmo is concerned.
         const std::uint64_t before = f.evaluations();
-        (void)f.evaluate_all(points);
+        try {
+            (void)f.evaluate_all(points);
+        } catch (const SearchStopped& stop) {
+            s.report->verdict =
+                fmt::format("stopped ({}) in generation {}", stop_reason_name(stop.reason),
+                            s.report->generations + 1);
+            throw;
+        }
         // The generation itself, every point answered from the stage's memo.
         s.generation.mode = Generation::Mode::Answer;
         s.population = std::visit(evolve, s.algorithm);

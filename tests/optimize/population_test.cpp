@@ -76,6 +76,11 @@ TEST_F(PopulationRules, AGenerationIsTracedAsOneBatchWithTheSingleEvaluationsL2)
     ASSERT_TRUE(r.population);
     EXPECT_EQ(r.population->size, 6u);   // 4 + floor(3 ln 2)
     EXPECT_EQ(traced, r.history.size()); // all feasible: the plane stays below the source
+    EXPECT_EQ(r.stopped, StopReason::MaxEvaluations);
+    EXPECT_EQ(r.history.size(), 60u);
+    EXPECT_NE(r.population->verdict.find("stopped (max_evaluations) in generation"),
+              std::string::npos)
+        << r.population->verdict;
     // 59 candidates after the start in about ten generations of 6; a generation cut by the
     // budget is traced but not completed.
     EXPECT_LE(seen.size(), r.population->generations + 2);
