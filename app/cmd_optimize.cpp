@@ -210,7 +210,7 @@ void register_optimize(CLI::App& app, const GlobalOptions& global, std::function
     cmd->add_option("SCENE", a->scene, "Scene file (TOML) with [reflector.optimize] and [target]")
         ->required();
     cmd->add_option("--method", a->method,
-                    "auto (default), grid, bobyqa, sbplx, cobyla, direct, crs2")
+                    "auto (default), grid, bobyqa, sbplx, cobyla, direct, crs2, cmaes, xnes")
         ->check(CLI::IsMember(method_names()));
     cmd->add_option("--rays", a->rays,
                     "Rays per evaluation, one count per stage (auto), e.g. 1e5,1e6,1e7");

@@ -12,6 +12,7 @@ packages=(
   glslang-tools spirv-tools
   libglfw3-dev libglm-dev libimgui-dev libcairo2-dev fonts-dejavu-core
   libtomlplusplus-dev libcli11-dev nlohmann-json3-dev libfmt-dev libnlopt-cxx-dev nettle-dev
+  libpagmo-dev
   libvtk9-dev
   libocct-data-exchange-dev libocct-modeling-algorithms-dev libocct-modeling-data-dev
   libocct-foundation-dev gmsh

@@ -272,6 +272,34 @@ Holder read_holder(const TableReader& t) {
     return h;
 }
 
+ParameterRange read_range(const TableReader& opt, const std::string& name) {
+    const TableReader range = opt.sub(name);
+    range.allow_only({"min", "max", "step"});
+    ParameterRange pr{range.number("min"), range.number("max"), range.number("step")};
+    if (pr.min > pr.max) range.fail(range.find("max"), "max", "must not be below min");
+    if (!(pr.step > 0.0)) range.fail(range.find("step"), "step", "must be > 0");
+    return pr;
+}
+
+// [reflector.optimize] heights_mm = { min, max, step }: every control height of the B-spline
+// free, each a point group named h_<i>_<j> (column i, row j) with that range, so the
+// search, history.csv and the JSON name each height. Groups of one's own would set the same
+// heights as these (the last by name winning), so the two are not mixed.
+void free_every_height(const TableReader& opt, ReflectorDesc& r) {
+    if (!r.bspline.groups.empty())
+        opt.fail(opt.find("heights_mm"), "heights_mm",
+                 fmt::format("frees every control height, so it cannot be combined with "
+                             "[reflector.groups] ({} would set the same heights)",
+                             r.bspline.groups.begin()->first));
+    const ParameterRange range = read_range(opt, "heights_mm");
+    for (int j = 0; j < r.bspline.ny; ++j)
+        for (int i = 0; i < r.bspline.nx; ++i) {
+            const std::string name = fmt::format("h_{}_{}", i, j);
+            r.bspline.groups[name] = {.kind = ControlGroup::Kind::Point, .i = i, .j = j};
+            r.optimize[name] = range;
+        }
+}
+
 ReflectorDesc read_reflector(const TableReader& t, const std::string& scene_path) {
     ReflectorDesc r;
     const std::string family = t.text("family");
@@ -289,7 +317,18 @@ ReflectorDesc read_reflector(const TableReader& t, const std::string& scene_path
         r.bspline.ny = int(grid.second);
         if (r.bspline.nx < 2 || r.bspline.ny < 2)
             t.fail(t.find("grid"), "grid", "needs at least 2 x 2 control heights");
-        r.bspline.heights_mm = t.numbers("heights_mm", std::size_t(r.bspline.nx) * r.bspline.ny);
+        const std::size_t count = std::size_t(r.bspline.nx) * r.bspline.ny;
+        // One number starts every control height there (a flat start for a freeform search).
+        if (const toml::node* h = t.find("heights_mm");
+            h && (h->is_integer() || h->is_floating_point()))
+            r.bspline.heights_mm.assign(count, t.number("heights_mm", *h));
+        else if (h && !h->is_array())
+            t.fail(h, "heights_mm",
+                   fmt::format("must be one number (every control height) or an array of {} "
+                               "numbers",
+                               count));
+        else
+            r.bspline.heights_mm = t.numbers("heights_mm", count);
         if (t.has("groups")) {
             const TableReader groups = t.sub("groups");
             for (const auto& [k, v] : groups.table()) {
@@ -339,14 +378,13 @@ ReflectorDesc read_reflector(const TableReader& t, const std::string& scene_path
         const TableReader opt = t.sub("optimize");
         for (const auto& [k, v] : opt.table()) {
             const std::string name(k.str());
+            if (r.family == Family::BSpline && name == "heights_mm") {
+                free_every_height(opt, r);
+                continue;
+            }
             if (std::find(params.begin(), params.end(), name) == params.end())
                 opt.fail(&v, name, fmt::format("is not a parameter of the {} family", family));
-            const TableReader range = opt.sub(name);
-            range.allow_only({"min", "max", "step"});
-            ParameterRange pr{range.number("min"), range.number("max"), range.number("step")};
-            if (pr.min > pr.max) range.fail(range.find("max"), "max", "must not be below min");
-            if (!(pr.step > 0.0)) range.fail(range.find("step"), "step", "must be > 0");
-            r.optimize[name] = pr;
+            r.optimize[name] = read_range(opt, name);
         }
     }
     return r;

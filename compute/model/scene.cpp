@@ -18,7 +18,8 @@ constexpr Named<SearchMethod> kMethods[] = {
     {SearchMethod::Auto, "auto"},     {SearchMethod::Grid, "grid"},
     {SearchMethod::Bobyqa, "bobyqa"}, {SearchMethod::Sbplx, "sbplx"},
     {SearchMethod::Cobyla, "cobyla"}, {SearchMethod::DirectL, "direct"},
-    {SearchMethod::Crs2, "crs2"}};
+    {SearchMethod::Crs2, "crs2"},     {SearchMethod::Cmaes, "cmaes"},
+    {SearchMethod::Xnes, "xnes"}};
 constexpr Named<SamplerKind> kSamplers[] = {{SamplerKind::Stratified, "stratified"},
                                             {SamplerKind::Random, "random"},
                                             {SamplerKind::Sobol, "sobol"}};

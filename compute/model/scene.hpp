@@ -128,7 +128,8 @@ struct TargetDesc {
 };
 
 // The search's defaults ([optimize]; each overridable on the command line).
-enum class SearchMethod { Auto, Grid, Bobyqa, Sbplx, Cobyla, DirectL, Crs2 };
+// Cmaes, Xnes: pagmo2's population methods, a generation traced as one batch.
+enum class SearchMethod { Auto, Grid, Bobyqa, Sbplx, Cobyla, DirectL, Crs2, Cmaes, Xnes };
 
 struct OptimizeSettings {
     SearchMethod method = SearchMethod::Auto;

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <vector>
 
@@ -80,5 +81,42 @@ StopReason run_sub_step(Objective& objective, const std::vector<double>& centre,
 // (a search stopped inside it still says where it started).
 void run_refine(Objective& objective, std::uint32_t lattice_stage, const ConfirmNoise& noise,
                 const std::vector<FlatDirection>& flat, RefineReport& report);
+
+// More free parameters than this and auto searches with CMA-ES instead of DIRECT and the
+// lattice: DIRECT's budget grows as 12 m (m + 1) and a lattice neighbourhood with pairs of
+// steps as 2 m^2, both out of reach at tens of heights (docs/optimization.md).
+constexpr std::size_t kPopulationAbove = 6;
+
+// A population search's first spread, a fraction of each parameter's box: a quarter, as the
+// NLopt methods' first step (CMA-ES wants the optimum within about two of them of the start).
+constexpr double kPopulationSigma0 = 0.25;
+
+// pagmo2's CMA-ES or xNES (method_population.cpp), driven one generation at a time so that
+// each generation is traced as one batch. The run's state (mean, covariance, step size,
+// generator) lives between calls: auto continues one run through its stages.
+class PopulationSearch {
+  public:
+    // From x0 (snapped to the lattice), a first spread of `sigma0` of each parameter's box.
+    // `report` is kept up to date as generations complete.
+    PopulationSearch(Objective& objective, SearchMethod algorithm, const std::vector<double>& x0,
+                     double sigma0, PopulationReport& report);
+    ~PopulationSearch();
+    PopulationSearch(const PopulationSearch&) = delete;
+    PopulationSearch& operator=(const PopulationSearch&) = delete;
+    // Generations in the objective's current stage until they converge (every parameter's
+    // spread within a generation at most one step), or until `max_evaluations` candidates
+    // of this stage (0: the search's budget alone). Throws SearchStopped.
+    StopReason run_stage(std::uint64_t max_evaluations);
+
+  private:
+    struct State;
+    std::unique_ptr<State> state_;
+};
+
+// auto beyond kPopulationAbove free parameters: one CMA-ES run continued through the
+// stages (few rays on a coarse far field first, the scene's last), each stage its own
+// common random numbers.
+StopReason run_auto_population(Objective& objective, const std::vector<Fidelity>& stages,
+                               PopulationReport& report);
 
 } // namespace fird

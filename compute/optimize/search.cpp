@@ -40,6 +40,8 @@ nlopt::algorithm nlopt_algorithm(SearchMethod m) {
         return nlopt::GN_CRS2_LM;
     case SearchMethod::Auto:
     case SearchMethod::Grid:
+    case SearchMethod::Cmaes:
+    case SearchMethod::Xnes:
         break;
     }
     throw std::logic_error("not an NLopt method");
@@ -239,6 +241,14 @@ SearchOutcome run_search(const vk::Context& ctx, const Scene& scene, const Searc
         settings.method != SearchMethod::Grid)
         throw std::invalid_argument(fmt::format(
             "refining below the step follows a lattice method (auto or grid), not {}", r.method));
+    // Beyond a handful of free parameters auto searches with a population, not the lattice.
+    const bool auto_population =
+        settings.method == SearchMethod::Auto && space.size() > kPopulationAbove;
+    if (settings.refine && auto_population)
+        throw std::invalid_argument(fmt::format(
+            "refining below the step follows the lattice, and with {} free parameters (more "
+            "than {}) auto searches with CMA-ES instead",
+            space.size(), kPopulationAbove));
 
     // The start at the scene's fidelity, with rays of its own stream (the same stream
     // re-evaluates the best at the end): its l2, and the flux a relative photometric
@@ -275,7 +285,8 @@ SearchOutcome run_search(const vk::Context& ctx, const Scene& scene, const Searc
     const std::vector<Fidelity> stages = search_stages(scene, settings);
     std::optional<ConfirmNoise> confirm;
     const auto judge_lattice = [&] {
-        if (settings.method == SearchMethod::Auto || settings.method == SearchMethod::Grid)
+        if ((settings.method == SearchMethod::Auto && !auto_population) ||
+            settings.method == SearchMethod::Grid)
             r.lattice = lattice_check(f, confirm, r.stopped);
     };
     try {
@@ -285,8 +296,19 @@ SearchOutcome run_search(const vk::Context& ctx, const Scene& scene, const Searc
             r.stopped = run_grid(f);
             break;
         case SearchMethod::Auto:
-            r.stopped = run_auto(f, stages, confirm);
+            if (auto_population)
+                r.stopped = run_auto_population(f, stages, r.population.emplace());
+            else
+                r.stopped = run_auto(f, stages, confirm);
             break;
+        case SearchMethod::Cmaes:
+        case SearchMethod::Xnes: {
+            f.begin_stage(r.method, stages[0]);
+            PopulationSearch search(f, settings.method, space.start, kPopulationSigma0,
+                                    r.population.emplace());
+            r.stopped = search.run_stage(0);
+            break;
+        }
         default:
             f.begin_stage(r.method, stages[0]);
             r.stopped = run_single(f, settings.method, r.flat_directions);

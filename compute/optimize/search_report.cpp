@@ -81,6 +81,16 @@ nlohmann::json search_json(const SearchResult& r) {
     nlohmann::json best = nlohmann::json::object();
     for (const auto& [k, v] : r.best_parameters)
         best[k] = v;
+    nlohmann::json population = nullptr;
+    if (r.population) {
+        const PopulationReport& p = *r.population;
+        nlohmann::json spread = nlohmann::json::object();
+        for (std::size_t k = 0; k < p.spread.size() && k < r.names.size(); ++k)
+            spread[r.names[k]] = p.spread[k];
+        population = {{"algorithm", p.algorithm}, {"size", p.size}, {"generations", p.generations},
+                      {"sigma0", p.sigma0},       {"seed", p.seed}, {"spread_steps", spread},
+                      {"verdict", p.verdict}};
+    }
     return {{"method", r.method},
             {"backend", r.backend},
             {"evaluations", r.history.size()},
@@ -96,6 +106,7 @@ nlohmann::json search_json(const SearchResult& r) {
             {"grid_size", r.grid_size},
             {"flat_directions", flat},
             {"lattice", lattice},
+            {"population", population},
             {"desired", r.desired},
             {"time_s", r.time_s},
             {"stopped", stop_reason_name(r.stopped)}};

@@ -96,6 +96,18 @@ struct RefineReport {
     std::string verdict; // one line: ended at the noise, or started again from where
 };
 
+// A population search (--method cmaes or xnes, or auto's choice beyond a handful of
+// parameters): pagmo2's algorithm, a generation traced as one batch.
+struct PopulationReport {
+    std::string algorithm;         // "cmaes" or "xnes"
+    std::uint64_t size = 0;        // candidates per generation
+    std::uint64_t generations = 0; // completed
+    double sigma0 = 0.0;           // the first generation's spread, a fraction of each box
+    std::uint32_t seed = 0;        // pagmo's generator, derived from the search's seed
+    std::vector<double> spread;    // the last generation's range per parameter, in steps
+    std::string verdict;           // one line: why it ended
+};
+
 struct SearchResult {
     std::string method;
     std::string backend; // "gpu" (the fast path) or "cpu" (the reference), backend_name()
@@ -113,9 +125,10 @@ struct SearchResult {
     std::optional<double> noise_floor_l2_lm; // two independent traces of the best
     std::optional<double> surface_rms_mm;    // best against a target reflector, over the holder
     std::vector<FlatDirection> flat_directions;
-    std::optional<LatticeCheck> lattice; // lattice methods (auto, grid)
-    std::optional<RefineReport> refine;  // --refine
-    std::string desired;                 // what the desired far field is
+    std::optional<LatticeCheck> lattice;        // lattice methods (auto, grid)
+    std::optional<RefineReport> refine;         // --refine
+    std::optional<PopulationReport> population; // cmaes, xnes (and auto beyond a handful)
+    std::string desired;                        // what the desired far field is
     StopReason stopped = StopReason::None;
     double time_s = 0.0;
     std::uint64_t grid_size = 0; // the lattice's size (the grid method's work)

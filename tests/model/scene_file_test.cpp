@@ -26,7 +26,8 @@ TEST_P(SceneRoundTrip, WrittenBackParsesToTheSameScene) {
 INSTANTIATE_TEST_SUITE_P(Scenes, SceneRoundTrip,
                          ::testing::Values("model_a.toml", "model_b.toml", "model_c.toml",
                                            "test/flat_mirror.toml", "test/focused_paraboloid.toml",
-                                           "test/bspline_dish.toml", "test/mesh_dish.toml"));
+                                           "test/bspline_dish.toml", "test/mesh_dish.toml",
+                                           "test/freeform_search.toml"));
 
 TEST(SceneFile, PaperScenesHaveThePaperValues) {
     const Scene a = load_scene(kScenes + "model_a.toml");
@@ -161,23 +162,28 @@ struct BadCase {
     std::string expect; // must appear in the message
 };
 
-class BadScene : public ::testing::TestWithParam<BadCase> {};
-
-TEST_P(BadScene, IsRefusedWithFileKeyAndLine) {
-    const BadCase& c = GetParam();
-    std::string text = kBase;
+// `base` with the case's edit, parsed as `file`: refused in one line that begins with the
+// file's name and holds the expected words.
+void expect_refused(const std::string& base, const BadCase& c, const std::string& file) {
+    std::string text = base;
     const auto at = text.find(c.replace);
     ASSERT_NE(at, std::string::npos) << c.replace;
     text.replace(at, c.replace.size(), c.with);
     try {
-        (void)parse_scene(text, "bad.toml");
-        FAIL() << "accepted: " << c.with;
+        (void)parse_scene(text, file);
+        ADD_FAILURE() << "accepted: " << c.with;
     } catch (const SceneError& e) {
         const std::string what = e.what();
-        EXPECT_EQ(what.rfind("bad.toml", 0), 0u) << what;
+        EXPECT_EQ(what.rfind(file, 0), 0u) << what;
         EXPECT_NE(what.find(c.expect), std::string::npos) << what;
         EXPECT_EQ(what.find('\n'), std::string::npos) << "one line: " << what;
     }
+}
+
+class BadScene : public ::testing::TestWithParam<BadCase> {};
+
+TEST_P(BadScene, IsRefusedWithFileKeyAndLine) {
+    expect_refused(kBase, GetParam(), "bad.toml");
 }
 
 INSTANTIATE_TEST_SUITE_P(
@@ -233,6 +239,59 @@ INSTANTIATE_TEST_SUITE_P(
         BadCase{"max_bounces = 2", "max_bounces = 2\n[target]\nseed = 4", "give either parameters"},
         BadCase{"[trace]", "[trace]\n[trace]", "redefine existing table 'trace'"},
         BadCase{"fx = 3.0", "fx = 3.0 3.0", "bad.toml:13"}));
+
+// A B-spline whose every control height is freed by one line: bad values of heights_mm
+// (in [reflector] or in [reflector.optimize]) are refused in one line naming the key.
+TEST(SceneFile, FreeingEveryControlHeightRefusesBadInputNamingTheKey) {
+    const std::string base = R"(
+[source]
+type = "point"
+center_mm = [0.0, 0.0, -1.0]
+flux_lm = 100.0
+[holder]
+min_mm = [-20.0, -20.0, -12.0]
+max_mm = [20.0, 20.0, 0.0]
+[reflector]
+family = "bspline"
+grid = [3, 2]
+heights_mm = -6.0
+[reflector.optimize]
+heights_mm = { min = -10.0, max = -2.0, step = 0.5 }
+[trace]
+rays = 1000
+max_bounces = 1
+)";
+    const Scene s = parse_scene(base, "free.toml");
+    EXPECT_EQ(s.reflector.bspline.heights_mm, std::vector<double>(6, -6.0));
+    ASSERT_EQ(s.reflector.optimize.size(), 6u);
+    EXPECT_EQ(s.reflector.optimize.at("h_2_1"), (ParameterRange{-10.0, -2.0, 0.5}));
+    EXPECT_EQ(s.reflector.bspline.groups.at("h_2_1"),
+              (ControlGroup{.kind = ControlGroup::Kind::Point, .i = 2, .j = 1}));
+    EXPECT_FALSE(s.reflector.optimize.contains("h_3_0")); // 3 columns: i in 0..2
+    EXPECT_FALSE(s.reflector.optimize.contains("h_0_2")); // 2 rows: j in 0..1
+    const std::vector<BadCase> bad{
+        {"heights_mm = -6.0", "heights_mm = \"flat\"",
+         "free.toml:12: [reflector] heights_mm: must be one number (every control height) or an "
+         "array of 6 numbers"},
+        {"heights_mm = -6.0", "heights_mm = [-6.0, -6.0]",
+         "[reflector] heights_mm: must be an array of 6 numbers"},
+        {"heights_mm = { min = -10.0, max = -2.0, step = 0.5 }",
+         "heights_mm = { min = -1.0, max = -2.0, step = 0.5 }",
+         "[reflector.optimize.heights_mm] max: must not be below min"},
+        {"heights_mm = { min = -10.0, max = -2.0, step = 0.5 }",
+         "heights_mm = { min = -10.0, max = -2.0 }",
+         "[reflector.optimize.heights_mm] step: required key is missing"},
+        {"heights_mm = { min = -10.0, max = -2.0, step = 0.5 }",
+         "heights_mm = { min = -10.0, max = -2.0, step = 0.5 }\n[reflector.groups]\nrim = { kind "
+         "= \"ring\", index = 0 }",
+         "[reflector.optimize] heights_mm: frees every control height, so it cannot be combined "
+         "with [reflector.groups]"},
+        {"family = \"bspline\"\ngrid = [3, 2]\nheights_mm = -6.0",
+         "family = \"paraboloid\"\nfx = 3.0\nfy = 3.0\nz0 = -6.0\ncx = 0.0\ncy = 0.0",
+         "[reflector.optimize] heights_mm: is not a parameter of the paraboloid family"}};
+    for (const BadCase& c : bad)
+        expect_refused(base, c, "free.toml");
+}
 
 TEST(SceneFile, MissingFileIsAClearError) {
     EXPECT_THROW((void)load_scene("/nonexistent/scene.toml"), SceneError);

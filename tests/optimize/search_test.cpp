@@ -27,29 +27,11 @@
 #include "photometry/farfield_photometry.hpp"
 #include "photometry/photometry_writer.hpp"
 #include "reference/reference_tracer.hpp"
+#include "search_fixture.hpp"
 #include "vulkan_fixture.hpp"
 
 namespace fird::test {
 namespace {
-
-Scene scene(const std::string& name) {
-    return load_scene(std::string(FIRD_SOURCE_DIR) + "/scenes/test/" + name);
-}
-
-SearchOutcome search(const vk::Context& ctx, const Scene& s, SearchMethod method,
-                     SearchControl* control = nullptr, std::vector<Candidate> replay = {},
-                     CandidateCallback callback = {},
-                     std::optional<DesiredFarField> desired = std::nullopt, bool refine = false) {
-    SearchRequest request{.settings = search_settings(s),
-                          .control = control,
-                          .replay = std::move(replay),
-                          .on_candidate = std::move(callback),
-                          .desired = std::move(desired)};
-    request.settings.refine = refine;
-    request.settings.method = method;
-    if (method != SearchMethod::Auto) request.settings.rays = {request.settings.rays.back()};
-    return run_search(ctx, s, request);
-}
 
 class Search : public VulkanTest, public ::testing::WithParamInterface<SearchMethod> {};
 
@@ -215,15 +197,7 @@ TEST_F(SearchRules, InterruptedAndResumedSearchEndsWhereTheUninterruptedOneDoes)
     ASSERT_EQ(cut.history.size(), 11u);
     EXPECT_FALSE(cut.final_l2_lm); // no re-evaluation after Ctrl-C
     const auto resumed = search(ctx(), s, SearchMethod::Auto, nullptr, cut.history).result;
-    ASSERT_EQ(resumed.history.size(), whole.history.size());
-    for (std::size_t i = 0; i < whole.history.size(); ++i) {
-        EXPECT_EQ(resumed.history[i].x, whole.history[i].x) << i;
-        EXPECT_EQ(resumed.history[i].l2_lm, whole.history[i].l2_lm) << i;
-        EXPECT_EQ(resumed.history[i].replayed, i < 11) << i;
-    }
-    EXPECT_EQ(resumed.best_parameters, whole.best_parameters);
-    EXPECT_EQ(resumed.final_l2_lm, whole.final_l2_lm);
-    EXPECT_EQ(resumed.stopped, whole.stopped);
+    expect_resumed_is_whole(resumed, whole, 11);
 }
 
 TEST_F(SearchRules, ResumingAnotherSearchsHistoryIsRefused) {

@@ -1,0 +1,217 @@
+// Population search on pagmo2 (2.18): its CMA-ES (Hansen) and xNES (Glasmachers et al.),
+// not written here. Each generation is traced as one batch through Objective::evaluate_all,
+// with the stage's rays (common random numbers within the stage).
+//
+// pagmo 2.18's cmaes and xnes take no batch evaluator (pagmo::bfe: only gaco, maco, nsga2,
+// nspso and pso_gen do); they ask the problem for one fitness after another inside
+// evolve(). So each generation runs twice: first on copies of the algorithm and the
+// population (the same generator state, the same memory), with a problem that only notes
+// the points asked for; those points are traced together; then the algorithm itself evolves
+// the generation, asking for the same points (its sampling does not depend on the values it
+// is given until the generation is complete), now answered from the stage's memo. The
+// algorithms keep their state between calls (memory = true, one generation per evolve), so
+// a search stopped between generations and resumed replays to the very same state.
+#include <algorithm>
+#include <cmath>
+#include <variant>
+
+#include <fmt/format.h>
+#include <pagmo/algorithms/cmaes.hpp>
+#include <pagmo/algorithms/xnes.hpp>
+#include <pagmo/population.hpp>
+#include <pagmo/problem.hpp>
+#include <pagmo/types.hpp>
+
+#include "methods.hpp"
+#include "optimize/search.hpp"
+
+namespace fird {
+
+namespace {
+
+// The population generator's stream (search.cpp's streams: stages from 0, the final and
+// noise runs at 1000 and 1001, the stage noise pair at 1002).
+constexpr std::uint64_t kPopulationStream = 1003;
+
+// A generation that asks only for candidates the stage has traced already adds nothing; this
+// many in a row and the search has converged onto lattice points it knows.
+constexpr unsigned kIdleGenerations = 10;
+
+// Shared by the problem's copies inside pagmo: what a fitness call does right now.
+struct Generation {
+    enum class Mode { Ask, Answer } mode = Mode::Ask;
+    Objective* objective = nullptr;
+    std::vector<std::vector<double>> asked; // Ask: the snapped points, in pagmo's order
+};
+
+// The pagmo problem (a user-defined problem: fitness and bounds). A point pagmo proposes is
+// judged at its nearest lattice point inside the box, as the lattice methods judge theirs.
+// CMA-ES and xNES sample outside the box (pagmo's own clamping, force_bounds, would bias
+// the covariance): such a point scores its lattice point's value grown by its squared
+// distance outside, in box widths, so that the search is drawn back rather than left to
+// drift where every point scores alike.
+struct LatticeProblem {
+    Generation* generation = nullptr;
+    std::vector<double> lo, hi;
+
+    pagmo::vector_double fitness(const pagmo::vector_double& x) const {
+        Objective& f = *generation->objective;
+        const ParameterSpace& space = f.space();
+        const std::vector<double> snapped = space.snap(x);
+        if (generation->mode == Generation::Mode::Ask) {
+            generation->asked.push_back(snapped);
+            return {0.0};
+        }
+        double outside = 0.0;
+        for (std::size_t k = 0; k < x.size(); ++k) {
+            const double width = std::max(hi[k] - lo[k], space.step[k]);
+            const double d = (x[k] - std::clamp(x[k], lo[k], hi[k])) / width;
+            outside += d * d;
+        }
+        return {f(snapped) * (1.0 + outside)};
+    }
+    std::pair<pagmo::vector_double, pagmo::vector_double> get_bounds() const { return {lo, hi}; }
+};
+
+// Hansen's default population size, 4 + floor(3 ln n): 6 for two parameters, 14 for 36
+// (one submission of the fast path's batch, FastTracer::kMaxBatchCandidates = 16). pagmo's
+// CMA-ES needs at least 5.
+std::uint64_t population_size(std::size_t n) {
+    return std::max<std::uint64_t>(5, 4 + std::uint64_t(std::floor(3.0 * std::log(double(n)))));
+}
+
+} // namespace
+
+struct PopulationSearch::State {
+    Objective* objective;
+    PopulationReport* report;
+    Generation generation;
+    std::variant<pagmo::cmaes, pagmo::xnes> algorithm;
+    pagmo::population population;
+    unsigned idle = 0;
+};
+
+PopulationSearch::PopulationSearch(Objective& f, SearchMethod method, const std::vector<double>& x0,
+                                   double sigma0, PopulationReport& report) {
+    const ParameterSpace& space = f.space();
+    const std::uint64_t avoid =
+        f.scene().target.kind == TargetDesc::Kind::Reflector ? f.scene().target.seed : ~0ull;
+    const auto seed = std::uint32_t(stream_seed(f.settings().seed, kPopulationStream, avoid));
+    // One generation per evolve(), the memory kept between them; pagmo's own stops (ftol,
+    // xtol) off, since with gen = 1 they would end a call before its generation is
+    // evaluated, unseen: the convergence rule is run_stage's.
+    auto algorithm = method == SearchMethod::Xnes
+                         ? std::variant<pagmo::cmaes, pagmo::xnes>(
+                               pagmo::xnes(1, -1, -1, -1, sigma0, 0.0, 0.0, true, false, seed))
+                         : std::variant<pagmo::cmaes, pagmo::xnes>(pagmo::cmaes(
+                               1, -1, -1, -1, -1, sigma0, 0.0, 0.0, true, false, seed));
+    state_ = std::unique_ptr<State>(new State{.objective = &f,
+                                              .report = &report,
+                                              .generation = {},
+                                              .algorithm = std::move(algorithm),
+                                              .population = {}});
+    state_->generation.objective = &f;
+    LatticeProblem problem{.generation = &state_->generation, .lo = space.lo, .hi = space.hi};
+    state_->population = pagmo::population(pagmo::problem(std::move(problem)), 0u, seed);
+    const std::uint64_t size = population_size(space.size());
+    report = {.algorithm = method_name(method == SearchMethod::Xnes ? SearchMethod::Xnes
+                                                                    : SearchMethod::Cmaes),
+              .size = size,
+              .sigma0 = sigma0,
+              .seed = seed};
+    // The first generation's mean is the start: the whole population there, traced once.
+    const std::vector<double> start = space.snap(x0);
+    state_->generation.mode = Generation::Mode::Answer;
+    const double l2 = f(start);
+    for (std::uint64_t i = 0; i < size; ++i)
+        state_->population.push_back(start, {l2});
+}
+
+PopulationSearch::~PopulationSearch() = default;
+
+StopReason PopulationSearch::run_stage(std::uint64_t max_evaluations) {
+    State& s = *state_;
+    Objective& f = *s.objective;
+    const ParameterSpace& space = f.space();
+    const std::uint64_t first = f.evaluations();
+    const auto evolve = [&](auto& algorithm) { return algorithm.evolve(s.population); };
+    while (true) {
+        if (max_evaluations && f.evaluations() - first >= max_evaluations) {
+            s.report->verdict =
+                fmt::format("the stage's budget of {} candidates was used up", max_evaluations);
+            return StopReason::MaxEvaluations;
+        }
+        // The generation's points: the same generation on copies, only noted.
+        s.generation.mode = Generation::Mode::Ask;
+        s.generation.asked.clear();
+        {
+            auto ask = s.algorithm;
+            (void)std::visit(evolve, ask);
+        }
+        const std::vector<std::vector<double>> points = std::move(s.generation.asked);
+        // One batch (Objective::evaluate_all: FastTracer::kMaxBatchCandidates a submission),
+        // each point recorded in pagmo's order; a stop (budget, threshold, interruption)
+        // comes out of here, between generations as far as pagmo is concerned.
+        const std::uint64_t before = f.evaluations();
+        try {
+            (void)f.evaluate_all(points);
+        } catch (const SearchStopped& stop) {
+            s.report->verdict =
+                fmt::format("stopped ({}) in generation {}", stop_reason_name(stop.reason),
+                            s.report->generations + 1);
+            throw;
+        }
+        // The generation itself, every point answered from the stage's memo.
+        s.generation.mode = Generation::Mode::Answer;
+        s.population = std::visit(evolve, s.algorithm);
+        ++s.report->generations;
+        s.report->spread.assign(space.size(), 0.0);
+        bool within_a_step = !points.empty();
+        for (std::size_t k = 0; k < space.size(); ++k) {
+            double lo = HUGE_VAL, hi = -HUGE_VAL;
+            for (const auto& x : points)
+                lo = std::min(lo, x[k]), hi = std::max(hi, x[k]);
+            s.report->spread[k] = points.empty() ? 0.0 : (hi - lo) / space.step[k];
+            within_a_step = within_a_step && s.report->spread[k] <= 1.0 + 1e-9;
+        }
+        if (within_a_step) {
+            s.report->verdict = fmt::format(
+                "converged: generation {}'s {} candidates lie within one step of each other in "
+                "every parameter",
+                s.report->generations, points.size());
+            return StopReason::Converged;
+        }
+        s.idle = f.evaluations() == before ? s.idle + 1 : 0;
+        if (s.idle >= kIdleGenerations) {
+            s.report->verdict = fmt::format(
+                "converged: {} generations in a row asked only for lattice points already "
+                "traced in this stage",
+                kIdleGenerations);
+            return StopReason::Converged;
+        }
+    }
+}
+
+StopReason run_auto_population(Objective& f, const std::vector<Fidelity>& stages,
+                               PopulationReport& report) {
+    const std::size_t n = f.space().size();
+    StopReason stopped = StopReason::Converged;
+    std::unique_ptr<PopulationSearch> search;
+    for (std::size_t s = 0; s < stages.size(); ++s) {
+        const bool last = s + 1 == stages.size();
+        f.begin_stage(s == 0 ? "explore" : last ? "final" : "refine", stages[s]);
+        // The run begins in the first stage from the scene's start, a quarter of each box
+        // wide (as the NLopt methods' first step), and carries its mean, covariance and
+        // step size into the next stages, where only the rays change.
+        if (!search)
+            search = std::make_unique<PopulationSearch>(f, SearchMethod::Cmaes, f.space().start,
+                                                        kPopulationSigma0, report);
+        // The coarse stages are cheap but noisy: each may use 30 (n + 1) candidates (1110
+        // for 36 heights, about 80 generations of 14) before the next takes over; the last
+        // runs to convergence or the search's budget.
+        stopped = search->run_stage(last ? 0 : 30 * (n + 1));
+    }
+    return stopped;
+}
+
+} // namespace fird

@@ -1,0 +1,198 @@
+// Population searches on pagmo2 (--method cmaes, xnes; auto beyond six free parameters):
+// they recover the analytic optimum of the mirror search; a generation is traced as one
+// batch with each candidate's l2 the one it has traced alone; the same seed gives the same
+// history and another seed another; a search interrupted mid-generation and resumed ends
+// where the uninterrupted one does; auto chooses CMA-ES only beyond six free parameters.
+#include <cmath>
+#include <set>
+
+#include "evaluation/evaluator.hpp"
+#include "io/scene_file.hpp"
+#include "model/surface.hpp"
+#include "optimize/methods.hpp"
+#include "optimize/parameter_space.hpp"
+#include "optimize/search.hpp"
+#include "search_fixture.hpp"
+#include "vulkan_fixture.hpp"
+
+namespace fird::test {
+namespace {
+
+class Population : public VulkanTest, public ::testing::WithParamInterface<SearchMethod> {};
+
+// The mirror's l2 falls smoothly towards the target's slopes (on the lattice) from anywhere
+// in the box: the population ends within one step of them in every parameter, at the noise.
+TEST_P(Population, RecoversTheMirrorsSlopesWithinOneStep) {
+    const Scene s = scene("mirror_search.toml");
+    const SearchResult r = search(ctx(), s, GetParam()).result;
+    ASSERT_TRUE(r.best);
+    ASSERT_TRUE(r.population);
+    EXPECT_EQ(r.population->algorithm, method_name(GetParam()));
+    EXPECT_EQ(r.stopped, StopReason::Converged) << r.population->verdict;
+    for (const auto& [k, range] : s.reflector.optimize)
+        EXPECT_LE(std::abs(r.best_parameters.at(k) - s.target.parameters.at(k)),
+                  range.step * (1 + 1e-9))
+            << k << " = " << r.best_parameters.at(k);
+    // Converged: the last generation within one step of itself in every parameter.
+    for (double spread : r.population->spread)
+        EXPECT_LE(spread, 1.0 + 1e-9);
+    ASSERT_TRUE(r.final_l2_lm && r.noise_floor_l2_lm && r.start_l2_lm);
+    EXPECT_LT(*r.final_l2_lm, 0.5 * *r.start_l2_lm);
+    // Every candidate is a lattice point inside the box.
+    const ParameterSpace space = parameter_space(s);
+    for (const Candidate& c : r.history)
+        EXPECT_EQ(c.x, space.snap(c.x)) << c.index;
+    EXPECT_FALSE(r.lattice); // no lattice verdict: the population judged its own end
+}
+
+INSTANTIATE_TEST_SUITE_P(Methods, Population,
+                         ::testing::Values(SearchMethod::Cmaes, SearchMethod::Xnes),
+                         [](const auto& p) { return std::string(method_name(p.param)); });
+
+using PopulationRules = VulkanTest;
+
+// Each generation is one batch: the device's submission count, read as each candidate is
+// recorded, takes no more distinct values over the traced candidates than there are
+// generations (and the start, traced alone). One trace per candidate would give one per
+// candidate. And a batch changes no l2: each is the one the candidate gets traced alone with
+// the same rays (the same float, as the grid's batch test has it).
+TEST_F(PopulationRules, AGenerationIsTracedAsOneBatchWithTheSingleEvaluationsL2) {
+    Scene s = scene("mirror_search.toml");
+    s.trace.rays = 5000;
+    // A fine lattice (121 values a slope), so that a generation's samples are seldom one
+    // lattice point twice, and a budget that ends the search before it converges.
+    for (auto& [name, range] : s.reflector.optimize)
+        range.step = 0.005;
+    s.optimize.max_evaluations = 60;
+    std::set<std::uint64_t> seen;
+    std::uint64_t traced = 0;
+    const SearchOutcome out = search(ctx(), s, SearchMethod::Cmaes, nullptr, {},
+                                     [&](const Candidate& c, const StageSummary&) {
+                                         if (!c.feasible) return;
+                                         ++traced;
+                                         seen.insert(ctx().submissions());
+                                     });
+    const SearchResult& r = out.result;
+    ASSERT_TRUE(r.population);
+    EXPECT_EQ(r.population->size, 6u);   // 4 + floor(3 ln 2)
+    EXPECT_EQ(traced, r.history.size()); // all feasible: the plane stays below the source
+    EXPECT_EQ(r.stopped, StopReason::MaxEvaluations);
+    EXPECT_EQ(r.history.size(), 60u);
+    EXPECT_NE(r.population->verdict.find("stopped (max_evaluations) in generation"),
+              std::string::npos)
+        << r.population->verdict;
+    // 59 candidates after the start in about ten generations of 6; a generation cut by the
+    // budget is traced but not completed.
+    EXPECT_LE(seen.size(), r.population->generations + 2);
+    EXPECT_LT(seen.size(), traced / 3) << "one submission per candidate would be " << traced;
+    Evaluator single(ctx(), s, r.stages[0].fidelity);
+    single.set_desired(out.desired.farfield);
+    const ParameterSpace space = parameter_space(s);
+    for (const Candidate& c : r.history) {
+        if (!c.feasible) continue;
+        EXPECT_EQ(c.l2_lm, *single.evaluate(space.reflector(s.reflector, c.x)).l2_lm) << c.index;
+    }
+}
+
+TEST_F(PopulationRules, SameSeedSameHistoryAndAnotherSeedAnother) {
+    Scene s = scene("mirror_search.toml");
+    s.optimize.max_evaluations = 60;
+    const auto a = search(ctx(), s, SearchMethod::Cmaes).result;
+    const auto b = search(ctx(), s, SearchMethod::Cmaes).result;
+    ASSERT_EQ(a.history.size(), b.history.size());
+    for (std::size_t i = 0; i < a.history.size(); ++i) {
+        EXPECT_EQ(a.history[i].x, b.history[i].x) << i;
+        EXPECT_EQ(a.history[i].l2_lm, b.history[i].l2_lm) << i;
+    }
+    ASSERT_TRUE(a.population && b.population);
+    EXPECT_EQ(a.population->seed, b.population->seed);
+    Scene other = s;
+    other.trace.seed = 99;
+    const auto c = search(ctx(), other, SearchMethod::Cmaes).result;
+    ASSERT_TRUE(c.population);
+    EXPECT_NE(c.population->seed, a.population->seed);
+    // The start is the same lattice point; the first generation's samples are not.
+    ASSERT_GT(c.history.size(), 1u);
+    EXPECT_NE(c.history[1].x, a.history[1].x);
+}
+
+// Ctrl-C after candidate 15 (the middle of the third generation of 6): resumed from that
+// history, the search replays the recorded candidates and ends exactly where the
+// uninterrupted one does (pagmo's state is rebuilt from the seed and the replayed l2s).
+TEST_F(PopulationRules, InterruptedMidGenerationAndResumedEndsWhereTheUninterruptedOneDoes) {
+    Scene s = scene("mirror_search.toml");
+    s.optimize.max_evaluations = 80;
+    const auto whole = search(ctx(), s, SearchMethod::Cmaes).result;
+    SearchControl control;
+    const auto cut = search(ctx(), s, SearchMethod::Cmaes, &control, {},
+                            [&](const Candidate& c, const StageSummary&) {
+                                if (c.index == 15) control.stop = true;
+                            })
+                         .result;
+    EXPECT_EQ(cut.stopped, StopReason::Interrupted);
+    ASSERT_EQ(cut.history.size(), 16u);
+    const auto resumed = search(ctx(), s, SearchMethod::Cmaes, nullptr, cut.history).result;
+    expect_resumed_is_whole(resumed, whole, 16);
+    ASSERT_TRUE(resumed.population && whole.population);
+    EXPECT_EQ(resumed.population->generations, whole.population->generations);
+}
+
+// Nine free heights (more than six): auto runs one CMA-ES through its stages (explore at the
+// first ray count, final at the scene's), with no lattice verdict. The plane's three (its
+// slopes and height) stay with DIRECT and the lattice.
+TEST_F(PopulationRules, AutoSearchesWithCmaesBeyondSixFreeParameters) {
+    Scene s = scene("freeform_search.toml");
+    ASSERT_EQ(parameter_space(s).size(), 9u);
+    s.optimize.max_evaluations = 400;
+    const SearchResult r = search(ctx(), s, SearchMethod::Auto).result;
+    ASSERT_TRUE(r.population);
+    EXPECT_EQ(r.population->algorithm, "cmaes");
+    EXPECT_EQ(r.population->size, 10u); // 4 + floor(3 ln 9)
+    ASSERT_EQ(r.stages.size(), 2u);
+    EXPECT_EQ(r.stages[0].name, "explore");
+    EXPECT_EQ(r.stages[1].name, "final");
+    EXPECT_EQ(r.stages[0].fidelity.rays, 5000u);
+    EXPECT_EQ(r.stages[1].fidelity.rays, 20000u);
+    // The explore stage's budget, 30 (n + 1) candidates after the start (a generation may
+    // run over by all but one of its own), then the final stage to the search's budget.
+    EXPECT_LE(r.stages[0].evaluations, 1u + 300u + r.population->size - 1u);
+    EXPECT_GT(r.stages[1].evaluations, 0u);
+    EXPECT_FALSE(r.lattice);
+    ASSERT_TRUE(r.best && r.start_l2_lm);
+    EXPECT_LT(r.best_l2_lm, *r.start_l2_lm);
+
+    Scene six = scene("mirror_search.toml");
+    six.reflector.optimize["z0"] = {-4.0, 0.0, 0.5};
+    six.optimize.max_evaluations = 30;
+    ASSERT_LE(parameter_space(six).size(), kPopulationAbove);
+    const SearchResult lattice = search(ctx(), six, SearchMethod::Auto).result;
+    EXPECT_FALSE(lattice.population);
+    EXPECT_EQ(lattice.stages[0].name, "explore");
+}
+
+// A freeform start from one number: heights_mm = -6 starts all nine heights there, each
+// free parameter h_<i>_<j> starts at it, and the target's heights are the ones it names.
+TEST(PopulationModel, HeightsMmFreesEveryControlHeightByName) {
+    const Scene s = scene("freeform_search.toml");
+    const ParameterSpace space = parameter_space(s);
+    const std::vector<std::string> names{"h_0_0", "h_0_1", "h_0_2", "h_1_0", "h_1_1",
+                                         "h_1_2", "h_2_0", "h_2_1", "h_2_2"};
+    EXPECT_EQ(space.names, names);
+    for (double h : s.reflector.bspline.heights_mm)
+        EXPECT_EQ(h, -6.0);
+    for (std::size_t k = 0; k < space.size(); ++k) {
+        EXPECT_EQ(space.start[k], -6.0) << names[k];
+        EXPECT_EQ(space.lo[k], -10.0);
+        EXPECT_EQ(space.hi[k], -2.0);
+        EXPECT_EQ(space.step[k], 0.5);
+    }
+    // h_2_1 is column 2, row 1: the control height at index 1 * nx + 2 of the grid.
+    const ReflectorDesc target = target_reflector(s);
+    const std::vector<double> h = bspline_heights(target.bspline, target.parameters);
+    EXPECT_EQ(h[1 * 3 + 2], -6.0); // h_2_1
+    EXPECT_EQ(h[2 * 3 + 1], -6.5); // h_1_2
+    EXPECT_EQ(h[0], -3.0);         // h_0_0
+}
+
+} // namespace
+} // namespace fird::test
