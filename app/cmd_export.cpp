@@ -6,7 +6,7 @@
 
 #include "commands.hpp"
 #include "export/cad_export.hpp"
-#include "export/cad_surface.hpp"
+#include "export/cad_option_error.hpp"
 #include "export/scene_export.hpp"
 #include "io/scene_file.hpp"
 #include "parse.hpp"

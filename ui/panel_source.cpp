@@ -11,6 +11,8 @@
 #include <imgui_stdlib.h>
 
 #include "panels.hpp"
+#include "photometry/candela_table.hpp"
+#include "photometry/photometry_file.hpp"
 
 namespace fird::ui {
 
@@ -40,12 +42,19 @@ bool input_mm(const char* label, double& v) {
 }
 
 // A new type keeps the place and gets a size of a few millimetres where it had none; a
-// photometric one emits the editor's file (absolute: it is found from any scene).
+// photometric one emits the editor's file (absolute: it is found from any scene) with
+// that file's flux.
 void change_type(SourceDesc& s, SourceKind kind, const std::string& file) {
     s.kind = kind;
     if (kind == SourceKind::Photometric) {
         s.file = file.empty() ? "" : std::filesystem::absolute(file).lexically_normal().string();
         s.radius_mm = 0.0;
+        // The file's own flux (as a scene without flux_lm has); an unreadable file is left
+        // for set_source to refuse, naming it.
+        try {
+            s.flux_lm = integrated_flux_lm(read_photometry(s.file));
+        } catch (const std::exception&) {
+        }
         return;
     }
     if (s.radius_mm <= 0.0) s.radius_mm = 1.0;

@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include <BRep_Tool.hxx>
+#include <Standard_Failure.hxx>
 
 #include "cad_crease.hpp"
 #include "cad_curvature.hpp"
@@ -64,9 +65,8 @@ CadReport export_creased(const Surface& surface, const Creases& creases, const C
     return r;
 }
 
-} // namespace
-
-CadReport export_cad(const Surface& surface, const CadOptions& o, const std::string& directory) {
+CadReport export_cad_unguarded(const Surface& surface, const CadOptions& o,
+                               const std::string& directory) {
     if (!(o.tolerance_mm > 0.0))
         throw CadOptionError(fmt::format("--cad-tolerance {:g}: must be > 0 mm", o.tolerance_mm));
     if (!(o.thickness_mm >= 0.0))
@@ -101,6 +101,18 @@ CadReport export_cad(const Surface& surface, const CadOptions& o, const std::str
     const std::string stl = file_in(directory, "reflector.stl");
     r.files.push_back({"reflector.stl", write_reflector_stl(grid, o.thickness_mm, stl)});
     return r;
+}
+
+} // namespace
+
+CadReport export_cad(const Surface& surface, const CadOptions& o, const std::string& directory) {
+    // OpenCASCADE throws Standard_Failure, which is no std::exception: one line, not an abort.
+    try {
+        return export_cad_unguarded(surface, o, directory);
+    } catch (const Standard_Failure& e) {
+        throw std::runtime_error(
+            fmt::format("OpenCASCADE ({}): {}", e.DynamicType()->Name(), e.GetMessageString()));
+    }
 }
 
 } // namespace fird

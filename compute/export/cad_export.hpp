@@ -36,7 +36,7 @@ struct CadReport {
     std::vector<ExportedFile> files;
 };
 
-// Checks everything before it writes: throws CadOptionError (cad_surface.hpp) naming
+// Checks everything before it writes: throws CadOptionError (cad_option_error.hpp) naming
 // --cad-tolerance or --thickness, std::runtime_error naming the directory or a file that
 // cannot be written. Each file is written whole or not at all.
 CadReport export_cad(const Surface& surface, const CadOptions& options,

@@ -5,6 +5,7 @@
 // is within the tolerance.
 #pragma once
 
+#include "export/cad_option_error.hpp"
 #include <stdexcept>
 
 #include <Geom_BSplineSurface.hxx>
@@ -21,11 +22,6 @@ struct CadSurface {
     glm::dvec2 worst_xy_mm{0.0};   // where
     int fit_nx = 0, fit_ny = 0;    // height samples interpolated (the B-spline's grid if exact)
     int check_nx = 0, check_ny = 0;
-};
-
-// An option the CAD export cannot honour (--cad-tolerance, --thickness): a usage error.
-struct CadOptionError : std::invalid_argument {
-    using std::invalid_argument::invalid_argument;
 };
 
 // The largest height sample grid a fit may use per axis (the STEP file grows with its

@@ -241,6 +241,12 @@ SearchOutcome run_search(const vk::Context& ctx, const Scene& scene, const Searc
         settings.method != SearchMethod::Grid)
         throw std::invalid_argument(fmt::format(
             "refining below the step follows a lattice method (auto or grid), not {}", r.method));
+    // pagmo's xNES sets its own start (the origin, unit spread) for one dimension and keeps
+    // it across generations (memory on): the search's start and sigma0 would be ignored.
+    if (settings.method == SearchMethod::Xnes && space.size() < 2)
+        throw std::invalid_argument(
+            "xnes needs two free parameters or more (pagmo's xNES ignores the start in one "
+            "dimension); use cmaes or bobyqa for one");
     // Beyond a handful of free parameters auto searches with a population, not the lattice.
     const bool auto_population =
         settings.method == SearchMethod::Auto && space.size() > kPopulationAbove;

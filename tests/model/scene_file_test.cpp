@@ -105,10 +105,11 @@ file = "../../tests/photometry/data/lm63_2002_asymmetric_emitter.ies"
     EXPECT_EQ(own.source.kind, SourceKind::Photometric);
     EXPECT_EQ(own.source.radius_mm, 0.0) << "a point by default";
     ASSERT_TRUE(own.source.table.floats);
-    // The file: I = 100 (1 + 0.5 cos C) cos(gamma) over the lower hemisphere, whose flux is
-    // 100 pi lm for the cosine lobe (the cos C term integrates to 0), less the table's
-    // linear interpolation in cos(gamma) between 10-degree steps, which is exact for
-    // cos(gamma) itself: 100 pi.
+    // The file: I = 100 (1 + 0.3 cos C + 0.3 sin C) cos(gamma) over the lower hemisphere.
+    // Its flux is 100 pi lm: the cosine lobe's; the C terms, interpolated linearly between
+    // 45-degree planes, sum to 0 over the turn; and the interpolation, linear in
+    // cos(gamma), is exact for cos(gamma) itself. 1e-3 lm bounds the file's rounding to
+    // 4 decimals (5e-5 cd over 2 pi sr).
     EXPECT_NEAR(own.source.flux_lm, 100.0 * std::numbers::pi, 1e-3);
     EXPECT_EQ(parse_scene(scene_to_toml(own), path), own) << scene_to_toml(own);
     const Scene scaled =

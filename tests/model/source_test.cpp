@@ -156,7 +156,8 @@ TEST(Source, TheDefaultXAxisIsPerpendicularToTheNormal) {
 // file's flux there (its intensity interpolated as photometry/candela_table.hpp states),
 // integrated here by the midpoint rule over intensity_cd, not through the emitter's
 // table; within 4.5 binomial sigma for each of the 72 cells. The file (an independent,
-// hand-made one) is I = 100 (1 + 0.5 cos C) cos(gamma) cd up to gamma = 90 degrees.
+// hand-made one) is I = 100 (1 + 0.3 cos C + 0.3 sin C) cos(gamma) cd up to gamma = 90
+// degrees: no mirror symmetry in C, so a C turned the wrong way round fails.
 TEST(Source, APhotometricSourceEmitsItsFilesDistribution) {
     const CandelaTable table = read_photometry(
         std::string(FIRD_SOURCE_DIR) + "/tests/photometry/data/lm63_2002_asymmetric_emitter.ies");

@@ -116,6 +116,21 @@ TEST_F(PopulationRules, SameSeedSameHistoryAndAnotherSeedAnother) {
     EXPECT_NE(c.history[1].x, a.history[1].x);
 }
 
+// pagmo's xNES keeps its own start in one dimension (the origin, unit spread), so with one
+// free parameter it would ignore the search's start: refused before any trace, naming why.
+TEST_F(PopulationRules, XnesWithOneFreeParameterIsRefused) {
+    Scene s = scene("mirror_search.toml");
+    while (s.reflector.optimize.size() > 1)
+        s.reflector.optimize.erase(std::prev(s.reflector.optimize.end()));
+    try {
+        (void)search(ctx(), s, SearchMethod::Xnes);
+        FAIL() << "xnes ran with one free parameter";
+    } catch (const std::invalid_argument& e) {
+        EXPECT_NE(std::string(e.what()).find("xnes needs two free parameters"), std::string::npos)
+            << e.what();
+    }
+}
+
 // Ctrl-C after candidate 15 (the middle of the third generation of 6): resumed from that
 // history, the search replays the recorded candidates and ends exactly where the
 // uninterrupted one does (pagmo's state is rebuilt from the seed and the replayed l2s).
