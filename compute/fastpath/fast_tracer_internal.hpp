@@ -20,11 +20,6 @@ inline constexpr std::uint64_t kCountersBytes =
 // The most device memory a kept rayset may take (1e7 emitted rays take at most 320 MB).
 inline constexpr std::uint64_t kRaysetCacheBytes = 1ull << 30;
 
-struct ToLmPush {
-    std::uint32_t count;
-    float lm_per_ray;
-};
-
 inline std::uint32_t groups(std::uint64_t n, std::uint32_t size) {
     return std::uint32_t((n + size - 1) / size);
 }

@@ -23,7 +23,10 @@ void main() {
     const bool emitted = i < pc.count;
     const uint lo = pc.first_lo + i;
     const uint hi = pc.first_hi + (lo < pc.first_lo ? 1u : 0u);
-    const Ray r = sample_source(ray_uniforms(lo, hi));
+    Ray r = sample_source(ray_uniforms(lo, hi));
+    // The ray carries its emission index's low word through every bounce (the high word
+    // follows from the batch's first index): the finish's draws are keyed on it.
+    r.origin.w = uintBitsToFloat(lo);
     vec2 t01;
     const bool effective =
         emitted && (clip_to_box(r.origin.xyz, r.direction.xyz, holder_min(), holder_max(), t01) ||

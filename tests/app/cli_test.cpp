@@ -100,7 +100,7 @@ TEST(Cli, TraceJsonHasEveryContractField) {
     const auto j = nlohmann::json::parse(r.out);
     for (const char* key : {"rays_emitted", "rays_effective", "rays_reflected", "energy_emitted_lm",
                             "energy_farfield_lm", "energy_direct_lm", "energy_discarded_lm",
-                            "energy_lost_lm", "l2", "timings_ms", "device"})
+                            "energy_lost_lm", "energy_absorbed_lm", "l2", "timings_ms", "device"})
         EXPECT_TRUE(j.contains(key)) << key;
     for (const char* key : {"rayset", "heightfield", "trace", "histogram", "compare", "total"})
         EXPECT_TRUE(j["timings_ms"].contains(key)) << key;
@@ -111,18 +111,50 @@ TEST(Cli, TraceJsonHasEveryContractField) {
     EXPECT_NEAR(sum, j["energy_emitted_lm"].get<double>(), 1e-9);
 }
 
-// Batches only cut the work into submissions: the rays are indexed, not drawn per batch,
-// so the tally and the l2 are the same with any --max-batch-rays.
+// A finished reflector (R = 0.9, a 1 degree lobe) with the direct light binned: the five
+// energy terms add up to the emitted flux (DESIGN.md §2), the absorbed one is the share
+// the reflections took (between 1 - R and 1 - R^5 of the reflected rays' flux), and the
+// far field holds the reflected and the direct light, on both backends.
+TEST(Cli, AFinishedReflectorAccountsForTheAbsorbedFlux) {
+    for (const char* backend : {"gpu", "cpu"}) {
+        SCOPED_TRACE(backend);
+        const auto r =
+            run("trace " + std::string(FIRD_SOURCE_DIR) +
+                "/scenes/model_b_aluminium.toml --rays 50000 --json --backend " + backend);
+        ASSERT_EQ(r.code, 0) << r.out;
+        const auto j = nlohmann::json::parse(r.out);
+        const auto lm = [&](const char* key) { return j.at(key).get<double>(); };
+        EXPECT_NEAR(lm("energy_discarded_lm") + lm("energy_direct_lm") + lm("energy_farfield_lm") +
+                        lm("energy_lost_lm") + lm("energy_absorbed_lm"),
+                    lm("energy_emitted_lm"), 1e-9 * lm("energy_emitted_lm"));
+        const double reflected_rays_lm = lm("energy_farfield_lm") + lm("energy_absorbed_lm");
+        EXPECT_GE(lm("energy_absorbed_lm"), 0.1 * reflected_rays_lm);
+        EXPECT_LE(lm("energy_absorbed_lm"), (1.0 - std::pow(0.9, 5)) * reflected_rays_lm);
+        EXPECT_NEAR(lm("energy_binned_lm"), lm("energy_farfield_lm") + lm("energy_direct_lm"),
+                    1e-9 * lm("energy_emitted_lm"));
+        EXPECT_GT(lm("energy_direct_lm"), 0.0);
+    }
+}
+
+// Batches only cut the work into submissions: the rays are indexed, not drawn per batch
+// (a finish's draws too: keyed on the ray's index and bounce), so the tally and the l2 are
+// the same with any --max-batch-rays.
 TEST(Cli, SmallerBatchesTraceTheSameRays) {
-    const std::string scene = std::string(FIRD_SOURCE_DIR) + "/scenes/model_b.toml";
-    const auto whole = run("trace " + scene + " --rays 100000 --json");
-    const auto cut = run("--max-batch-rays 9000 trace " + scene + " --rays 100000 --json");
-    ASSERT_EQ(whole.code, 0) << whole.out;
-    ASSERT_EQ(cut.code, 0) << cut.out;
-    const auto a = nlohmann::json::parse(whole.out), b = nlohmann::json::parse(cut.out);
-    for (const char* key : {"rays_effective", "rays_reflected", "rays_by_reflections", "rays_lost"})
-        EXPECT_EQ(a[key], b[key]) << key;
-    EXPECT_NEAR(a["l2"].get<double>(), b["l2"].get<double>(), 1e-9 * a["l2"].get<double>());
+    for (const char* name : {"model_b.toml", "model_b_aluminium.toml"}) {
+        SCOPED_TRACE(name);
+        const std::string scene = std::string(FIRD_SOURCE_DIR) + "/scenes/" + name;
+        const auto whole = run("trace " + scene + " --rays 100000 --json");
+        const auto cut = run("--max-batch-rays 9000 trace " + scene + " --rays 100000 --json");
+        ASSERT_EQ(whole.code, 0) << whole.out;
+        ASSERT_EQ(cut.code, 0) << cut.out;
+        const auto a = nlohmann::json::parse(whole.out), b = nlohmann::json::parse(cut.out);
+        for (const char* key :
+             {"rays_effective", "rays_reflected", "rays_by_reflections", "rays_lost"})
+            EXPECT_EQ(a[key], b[key]) << key;
+        EXPECT_NEAR(a["l2"].get<double>(), b["l2"].get<double>(), 1e-9 * a["l2"].get<double>());
+        EXPECT_NEAR(a["energy_absorbed_lm"].get<double>(), b["energy_absorbed_lm"].get<double>(),
+                    1e-9);
+    }
 }
 
 // fird trace --profile: one row per bounce, read by key; the rays of bounce 0 are the
