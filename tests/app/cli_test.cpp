@@ -187,10 +187,17 @@ TEST(Cli, TraceProfileHasARowPerBounce) {
     EXPECT_EQ(cpu.code, 2) << cpu.out;
 }
 
+// The luminaire files hold what the far field holds, in absolute candela for the source's
+// real flux: the finished Model B with its direct light (1100 lm source). The IES file is
+// LM-63-2019 with its required keywords and a simulation's file generation type (read here
+// as text, line by line); the EULUMDAT file's lamp is the source and its light output
+// ratio the far field's share of it (read as text: line 23 LORL, the first lamp set's
+// flux at line 29 of the fixed header).
 TEST(Cli, TraceOutWritesNpyPicturesAndLuminaireFiles) {
     const std::string dir = ::testing::TempDir() + "/fird_out";
-    const auto r = run("trace " + std::string(FIRD_SOURCE_DIR) +
-                       "/scenes/model_b.toml --backend cpu --rays 5000 --json --out " + dir);
+    const auto r =
+        run("trace " + std::string(FIRD_SOURCE_DIR) +
+            "/scenes/model_b_aluminium.toml --backend cpu --rays 20000 --json --out " + dir);
     ASSERT_EQ(r.code, 0) << r.out;
     for (const char* name : {"farfield.npy", "farfield.png", "target.npy", "target.png",
                              "difference.png", "farfield.ies", "farfield.ldt"}) {
@@ -198,15 +205,39 @@ TEST(Cli, TraceOutWritesNpyPicturesAndLuminaireFiles) {
         EXPECT_TRUE(f) << name;
         if (f) std::fclose(f);
     }
-    // The luminaire files hold the far field's flux.
-    const double farfield_lm = nlohmann::json::parse(r.out)["energy_farfield_lm"].get<double>();
+    const double binned_lm = nlohmann::json::parse(r.out)["energy_binned_lm"].get<double>();
     for (const char* name : {"farfield.ies", "farfield.ldt"}) {
         const auto info = run("photometry info --json " + dir + "/" + name);
         ASSERT_EQ(info.code, 0) << info.out;
-        EXPECT_NEAR(nlohmann::json::parse(info.out)["flux_integrated_lm"].get<double>(),
-                    farfield_lm, 1e-3 * farfield_lm)
+        EXPECT_NEAR(nlohmann::json::parse(info.out)["flux_integrated_lm"].get<double>(), binned_lm,
+                    1e-3 * binned_lm)
             << name;
     }
+    const auto lines = [](const std::string& path) {
+        std::ifstream in(path);
+        std::vector<std::string> out;
+        for (std::string l; std::getline(in, l);)
+            out.push_back(l.substr(0, l.find('\r')));
+        return out;
+    };
+    const std::vector<std::string> ies = lines(dir + "/farfield.ies");
+    ASSERT_GT(ies.size(), 12u);
+    EXPECT_EQ(ies[0], "IES:LM-63-2019");
+    for (const char* keyword : {"[TEST] ", "[TESTLAB] ", "[ISSUEDATE] ", "[MANUFAC] "})
+        EXPECT_TRUE(std::any_of(ies.begin(), ies.end(), [&](const std::string& l) {
+            return l.rfind(keyword, 0) == 0;
+        })) << keyword;
+    const auto tilt = std::find(ies.begin(), ies.end(), "TILT=NONE");
+    ASSERT_NE(tilt, ies.end());
+    EXPECT_EQ((tilt + 1)->substr(0, 5), "1 -1 ") << "absolute photometry";
+    EXPECT_EQ(*(tilt + 2), "1 1.00010 0") << "a simulation's file generation type";
+    const std::vector<std::string> ldt = lines(dir + "/farfield.ldt");
+    ASSERT_GT(ldt.size(), 30u);
+    EXPECT_NEAR(std::stod(ldt[28]), 1100.0, 1e-9) << "the lamp is the source";
+    EXPECT_NEAR(std::stod(ldt[22]), 100.0 * binned_lm / 1100.0, 0.1) << "LORL %";
+    const auto ldt_info =
+        nlohmann::json::parse(run("photometry info --json " + dir + "/farfield.ldt").out);
+    EXPECT_NEAR(ldt_info["flux_declared_lm"].get<double>(), binned_lm, 1e-3 * binned_lm);
 }
 
 // A CSV file read by column name (header first; fields may be quoted, none holds a comma).
