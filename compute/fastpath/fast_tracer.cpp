@@ -177,6 +177,14 @@ void FastTracer::set_rayset_kept(bool kept) {
     if (!cache_rayset_) rayset_chunks_.clear();
 }
 
+void FastTracer::set_source(const SourceDesc& source) {
+    if (source.kind != scene_.source.kind || !(source.table == scene_.source.table))
+        throw std::invalid_argument("FastTracer::set_source: another kind of source needs "
+                                    "another tracer");
+    scene_.source = source;
+    set_seed(std::uint64_t(params_.seed_lo) | (std::uint64_t(params_.seed_hi) << 32));
+}
+
 void FastTracer::set_seed(std::uint64_t seed) {
     params_ = scene_params(scene_, seed);
     // Every reflector state holds the seed in its parameters: uploaded again, the

@@ -79,6 +79,9 @@ class FastTracer {
 
     // Draws a fresh rayset from `seed` at the next run (the pipelines, buffers and the
     // height field stay): independent runs of one reflector, as calibration makes them.
+    // The source moved or turned (the same kind, size and table): its rays are made again
+    // in the next run; the reflectors' height fields are kept.
+    void set_source(const SourceDesc& source);
     void set_seed(std::uint64_t seed);
 
     // Whether run() keeps the rayset for the next run (the default, when it fits the

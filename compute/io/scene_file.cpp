@@ -196,7 +196,8 @@ SourceDesc read_source(const TableReader& t, const std::string& scene_path) {
     s.center_mm = t.vec3("center_mm");
     if (type == "photometric") {
         // The file's own flux unless flux_lm rescales it (its distribution is kept).
-        t.allow_only({"type", "center_mm", "normal", "x_axis", "radius_mm", "file", "flux_lm"});
+        t.allow_only(
+            {"optimize", "type", "center_mm", "normal", "x_axis", "radius_mm", "file", "flux_lm"});
         s.kind = SourceKind::Photometric;
         read_emitter_frame(t, s);
         s.radius_mm = t.number_or("radius_mm", 0.0);
@@ -216,27 +217,28 @@ SourceDesc read_source(const TableReader& t, const std::string& scene_path) {
     }
     s.flux_lm = t.positive("flux_lm");
     if (type == "cylinder") {
-        t.allow_only(
-            {"type", "center_mm", "axis", "length_mm", "radius_mm", "emittance", "flux_lm"});
+        t.allow_only({"optimize", "type", "center_mm", "axis", "length_mm", "radius_mm",
+                      "emittance", "flux_lm"});
         s.kind = SourceKind::Cylinder;
         s.axis = t.vec3("axis");
         s.length_mm = t.positive("length_mm");
         s.radius_mm = t.positive("radius_mm");
         t.choice("emittance", {"cosine"}, "cosine");
     } else if (type == "sphere") {
-        t.allow_only({"type", "center_mm", "radius_mm", "emittance", "flux_lm"});
+        t.allow_only({"optimize", "type", "center_mm", "radius_mm", "emittance", "flux_lm"});
         s.kind = SourceKind::Sphere;
         s.radius_mm = t.positive("radius_mm");
         t.choice("emittance", {"cosine"}, "cosine");
     } else if (type == "disk") {
-        t.allow_only(
-            {"type", "center_mm", "normal", "x_axis", "radius_mm", "emittance", "flux_lm"});
+        t.allow_only({"optimize", "type", "center_mm", "normal", "x_axis", "radius_mm", "emittance",
+                      "flux_lm"});
         s.kind = SourceKind::Disk;
         read_emitter_frame(t, s);
         s.radius_mm = t.positive("radius_mm");
         t.choice("emittance", {"cosine"}, "cosine");
     } else if (type == "rectangle") {
-        t.allow_only({"type", "center_mm", "normal", "x_axis", "size_mm", "emittance", "flux_lm"});
+        t.allow_only({"optimize", "type", "center_mm", "normal", "x_axis", "size_mm", "emittance",
+                      "flux_lm"});
         s.kind = SourceKind::Rectangle;
         read_emitter_frame(t, s);
         const std::vector<double> size = t.numbers("size_mm", 2);
@@ -246,7 +248,7 @@ SourceDesc read_source(const TableReader& t, const std::string& scene_path) {
         s.height_mm = size[1];
         t.choice("emittance", {"cosine"}, "cosine");
     } else {
-        t.allow_only({"type", "center_mm", "axis", "emittance", "flux_lm"});
+        t.allow_only({"optimize", "type", "center_mm", "axis", "emittance", "flux_lm"});
         s.kind = SourceKind::Point;
         s.emittance = t.choice("emittance", {"cosine", "isotropic"}, "isotropic") == "cosine"
                           ? Emittance::Cosine
@@ -270,6 +272,32 @@ Holder read_holder(const TableReader& t) {
                                "min_mm[{}] = {}",
                                k, h.max_mm[k], k, h.min_mm[k]));
     return h;
+}
+
+ParameterRange read_range(const TableReader& opt, const std::string& name);
+
+// [source.optimize]: the centre's coordinates and, for a source with an axis, its tilts.
+std::map<std::string, ParameterRange> read_source_optimize(const TableReader& opt,
+                                                           const SourceDesc& source) {
+    std::map<std::string, ParameterRange> out;
+    const bool has_axis =
+        source.kind != SourceKind::Sphere &&
+        !(source.kind == SourceKind::Point && source.emittance == Emittance::Isotropic);
+    for (const auto& [k, v] : opt.table()) {
+        const std::string name(k.str());
+        const bool tilt = name == "tilt_x_deg" || name == "tilt_y_deg";
+        if (!(name == "x_mm" || name == "y_mm" || name == "z_mm" || tilt))
+            opt.fail(&v, name,
+                     "is not a source parameter (x_mm, y_mm, z_mm, tilt_x_deg, "
+                     "tilt_y_deg)");
+        if (tilt && !has_axis)
+            opt.fail(&v, name,
+                     fmt::format("a {} source has no axis to tilt", source_type_name(source.kind)));
+        out[name] = read_range(opt, name);
+        if (tilt && (out[name].min < -90.0 || out[name].max > 90.0))
+            opt.fail(&v, name, "must stay within -90 and 90 degrees");
+    }
+    return out;
 }
 
 ParameterRange read_range(const TableReader& opt, const std::string& name) {
@@ -519,6 +547,8 @@ Scene parse_scene(const std::string& text, const std::string& path) {
     s.path = path;
     s.name = top.has("name") ? top.text("name") : std::filesystem::path(path).stem().string();
     s.source = read_source(top.sub("source"), path);
+    if (top.sub("source").has("optimize"))
+        s.source_optimize = read_source_optimize(top.sub("source").sub("optimize"), s.source);
     s.holder = read_holder(top.sub("holder"));
     s.reflector = read_reflector(top.sub("reflector"), path);
     s.trace = read_trace(top.sub("trace"));
@@ -579,6 +609,12 @@ std::string scene_to_toml(const Scene& s) {
         source.insert("emittance",
                       s.source.emittance == Emittance::Cosine ? "cosine" : "isotropic");
         if (s.source.emittance == Emittance::Cosine) source.insert("axis", vec(s.source.axis));
+    }
+    if (!s.source_optimize.empty()) {
+        toml::table opt;
+        for (const auto& [k, r] : s.source_optimize)
+            opt.insert(k, toml::table{{"min", r.min}, {"max", r.max}, {"step", r.step}});
+        source.insert("optimize", opt);
     }
     toml::table reflector{{"family", family_name(s.reflector.family)}};
     for (const auto& [k, v] : s.reflector.parameters)

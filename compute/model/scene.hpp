@@ -169,10 +169,14 @@ struct Scene {
     TraceSettings trace;
     TargetDesc target;
     OptimizeSettings optimize;
+    // [source.optimize]: the source's place as search parameters (design_parameters.hpp):
+    // x_mm, y_mm, z_mm (its centre) and tilt_x_deg, tilt_y_deg (its axis turned about the
+    // scene's x and y axes), each with its bounds and step.
+    std::map<std::string, ParameterRange> source_optimize;
     bool operator==(const Scene& o) const {
         return name == o.name && source == o.source && holder == o.holder &&
                reflector == o.reflector && trace == o.trace && target == o.target &&
-               optimize == o.optimize;
+               optimize == o.optimize && source_optimize == o.source_optimize;
     }
 };
 

@@ -9,6 +9,7 @@
 #include "evaluation/evaluation.hpp"
 #include "io/atomic_file.hpp"
 #include "io/scene_file.hpp"
+#include "model/design_parameters.hpp"
 #include "plot/chart.hpp"
 
 namespace fird {
@@ -213,8 +214,7 @@ ProgressCharts progress_charts(const SearchResult& r) {
 std::string best_scene_toml(const Scene& scene, const SearchResult& r) {
     namespace fs = std::filesystem;
     Scene best = scene;
-    for (const auto& [k, v] : r.best_parameters)
-        best.reflector.parameters[k] = v;
+    apply_design_parameters(best, r.best_parameters);
     if (!best.reflector.mesh.file.empty())
         best.reflector.mesh.file = fs::absolute(best.reflector.mesh.resolved_path).string();
     if (!best.target.file.empty())
