@@ -435,6 +435,41 @@ ReflectorDesc read_reflector(const TableReader& t, const std::string& scene_path
     return r;
 }
 
+// [tolerance]: fird tolerance's defaults (its options override them).
+ToleranceDesc read_tolerance(const TableReader& t, const SourceDesc& source) {
+    t.allow_only({"realisations", "source_shift_mm", "source_tilt_deg", "surface_rms_mm",
+                  "surface_correlation_mm", "reflectance_sd"});
+    ToleranceDesc d;
+    if (t.has("realisations"))
+        d.realisations = std::uint64_t(t.integer("realisations", 1, 1000000));
+    if (const toml::node* n = t.find("source_shift_mm"); n && n->is_array())
+        d.source_shift_mm = t.vec3("source_shift_mm");
+    else if (n)
+        d.source_shift_mm = glm::dvec3(t.number("source_shift_mm"));
+    for (int k = 0; k < 3; ++k)
+        if (d.source_shift_mm[k] < 0.0)
+            t.fail(t.find("source_shift_mm"), "source_shift_mm", "must be >= 0");
+    const auto non_negative = [&](const char* key) {
+        const double v = t.number_or(key, 0.0);
+        if (v < 0.0) t.fail(t.find(key), key, "must be >= 0");
+        return v;
+    };
+    d.source_tilt_deg = non_negative("source_tilt_deg");
+    d.surface_rms_mm = non_negative("surface_rms_mm");
+    d.surface_correlation_mm = non_negative("surface_correlation_mm");
+    d.reflectance_sd = non_negative("reflectance_sd");
+    if (d.surface_rms_mm > 0.0 && !(d.surface_correlation_mm > 0.0))
+        t.fail(t.find("surface_rms_mm"), "surface_correlation_mm",
+               "must be > 0 where surface_rms_mm is (the error's correlation length)");
+    const bool has_axis =
+        source.kind != SourceKind::Sphere &&
+        !(source.kind == SourceKind::Point && source.emittance == Emittance::Isotropic);
+    if (d.source_tilt_deg > 0.0 && !has_axis)
+        t.fail(t.find("source_tilt_deg"), "source_tilt_deg",
+               fmt::format("a {} source has no axis to tilt", source_type_name(source.kind)));
+    return d;
+}
+
 TraceSettings read_trace(const TableReader& t) {
     t.allow_only({"rays", "seed", "max_bounces", "bounce_policy", "sampler", "hit_mode", "direct",
                   "heightfield", "farfield"});
@@ -542,7 +577,8 @@ Scene parse_scene(const std::string& text, const std::string& path) {
         throw SceneError(fmt::format("{}:{}: {}", path, e.source().begin.line, e.description()));
     }
     const TableReader top(path, root, "");
-    top.allow_only({"name", "source", "holder", "reflector", "trace", "target", "optimize"});
+    top.allow_only(
+        {"name", "source", "holder", "reflector", "trace", "target", "optimize", "tolerance"});
     Scene s;
     s.path = path;
     s.name = top.has("name") ? top.text("name") : std::filesystem::path(path).stem().string();
@@ -554,6 +590,7 @@ Scene parse_scene(const std::string& text, const std::string& path) {
     s.trace = read_trace(top.sub("trace"));
     if (top.has("target")) s.target = read_target(top.sub("target"), s.reflector, s.trace, path);
     if (top.has("optimize")) s.optimize = read_optimize(top.sub("optimize"));
+    if (top.has("tolerance")) s.tolerance = read_tolerance(top.sub("tolerance"), s.source);
     validate_scene(s);
     return s;
 }
@@ -695,6 +732,15 @@ std::string scene_to_toml(const Scene& s) {
             opt.insert("rays", rays);
         }
         root.insert("optimize", opt);
+    }
+    if (s.tolerance != ToleranceDesc{}) {
+        const ToleranceDesc& d = s.tolerance;
+        root.insert("tolerance", toml::table{{"realisations", std::int64_t(d.realisations)},
+                                             {"source_shift_mm", vec(d.source_shift_mm)},
+                                             {"source_tilt_deg", d.source_tilt_deg},
+                                             {"surface_rms_mm", d.surface_rms_mm},
+                                             {"surface_correlation_mm", d.surface_correlation_mm},
+                                             {"reflectance_sd", d.reflectance_sd}});
     }
     std::ostringstream out;
     out << root << "\n";

@@ -160,6 +160,18 @@ struct OptimizeSettings {
     bool operator==(const OptimizeSettings&) const = default;
 };
 
+// The tolerances a made luminaire has ([tolerance]; fird tolerance): each a standard
+// deviation of a normal error, drawn per realisation (compute/tolerance).
+struct ToleranceDesc {
+    std::uint64_t realisations = 32;
+    glm::dvec3 source_shift_mm{0.0};     // the source's centre, per axis
+    double source_tilt_deg = 0.0;        // its axis, about the scene's x and y axes each
+    double surface_rms_mm = 0.0;         // a smooth random surface error's RMS ...
+    double surface_correlation_mm = 0.0; // ... and its correlation length
+    double reflectance_sd = 0.0;
+    bool operator==(const ToleranceDesc&) const = default;
+};
+
 struct Scene {
     std::string path; // the file it came from (for messages)
     std::string name;
@@ -173,10 +185,12 @@ struct Scene {
     // x_mm, y_mm, z_mm (its centre) and tilt_x_deg, tilt_y_deg (its axis turned about the
     // scene's x and y axes), each with its bounds and step.
     std::map<std::string, ParameterRange> source_optimize;
+    ToleranceDesc tolerance;
     bool operator==(const Scene& o) const {
         return name == o.name && source == o.source && holder == o.holder &&
                reflector == o.reflector && trace == o.trace && target == o.target &&
-               optimize == o.optimize && source_optimize == o.source_optimize;
+               optimize == o.optimize && source_optimize == o.source_optimize &&
+               tolerance == o.tolerance;
     }
 };
 

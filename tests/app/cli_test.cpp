@@ -437,6 +437,36 @@ TEST(Cli, MissingOrBrokenIesTargetIsOneLineNamingSceneKeyAndFile) {
     EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << r.out;
 }
 
+// fird tolerance: the JSON's keys (DESIGN.md's contract for the command), the CSV's rows
+// (the nominal one, then K per run: joint and each tolerance's) read by column name, and
+// the picture.
+TEST(Cli, ToleranceWritesItsSpreadsSensitivitiesAndRows) {
+    const std::string dir = ::testing::TempDir() + "/fird_tolerance";
+    const auto r = run("tolerance " + std::string(FIRD_SOURCE_DIR) +
+                       "/scenes/test/focused_paraboloid_search.toml --rays 5000 "
+                       "--realisations 3 --source-shift-mm 0.2 --reflectance-sd 0.02 --json "
+                       "--out " +
+                       dir);
+    ASSERT_EQ(r.code, 0) << r.out;
+    const auto j = nlohmann::json::parse(r.out);
+    EXPECT_EQ(j["realisations"].get<int>(), 3);
+    for (const char* metric : {"l2", "efficiency", "peak_cd"})
+        for (const char* key : {"median", "p5", "p95"})
+            EXPECT_TRUE(j[metric].contains(key)) << metric << " " << key;
+    ASSERT_EQ(j["sensitivities"].size(), 2u);
+    EXPECT_EQ(j["sensitivities"][0]["tolerance"], "source_shift");
+    EXPECT_EQ(j["sensitivities"][1]["tolerance"], "reflectance");
+    const Csv csv = read_csv(dir + "/tolerance.csv");
+    ASSERT_EQ(csv.rows.size(), 1u + 3u * 3u);
+    EXPECT_EQ(csv.at(0, "kind"), "nominal");
+    EXPECT_EQ(csv.at(1, "kind"), "joint");
+    EXPECT_EQ(csv.number(0, "source_dx_mm"), 0.0);
+    EXPECT_GT(csv.number(1, "efficiency"), 0.0);
+    FILE* png = std::fopen((dir + "/tolerance.png").c_str(), "rb");
+    EXPECT_TRUE(png);
+    if (png) std::fclose(png);
+}
+
 } // namespace
 
 // fird optimize: the JSON contract, the files of --out, and one history row per
