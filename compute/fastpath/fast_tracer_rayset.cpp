@@ -8,6 +8,7 @@
 #include "fastpath/fast_tracer_internal.hpp"
 #include "fastpath/reflector_state.hpp"
 #include "fastpath/scene_params.hpp"
+#include "model/ray_file_source.hpp"
 #include "vk/check.hpp"
 
 namespace fird {
@@ -31,6 +32,24 @@ void FastTracer::record_rayset(VkCommandBuffer cb, std::uint64_t first, std::uin
         rayset_pipeline_.dispatch(cb, b, &push, groups(n, FIRD_RAYSET_WORKGROUP_SIZE));
     });
     vk::barrier_all(cb);
+}
+
+void FastTracer::read_ray_file_batch(std::uint64_t first, std::uint64_t n, FastRun& run) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const std::uint64_t seed =
+        std::uint64_t(params_.seed_lo) | (std::uint64_t(params_.seed_hi) << 32);
+    auto* out = static_cast<float*>(emitter_table_.data());
+    // Placed in double, then made relative to the frame's origin and rounded to float.
+    emit_ray_file_rays(scene_.source, seed, first, n, scene_.trace.rays, [&](const Ray& r) {
+        const glm::dvec3 o = r.origin - origin_;
+        *out++ = float(o.x);
+        *out++ = float(o.y);
+        *out++ = float(o.z);
+        *out++ = float(r.direction.x);
+        *out++ = float(r.direction.y);
+        *out++ = float(r.direction.z);
+    });
+    run.timings.rayset_ms += ms_since(t0);
 }
 
 void FastTracer::record_bounce_args(VkCommandBuffer cb, std::uint32_t stage, std::uint32_t bounce) {

@@ -10,6 +10,7 @@
 #include <fmt/format.h>
 #include <glm/geometric.hpp>
 
+#include "model/ray_file_source.hpp"
 #include "surface_hit.hpp"
 
 namespace fird {
@@ -69,15 +70,23 @@ ReferenceResult trace_reference(const SourceDesc& source, const Surface& surface
     std::vector<Local> locals(threads);
     std::atomic<std::uint64_t> next{0};
     const auto start = std::chrono::steady_clock::now();
+    const bool ray_file = source.kind == SourceKind::RayFile;
     const auto work = [&](Local& local) {
         local.counts.assign(cells, 0);
         local.tally.by_reflections.assign(o.max_bounces + 1, 0);
+        std::vector<Ray> file_rays;
         for (;;) {
+            file_rays.clear();
             const std::uint64_t begin = next.fetch_add(kBlock);
             if (begin >= o.rays) break;
             const std::uint64_t end = std::min(o.rays, begin + kBlock);
+            // A ray file's block is read in one pass through the file.
+            if (ray_file)
+                emit_ray_file_rays(source, o.seed, begin, end - begin, o.rays,
+                                   [&](const Ray& r) { file_rays.push_back(r); });
             for (std::uint64_t i = begin; i < end; ++i) {
-                const Ray ray = emit_ray(source, o.sampler, o.seed, i, o.rays);
+                const Ray ray = ray_file ? file_rays[i - begin]
+                                         : emit_ray(source, o.sampler, o.seed, i, o.rays);
                 const PathResult path =
                     trace_path(surface, surface.holder(), ray, o.max_bounces, o.bounce_policy);
                 RayTally& t = local.tally;

@@ -23,7 +23,9 @@ void main() {
     const bool emitted = i < pc.count;
     const uint lo = pc.first_lo + i;
     const uint hi = pc.first_hi + (lo < pc.first_lo ? 1u : 0u);
-    const Ray r = sample_source(ray_uniforms(lo, hi));
+    // A ray file's rays were read by the host (emitted ones only: i < count).
+    const Ray r = kSourceKind == kSourceRayFile ? ray_file_ray(emitted ? i : 0u)
+                                                : sample_source(ray_uniforms(lo, hi));
     vec2 t01;
     const bool effective =
         emitted && (clip_to_box(r.origin.xyz, r.direction.xyz, holder_min(), holder_max(), t01) ||
