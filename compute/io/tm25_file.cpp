@@ -151,7 +151,7 @@ Tm25Header read_tm25_header(std::istream& in, std::uint64_t file_bytes, const st
         } else if (file_bytes < h.ray_offset + ray_bytes) {
             fail(h.ray_offset,
                  fmt::format("short file: the header's {} rays of {} bytes need {} bytes from "
-                             "here, the file has {}",
+                             "here, the file has {}: the header disagrees with the file's size",
                              h.rays, record_bytes, ray_bytes,
                              file_bytes > h.ray_offset ? file_bytes - h.ray_offset : 0));
         } else {
