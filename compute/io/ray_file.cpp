@@ -4,6 +4,7 @@
 #include <bit>
 #include <cctype>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <stdexcept>
 
@@ -122,9 +123,7 @@ void RayFileReader::check(RayRecord& r) const {
         refuse(0, fmt::format("position ({}, {}, {}) is not finite", p.x, p.y, p.z));
     if (!std::isfinite(d.x) || !std::isfinite(d.y) || !std::isfinite(d.z))
         refuse(3, fmt::format("direction ({}, {}, {}) is not finite", d.x, d.y, d.z));
-    const double length = glm::length(d);
-    if (!(length > 0.0)) refuse(3, "direction (0, 0, 0): a ray needs a direction");
-    r.direction = d / length;
+    if (!(glm::dot(d, d) > 0.0)) refuse(3, "direction (0, 0, 0): a ray needs a direction");
     const std::uint64_t flux_column = std::uint64_t(std::max(layout_->flux_column, 0));
     if (!std::isfinite(r.flux)) refuse(flux_column, fmt::format("flux {} is not finite", r.flux));
     if (r.flux < 0.0) refuse(flux_column, fmt::format("negative flux {}", r.flux));
@@ -151,13 +150,22 @@ bool RayFileReader::next_fixed(RayRecord& ray) {
                                                  l.path, l.data_offset + index_ * bytes, index_));
     }
     const char* record = chunk_.data() + (index_ - chunk_first_) * bytes;
-    // Little-endian whatever the host's order.
+    // Little-endian: copied as is on a little-endian host, byte by byte on another.
     const auto value = [&](int column) -> double {
-        const auto* at =
-            reinterpret_cast<const unsigned char*>(record) + std::uint64_t(column) * size;
+        const char* at = record + std::uint64_t(column) * size;
+        if constexpr (std::endian::native == std::endian::little) {
+            if (l.float64) {
+                double d = 0.0;
+                std::memcpy(&d, at, 8);
+                return d;
+            }
+            float f = 0.0f;
+            std::memcpy(&f, at, 4);
+            return double(f);
+        }
         std::uint64_t bits = 0;
         for (std::uint64_t k = size; k-- > 0;)
-            bits = (bits << 8) | at[k];
+            bits = (bits << 8) | static_cast<unsigned char>(at[k]);
         return l.float64 ? std::bit_cast<double>(bits)
                          : double(std::bit_cast<float>(std::uint32_t(bits)));
     };

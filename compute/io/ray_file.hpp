@@ -37,7 +37,9 @@ struct RayFileLayout {
 // any case). Throws std::runtime_error "PATH: byte N: what" (CSV: "line N").
 RayFileLayout ray_file_layout(const std::string& path);
 
-// One ray as read: direction made unit; flux in the file's unit (1 where there is none).
+// One ray as read: the direction as the file gives it (not made unit: the placement into
+// the scene does that, model/ray_file_source.hpp); flux in the file's unit (1 where there
+// is none).
 struct RayRecord {
     glm::dvec3 position_mm{0.0};
     glm::dvec3 direction{0.0, 0.0, 1.0};

@@ -23,6 +23,7 @@ std::shared_ptr<const RayFileIndex> index_ray_file(const std::string& path) {
     RayFileReader reader(index->layout);
     RayRecord r;
     double total = 0.0;
+    double first_flux = 0.0;
     glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-lo);
     for (;;) {
         if (reader.index() % kRayFileStride == 0) {
@@ -30,6 +31,8 @@ std::shared_ptr<const RayFileIndex> index_ray_file(const std::string& path) {
             index->positions.push_back(reader.position());
         }
         if (!reader.next(r)) break;
+        if (reader.index() > 1 && r.flux != first_flux) index->equal_weights = false;
+        if (reader.index() == 1) first_flux = r.flux;
         total += r.flux;
         lo = glm::min(lo, r.position_mm);
         hi = glm::max(hi, r.position_mm);
@@ -69,6 +72,19 @@ void emit_ray_file_rays(const SourceDesc& s, std::uint64_t seed, std::uint64_t f
         return Ray{e.center + p.x * e.x_axis + p.y * y_axis + p.z * e.axis,
                    glm::normalize(d.x * e.x_axis + d.y * y_axis + d.z * e.axis)};
     };
+    // Equal weights and as many emissions as rays: emission e is ray e, whatever u_e
+    // ((e + u_e) W / N lies in ray e's share), so the file is read straight through.
+    if (index.equal_weights && rays == index.layout.rays) {
+        const std::size_t k = std::size_t(first / kRayFileStride);
+        RayFileReader reader(index.layout);
+        reader.seek(std::uint64_t(k) * kRayFileStride, index.positions[k]);
+        RayRecord r;
+        while (reader.index() < first && reader.next(r)) {
+        }
+        for (std::uint64_t i = 0; i < count && reader.next(r); ++i)
+            emit(place(r));
+        return;
+    }
     const double per_emission = index.weight_total / double(rays);
     const auto target = [&](std::uint64_t k) {
         return (double(k) + philox_uniforms(seed, k, kResampleStream)[0]) * per_emission;

@@ -30,6 +30,7 @@ struct RayFileIndex {
     // where the file gives none (a radiant-only TM-25 file without the header's lumens, an
     // .npy or CSV file without a flux column).
     double file_flux_lm = std::numeric_limits<double>::quiet_NaN();
+    bool equal_weights = true;             // every ray carries the same flux
     std::vector<double> cumulative;        // weight of the records before record k * stride
     std::vector<RecordPosition> positions; // where record k * stride begins
     glm::dvec3 origin_min_mm{0.0};         // the rays' origins' bounding box, file frame
