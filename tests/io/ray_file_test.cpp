@@ -101,6 +101,19 @@ TEST(RayFile, ARadiantFileTakesItsHeadersLumens) {
     EXPECT_EQ(ray_file_scene("radiant_only.tm25ray", "flux_lm = 5.0").source.flux_lm, 5.0);
 }
 
+// Written back (scene_to_toml) and read again: the same scene; its rays now counted by
+// [trace] rays (the subsample's share), its frame and flux as read.
+TEST(RayFile, ARayFileSceneRoundTrips) {
+    const Scene s = ray_file_scene(
+        "part.csv", "normal = [0.0, 0.6, -0.8]\nx_axis = [1.0, 0.0, 0.0]\nsubsample = 0.5");
+    EXPECT_EQ(s.trace.rays, 1500u);
+    const Scene again = parse_scene(scene_to_toml(s), s.path);
+    EXPECT_TRUE(again == s);
+    EXPECT_EQ(again.source.resolved_path, ray_files()("part.csv"));
+    EXPECT_EQ(again.trace.rays, 1500u);
+    EXPECT_EQ(again.source.axis, s.source.axis);
+}
+
 // Published files' quirks, both in one file: the spectral table's padding left out, and
 // the header's luminous flux a NaN written big-endian (so unknown: the rays' own lumens).
 TEST(RayFile, AMissingPaddingAndAByteSwappedNanAreRead) {
