@@ -4,6 +4,8 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <exception>
+#include <mutex>
 #include <stdexcept>
 #include <thread>
 
@@ -71,6 +73,8 @@ ReferenceResult trace_reference(const SourceDesc& source, const Surface& surface
     std::atomic<std::uint64_t> next{0};
     const auto start = std::chrono::steady_clock::now();
     const bool ray_file = source.kind == SourceKind::RayFile;
+    std::exception_ptr failure;
+    std::mutex failure_mutex;
     const auto work = [&](Local& local) {
         local.counts.assign(cells, 0);
         local.tally.by_reflections.assign(o.max_bounces + 1, 0);
@@ -80,10 +84,19 @@ ReferenceResult trace_reference(const SourceDesc& source, const Surface& surface
             const std::uint64_t begin = next.fetch_add(kBlock);
             if (begin >= o.rays) break;
             const std::uint64_t end = std::min(o.rays, begin + kBlock);
-            // A ray file's block is read in one pass through the file.
-            if (ray_file)
-                emit_ray_file_rays(source, o.seed, begin, end - begin, o.rays,
-                                   [&](const Ray& r) { file_rays.push_back(r); });
+            // A ray file's block is read in one pass through the file (a read that fails,
+            // a file changed since the scene was read, stops every thread and is rethrown).
+            if (ray_file) {
+                try {
+                    emit_ray_file_rays(source, o.seed, begin, end - begin, o.rays,
+                                       [&](const Ray& r) { file_rays.push_back(r); });
+                } catch (...) {
+                    const std::lock_guard lock(failure_mutex);
+                    if (!failure) failure = std::current_exception();
+                    next = o.rays;
+                    break;
+                }
+            }
             for (std::uint64_t i = begin; i < end; ++i) {
                 const Ray ray = ray_file ? file_rays[i - begin]
                                          : emit_ray(source, o.sampler, o.seed, i, o.rays);
@@ -119,6 +132,7 @@ ReferenceResult trace_reference(const SourceDesc& source, const Surface& surface
     work(locals[0]);
     for (auto& t : pool)
         t.join();
+    if (failure) std::rethrow_exception(failure);
 
     ReferenceResult result;
     result.threads = threads;

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <map>
 #include <set>
@@ -18,7 +19,9 @@
 #include "io/scene_file.hpp"
 #include "io/tm25_file.hpp"
 #include "model/ray_file_source.hpp"
+#include "model/surface.hpp"
 #include "ray_files_fixture.hpp"
+#include "reference/reference_tracer.hpp"
 
 namespace fird::test {
 namespace {
@@ -112,6 +115,24 @@ TEST(RayFile, ARayFileSceneRoundTrips) {
     EXPECT_EQ(again.source.resolved_path, ray_files()("part.csv"));
     EXPECT_EQ(again.trace.rays, 1500u);
     EXPECT_EQ(again.source.axis, s.source.axis);
+}
+
+// A file cut short after the scene was read: tracing it fails with the file and the byte
+// (not a crash in the reference tracer's threads).
+TEST(RayFile, AFileCutAfterTheSceneWasReadFailsTheTraceNamingTheByte) {
+    const std::string copy = ray_files()("cut.tm25ray");
+    std::filesystem::copy_file(ray_files()("part.tm25ray"), copy,
+                               std::filesystem::copy_options::overwrite_existing);
+    const Scene s = ray_file_scene("cut.tm25ray", "normal = [0.0, 0.0, -1.0]");
+    std::filesystem::resize_file(copy, std::filesystem::file_size(copy) / 2);
+    try {
+        (void)trace_reference(s.source, Surface::make(s.reflector, s.holder),
+                              {.rays = s.trace.rays, .seed = 1, .threads = 2});
+        FAIL() << "a cut file traced";
+    } catch (const std::runtime_error& e) {
+        EXPECT_EQ(std::string(e.what()).rfind(copy + ": byte ", 0), 0u) << e.what();
+        EXPECT_NE(std::string(e.what()).find("short file"), std::string::npos) << e.what();
+    }
 }
 
 // Published files' quirks, both in one file: the spectral table's padding left out, and
