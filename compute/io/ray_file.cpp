@@ -134,24 +134,22 @@ bool RayFileReader::next(RayRecord& ray) {
 }
 
 bool RayFileReader::next_fixed(RayRecord& ray) {
+    return read(&ray, 1) == 1;
+}
+
+std::size_t RayFileReader::read(RayRecord* out, std::size_t max) {
     const RayFileLayout& l = *layout_;
-    if (index_ >= l.rays) return false;
+    std::size_t n = 0;
+    if (l.format == RayFileFormat::Csv) {
+        while (n < max && next_csv(out[n]))
+            ++n;
+        return n;
+    }
     const std::uint64_t size = l.float64 ? 8u : 4u;
     const std::uint64_t bytes = l.columns * size;
-    if (index_ < chunk_first_ || index_ >= chunk_first_ + chunk_records_) {
-        chunk_first_ = index_;
-        chunk_records_ = std::min(kChunkRecords, l.rays - index_);
-        chunk_.resize(std::size_t(chunk_records_ * bytes));
-        in_.clear();
-        in_.seekg(std::streamoff(l.data_offset + index_ * bytes));
-        in_.read(chunk_.data(), std::streamsize(chunk_.size()));
-        if (!in_)
-            throw std::runtime_error(fmt::format("{}: byte {}: short file: cannot read ray {}",
-                                                 l.path, l.data_offset + index_ * bytes, index_));
-    }
-    const char* record = chunk_.data() + (index_ - chunk_first_) * bytes;
+    const int flux_column = l.flux_column;
     // Little-endian: copied as is on a little-endian host, byte by byte on another.
-    const auto value = [&](int column) -> double {
+    const auto value = [&](const char* record, int column) -> double {
         const char* at = record + std::uint64_t(column) * size;
         if constexpr (std::endian::native == std::endian::little) {
             if (l.float64) {
@@ -169,12 +167,41 @@ bool RayFileReader::next_fixed(RayRecord& ray) {
         return l.float64 ? std::bit_cast<double>(bits)
                          : double(std::bit_cast<float>(std::uint32_t(bits)));
     };
-    ray.position_mm = {value(0), value(1), value(2)};
-    ray.direction = {value(3), value(4), value(5)};
-    ray.flux = l.flux_column >= 0 ? value(l.flux_column) : 1.0;
-    check(ray);
-    ++index_;
-    return true;
+    while (n < max && index_ < l.rays) {
+        if (index_ < chunk_first_ || index_ >= chunk_first_ + chunk_records_) {
+            chunk_first_ = index_;
+            chunk_records_ = std::min(kChunkRecords, l.rays - index_);
+            chunk_.resize(std::size_t(chunk_records_ * bytes));
+            in_.clear();
+            in_.seekg(std::streamoff(l.data_offset + index_ * bytes));
+            in_.read(chunk_.data(), std::streamsize(chunk_.size()));
+            if (!in_)
+                throw std::runtime_error(fmt::format("{}: byte {}: short file: cannot read ray {}",
+                                                     l.path, l.data_offset + index_ * bytes,
+                                                     index_));
+        }
+        const std::uint64_t here =
+            std::min<std::uint64_t>(max - n, chunk_first_ + chunk_records_ - index_);
+        const char* record = chunk_.data() + (index_ - chunk_first_) * bytes;
+        for (std::uint64_t k = 0; k < here; ++k, record += bytes) {
+            RayRecord& r = out[n + k];
+            r.position_mm = {value(record, 0), value(record, 1), value(record, 2)};
+            r.direction = {value(record, 3), value(record, 4), value(record, 5)};
+            r.flux = flux_column >= 0 ? value(record, flux_column) : 1.0;
+            // One test for the common case; check() finds and names the fault.
+            const glm::dvec3 d = r.direction;
+            const double sum =
+                r.position_mm.x + r.position_mm.y + r.position_mm.z + d.x + d.y + d.z + r.flux;
+            if (!std::isfinite(sum) || !(glm::dot(d, d) > 0.0) || r.flux < 0.0) {
+                index_ += k;
+                check(r);
+                index_ -= k;
+            }
+        }
+        index_ += here;
+        n += here;
+    }
+    return n;
 }
 
 bool RayFileReader::next_csv(RayRecord& ray) {

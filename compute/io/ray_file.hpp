@@ -63,6 +63,8 @@ class RayFileReader {
     void seek(std::uint64_t index, const RecordPosition& at = {});
     // The next record; false past the last.
     bool next(RayRecord& ray);
+    // Up to `max` next records into `out`; how many (fewer only past the last).
+    std::size_t read(RayRecord* out, std::size_t max);
     std::uint64_t index() const { return index_; }
     RecordPosition position() const;
 

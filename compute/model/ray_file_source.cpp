@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <stdexcept>
 
 #include <fmt/format.h>
@@ -21,21 +22,24 @@ std::shared_ptr<const RayFileIndex> index_ray_file(const std::string& path) {
     auto index = std::make_shared<RayFileIndex>();
     index->layout = ray_file_layout(path);
     RayFileReader reader(index->layout);
-    RayRecord r;
+    // A checkpoint before each run of kRayFileStride records, read at once.
+    std::vector<RayRecord> block(kRayFileStride);
     double total = 0.0;
-    double first_flux = 0.0;
+    std::optional<double> first_flux;
     glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-lo);
     for (;;) {
-        if (reader.index() % kRayFileStride == 0) {
-            index->cumulative.push_back(total);
-            index->positions.push_back(reader.position());
+        index->cumulative.push_back(total);
+        index->positions.push_back(reader.position());
+        const std::size_t n = reader.read(block.data(), block.size());
+        for (std::size_t k = 0; k < n; ++k) {
+            const RayRecord& r = block[k];
+            if (!first_flux) first_flux = r.flux;
+            if (r.flux != *first_flux) index->equal_weights = false;
+            total += r.flux;
+            lo = glm::min(lo, r.position_mm);
+            hi = glm::max(hi, r.position_mm);
         }
-        if (!reader.next(r)) break;
-        if (reader.index() > 1 && r.flux != first_flux) index->equal_weights = false;
-        if (reader.index() == 1) first_flux = r.flux;
-        total += r.flux;
-        lo = glm::min(lo, r.position_mm);
-        hi = glm::max(hi, r.position_mm);
+        if (n < block.size()) break;
     }
     RayFileLayout& l = index->layout;
     l.rays = reader.index();
@@ -78,11 +82,17 @@ void emit_ray_file_rays(const SourceDesc& s, std::uint64_t seed, std::uint64_t f
         const std::size_t k = std::size_t(first / kRayFileStride);
         RayFileReader reader(index.layout);
         reader.seek(std::uint64_t(k) * kRayFileStride, index.positions[k]);
-        RayRecord r;
-        while (reader.index() < first && reader.next(r)) {
+        std::vector<RayRecord> block(std::size_t(std::min<std::uint64_t>(count, 1024)));
+        for (RayRecord r; reader.index() < first && reader.next(r);) {
         }
-        for (std::uint64_t i = 0; i < count && reader.next(r); ++i)
-            emit(place(r));
+        for (std::uint64_t done = 0; done < count;) {
+            const std::size_t n = reader.read(
+                block.data(), std::size_t(std::min<std::uint64_t>(block.size(), count - done)));
+            if (n == 0) throw std::logic_error("a ray file index past the file's end");
+            for (std::size_t j = 0; j < n; ++j)
+                emit(place(block[j]));
+            done += n;
+        }
         return;
     }
     const double per_emission = index.weight_total / double(rays);
