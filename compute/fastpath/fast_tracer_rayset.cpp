@@ -58,10 +58,10 @@ void FastTracer::read_ray_file_batch(std::uint64_t first, std::uint64_t n, FastR
                                *out++ = float(r.direction.z);
                            });
     };
-    // The device waits while the host reads: the batch is read in parts at once, a thread
-    // and a reader each (the emissions do not depend on how they are split).
+    // The device waits while the host reads: the batch is read in parts at once (up to 8),
+    // a thread and a reader each (the emissions do not depend on how they are split).
     const std::uint64_t parts = std::clamp<std::uint64_t>(
-        std::min<std::uint64_t>(std::thread::hardware_concurrency(), 4), 1, n / 65536 + 1);
+        std::min<std::uint64_t>(std::thread::hardware_concurrency(), 8), 1, n / 65536 + 1);
     std::vector<std::thread> helpers;
     std::exception_ptr failure;
     std::mutex failure_mutex;
