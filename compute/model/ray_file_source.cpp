@@ -103,8 +103,11 @@ void emit_ray_file_rays(const SourceDesc& s, std::uint64_t seed, std::uint64_t f
     // order: the targets grow with the emission index.
     const double t0 = target(first);
     const auto after = std::upper_bound(index.cumulative.begin(), index.cumulative.end(), t0);
+    // (A target rounded up to the total would find the checkpoint past the last record,
+    // where a file of a multiple of the stride has one: the one before it holds rays.)
     const std::size_t k =
-        std::size_t(std::max<std::ptrdiff_t>(after - index.cumulative.begin() - 1, 0));
+        std::min(std::size_t(std::max<std::ptrdiff_t>(after - index.cumulative.begin() - 1, 0)),
+                 std::size_t((index.layout.rays - 1) / kRayFileStride));
     RayFileReader reader(index.layout);
     reader.seek(std::uint64_t(k) * kRayFileStride, index.positions[k]);
     double before = index.cumulative[k]; // the weight of the records before `current`
