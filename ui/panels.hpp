@@ -49,6 +49,12 @@ void source_section(WorkbenchState& state);
 // empty string when the scene takes it, else why not.
 std::string set_source_field(WorkbenchState& state, const std::string& key,
                              const std::string& value);
+// The scene panel's finish editor: the reflector's material and the direct light.
+void material_section(WorkbenchState& state);
+// The script's `material KEY VALUE` (reflectance, spread_deg, lobe as in [reflector.material];
+// direct as in [trace]): the empty string when the scene takes it, else why not.
+std::string set_material_field(WorkbenchState& state, const std::string& key,
+                               const std::string& value);
 void viewport_panel(Frame& f);
 void farfield_panel(Frame& f);
 void optimize_panel(Frame& f);

@@ -22,7 +22,8 @@ const std::map<std::string, std::tuple<ScriptAction::Kind, int, int>>& actions()
     static const std::map<std::string, std::tuple<K, int, int>> table = {
         {"open", {K::Open, 1, 1}},
         {"set", {K::Set, 2, 2}},
-        {"source", {K::Source, 2, 2}}, // KEY VALUE: the scene panel's source editor
+        {"source", {K::Source, 2, 2}},     // KEY VALUE: the scene panel's source editor
+        {"material", {K::Material, 2, 2}}, // KEY VALUE: its material and direct light
         {"trace", {K::Trace, 0, 0}},
         {"optimize", {K::Optimize, 0, 1}},
         {"calibrate", {K::Calibrate, 1, 2}},
@@ -193,6 +194,11 @@ bool ScriptRunner::step(Frame& f, const ScriptHost& host) {
         case K::Source:
             if (const std::string error = set_source_field(s, a.args[0], a.args[1]); !error.empty())
                 fail(a, "source: " + error);
+            break;
+        case K::Material:
+            if (const std::string error = set_material_field(s, a.args[0], a.args[1]);
+                !error.empty())
+                fail(a, "material: " + error);
             break;
         case K::Trace:
             if (!s.editor.scene) fail(a, "trace: no scene is open");

@@ -22,6 +22,7 @@ struct ScriptAction {
         Open,
         Set,
         Source,
+        Material,
         Trace,
         Optimize,
         Calibrate,

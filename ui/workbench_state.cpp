@@ -93,6 +93,35 @@ bool set_ray_file_source(WorkbenchState& s, const std::string& path) {
     return true;
 }
 
+bool set_finish(WorkbenchState& s, const MaterialDesc& material, DirectLight direct) {
+    if (!s.editor.scene) return false;
+    Scene edited = edited_scene(s);
+    edited.reflector.material = material;
+    edited.trace.direct = direct;
+    try {
+        const Scene checked = parse_scene(scene_to_toml(edited), s.editor.path);
+        s.editor.scene->reflector.material = checked.reflector.material;
+        s.editor.scene->trace.direct = checked.trace.direct;
+        s.editor.error.clear();
+        const MaterialDesc& m = checked.reflector.material;
+        add_log(s,
+                fmt::format("material: reflectance {:.3g}, {} lobe of {:.3g} deg; direct light "
+                            "{}",
+                            m.reflectance, m.lobe == SpreadLobe::Phong ? "phong" : "gaussian",
+                            m.spread_deg,
+                            checked.trace.direct == DirectLight::Include ? "binned" : "left out"));
+        s.editor.dirty = true;
+        return true;
+    } catch (const std::exception& e) {
+        // The reason from its key on (the line is of the scene as written out).
+        const std::string what = e.what();
+        std::size_t key = what.find("[reflector.material]");
+        if (key == std::string::npos) key = what.find("[trace]");
+        s.editor.error = key == std::string::npos ? what : what.substr(key);
+        return false;
+    }
+}
+
 bool set_photometric_target(WorkbenchState& s, const std::string& path) {
     if (!s.editor.scene) {
         add_log(s, "error: " + path + ": open a scene first, then drop a luminaire file on it");

@@ -155,6 +155,8 @@ std::string new_run_folder(WorkbenchState& state, const std::string& job);
 // Replaces the open scene's source (the scene panel's source editor, the script's
 // `source`): false, with editor.error naming the key, where a scene file could not hold it.
 bool set_source(WorkbenchState& state, const SourceDesc& source);
+// Replaces the reflector's finish and the direct-light choice the same way.
+bool set_finish(WorkbenchState& state, const MaterialDesc& material, DirectLight direct);
 // The scene with the sliders' values.
 Scene edited_scene(const WorkbenchState& state);
 

@@ -44,7 +44,9 @@ std::vector<BenchRow> run_bench(const vk::Context& ctx, const BenchOptions& o,
                                           .max_bounces = base.trace.max_bounces,
                                           .bounce_policy = base.trace.bounce_policy,
                                           .farfield_w = base.trace.farfield_w,
-                                          .farfield_h = base.trace.farfield_h});
+                                          .farfield_h = base.trace.farfield_h,
+                                          .material = base.reflector.material,
+                                          .direct = base.trace.direct});
         const double multinomial =
             multinomial_noise_lm2_times_rays(ref.farfield, base.source.flux_lm);
         // The reference traced with the fast path's own rays (same seed and sampler), once
@@ -62,7 +64,9 @@ std::vector<BenchRow> run_bench(const vk::Context& ctx, const BenchOptions& o,
                                       .max_bounces = base.trace.max_bounces,
                                       .bounce_policy = base.trace.bounce_policy,
                                       .farfield_w = base.trace.farfield_w,
-                                      .farfield_h = base.trace.farfield_h});
+                                      .farfield_h = base.trace.farfield_h,
+                                      .material = base.reflector.material,
+                                      .direct = base.trace.direct});
             return same_rays.emplace(n, std::move(r.farfield)).first->second;
         };
         for (const auto& [w, h] : o.heightfields)

@@ -9,6 +9,7 @@
 
 #include "io/atomic_file.hpp"
 #include "io/npy.hpp"
+#include "model/energy_balance.hpp"
 #include "photometry/farfield_photometry.hpp"
 #include "photometry/photometry_file.hpp"
 #include "plot/farfield_picture.hpp"
@@ -36,7 +37,8 @@ Scene apply_overrides(Scene scene, const TraceOverrides& o) {
     return scene;
 }
 
-ReferenceOptions reference_options(const TraceSettings& t, unsigned threads) {
+ReferenceOptions reference_options(const Scene& scene, unsigned threads) {
+    const TraceSettings& t = scene.trace;
     return {.rays = t.rays,
             .seed = t.seed,
             .sampler = t.sampler,
@@ -44,12 +46,14 @@ ReferenceOptions reference_options(const TraceSettings& t, unsigned threads) {
             .bounce_policy = t.bounce_policy,
             .farfield_w = t.farfield_w,
             .farfield_h = t.farfield_h,
-            .threads = threads};
+            .threads = threads,
+            .material = scene.reflector.material,
+            .direct = t.direct};
 }
 
 Evaluation evaluate_reference(const Scene& scene, unsigned threads) {
     const auto t0 = std::chrono::steady_clock::now();
-    ReferenceOptions options = reference_options(scene.trace, threads);
+    ReferenceOptions options = reference_options(scene, threads);
     const Surface surface = Surface::make(scene.reflector, scene.holder);
     ReferenceResult result = trace_reference(scene.source, surface, options);
 
@@ -133,7 +137,7 @@ std::string profile_table(const std::vector<BounceProfile>& bounces) {
 
 nlohmann::json evaluation_json(const Evaluation& e) {
     const RayTally& t = e.tally;
-    const double epr = e.energy_per_ray_lm;
+    const EnergyBalance energy = energy_balance(t, e.energy_per_ray_lm);
     nlohmann::json j = {{"backend", e.backend},
                         {"device", e.device},
                         {"rays_emitted", t.emitted},
@@ -144,11 +148,13 @@ nlohmann::json evaluation_json(const Evaluation& e) {
                         {"rays_lost", t.lost},
                         {"rays_aborted", e.rays_aborted},
                         {"rays_by_reflections", t.by_reflections},
-                        {"energy_emitted_lm", double(t.emitted) * epr},
-                        {"energy_farfield_lm", double(t.farfield) * epr},
-                        {"energy_direct_lm", double(t.direct) * epr},
-                        {"energy_discarded_lm", double(t.discarded) * epr},
-                        {"energy_lost_lm", double(t.lost) * epr},
+                        {"energy_emitted_lm", energy.emitted_lm},
+                        {"energy_farfield_lm", energy.farfield_lm},
+                        {"energy_direct_lm", energy.direct_lm},
+                        {"energy_discarded_lm", energy.discarded_lm},
+                        {"energy_lost_lm", energy.lost_lm},
+                        {"energy_absorbed_lm", energy.absorbed_lm},
+                        {"energy_binned_lm", energy.binned_lm},
                         {"timings_ms",
                          {{"rayset", e.timings.rayset_ms},
                           {"heightfield", e.timings.heightfield_ms},
@@ -178,7 +184,9 @@ void write_evaluation_outputs(const std::string& dir, const Scene& scene, const 
         const PhotometryLabels labels{
             .luminaire = scene.name,
             .test = fmt::format("{}, {} backend, {} rays", producer, e.backend, e.tally.emitted),
-            .other = scene.path};
+            .other = scene.path,
+            .lamp_flux_lm = scene.source.flux_lm,
+            .simulated = true};
         write_photometry(path("farfield.ies"), table, labels);
         write_photometry(path("farfield.ldt"), table, labels);
     }

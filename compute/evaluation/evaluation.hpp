@@ -29,7 +29,7 @@ Scene apply_overrides(Scene scene, const TraceOverrides& overrides);
 // The CPU reference backend: exact surface, double precision.
 Evaluation evaluate_reference(const Scene& scene, unsigned threads = 0);
 // The reference tracer's options for the scene's [trace] settings.
-ReferenceOptions reference_options(const TraceSettings& trace, unsigned threads = 0);
+ReferenceOptions reference_options(const Scene& scene, unsigned threads = 0);
 
 nlohmann::json evaluation_json(const Evaluation& evaluation);
 

@@ -12,6 +12,7 @@
 
 #include "evaluation/desired_farfield.hpp"
 #include "evaluation/evaluation.hpp"
+#include "model/energy_balance.hpp"
 #include "model/surface.hpp"
 
 namespace fird {
@@ -103,12 +104,12 @@ CandidateResult Evaluator::evaluate(const ReflectorDesc& reflector) {
 CandidateResult Evaluator::evaluate_on_cpu(const ReflectorDesc& reflector) {
     const auto t0 = std::chrono::steady_clock::now();
     ReferenceResult traced = trace_reference(scene_.source, Surface::make(reflector, scene_.holder),
-                                             reference_options(scene_.trace));
+                                             reference_options(scene_));
     CandidateResult r;
     r.run.tally = traced.tally;
     r.run.energy_per_ray_lm = traced.energy_per_ray_lm;
     r.run.timings.trace_ms = traced.trace_ms;
-    r.farfield_lm = double(traced.tally.farfield) * traced.energy_per_ray_lm;
+    r.farfield_lm = energy_balance(traced.tally, traced.energy_per_ray_lm).binned_lm;
     cpu_farfield_ = std::move(traced.farfield);
     if (cpu_desired_) r.l2_lm = l2_distance(*cpu_farfield_, *cpu_desired_);
     r.wall_ms = ms_since(t0);
@@ -145,7 +146,7 @@ std::vector<CandidateResult> Evaluator::evaluate_batch(std::span<const Reflector
     for (std::size_t k = 0; k < runs.size(); ++k) {
         CandidateResult& r = results[k];
         r.run = std::move(runs[k]);
-        r.farfield_lm = double(r.run.tally.farfield) * r.run.energy_per_ray_lm;
+        r.farfield_lm = energy_balance(r.run.tally, r.run.energy_per_ray_lm).binned_lm;
         if (has_desired()) {
             const auto* sums = static_cast<const std::byte*>(l2_sums_.data());
             float sum = 0.0f;

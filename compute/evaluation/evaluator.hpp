@@ -38,7 +38,7 @@ Scene at_fidelity(Scene scene, const Fidelity& fidelity);
 struct CandidateResult {
     FastRun run;                 // tally and per-stage device times
     std::optional<double> l2_lm; // when a desired far field is set
-    double farfield_lm = 0.0;    // light reaching the far field
+    double farfield_lm = 0.0;    // light the far field holds (EnergyBalance::binned_lm)
     double wall_ms = 0.0;        // the whole evaluation, as the caller waits for it
 };
 

@@ -42,7 +42,7 @@ FastTracer::FastTracer(const vk::Context& ctx, const Scene& scene, std::uint64_t
       maxmip_pipeline_(ctx, fird_spv_maxmip_comp, {kSB, kSB, kSB, kSB}, sizeof(gpu::MaxMipPush),
                        "fird.maxmip"),
       trace_pipeline_(trace_pipeline(ctx, spec_, {}, "fird.trace")),
-      to_lm_pipeline_(ctx, fird_spv_counts_to_lm_comp, {kSB, kSB}, sizeof(ToLmPush),
+      to_lm_pipeline_(ctx, fird_spv_counts_to_lm_comp, {kSB, kSB}, sizeof(gpu::ToLmPush),
                       "fird.counts_to_lm"),
       order_pipeline_(ctx, fird_spv_rayset_order_comp, {kSB, kSB, kSB, kSB, kSB},
                       sizeof(gpu::RaysetOrderPush), "fird.rayset.order"),
@@ -82,6 +82,16 @@ FastTracer::FastTracer(const vk::Context& ctx, const Scene& scene, std::uint64_t
         throw std::invalid_argument(
             fmt::format("farfield {} x {}: more cells than this device's dispatches cover ({})",
                         params_.ff_w, params_.ff_h, cells_max));
+    // A reflectance below 1 counts the far field per reflection order (counts_to_lm.comp).
+    const std::uint64_t counts_bytes =
+        std::uint64_t(params_.ff_w) * params_.ff_h * 4 * params_.farfield_layers;
+    if (counts_bytes > limits.max_storage_buffer_range)
+        throw std::invalid_argument(fmt::format(
+            "farfield {} x {} counted per reflection order ([reflector.material] reflectance "
+            "below 1, {} layers: [trace] max_bounces + 1) needs {} MB, past this device's "
+            "storage-buffer range ({} MB); use fewer bounces or a coarser far field",
+            params_.ff_w, params_.ff_h, params_.farfield_layers, counts_bytes >> 20,
+            limits.max_storage_buffer_range >> 20));
     const std::uint64_t ray_bytes = batch_capacity_ * kRayBytes;
     const auto storage = vk::kStorageUsage;
     counters_ = vk::Buffer(ctx, kCountersBytes, storage, vk::MemoryUse::Device, "fird.counters");
@@ -154,6 +164,9 @@ void FastTracer::require_family(const ReflectorDesc& reflector) const {
 void FastTracer::set_reflector(const ReflectorDesc& reflector) {
     if (current_.reflector && *current_.reflector == reflector) return; // height field current
     require_family(reflector);
+    if (reflector.material != scene_.reflector.material)
+        throw std::invalid_argument(
+            "the fast path's far-field layers and finish were set for another material");
     if (reflector.family == Family::Mesh &&
         (!mesh_ || !current_.reflector || current_.reflector->mesh != reflector.mesh)) {
         // The corner heights are rasterized one texel larger than the height field.
@@ -224,6 +237,9 @@ FastRun FastTracer::new_run(std::uint64_t emitted) const {
     FastRun run;
     run.tally.emitted = emitted;
     run.tally.by_reflections.assign(params_.max_bounces + 1, 0);
+    run.tally.lost_by_reflections.assign(params_.max_bounces + 1, 0);
+    run.tally.reflectance = scene_.reflector.material.reflectance;
+    run.tally.direct_binned = params_.bin_direct != 0u;
     run.bounces.assign(passes(), {});
     run.energy_per_ray_lm = scene_.source.flux_lm / double(std::max<std::uint64_t>(emitted, 1));
     return run;
@@ -300,7 +316,7 @@ FastRun FastTracer::run(const std::function<void(VkCommandBuffer)>& then) {
             if (!reuse && !generated) record_rayset(cb, first, n, sort ? rays_ping_ : *rays, run);
             if (sort) record_rayset_order(cb, rays_ping_, *rays, run);
             ctx_->yield_queue(cb);
-            record_bounces(cb, *rays, run, false);
+            record_bounces(cb, *rays, first, run, false);
             if (last) {
                 record_to_lm(cb, run);
                 if (then) {

@@ -134,8 +134,11 @@ class FastTracer {
     // trace pass; the run's far field and counters are left as they are. With `walk`,
     // the trace also records ray `pick`'s walk, step by step (a pipeline variant that
     // records; at most kWalkCapacity steps per bounce).
+    // The rays' emission indices are first_index, first_index + 1, ... (the finish's
+    // draws are keyed on them: material.h).
     std::vector<RayPath> trace_paths(const std::vector<Ray>& rays, std::size_t pick = 0,
-                                     std::vector<WalkStep>* walk = nullptr);
+                                     std::vector<WalkStep>* walk = nullptr,
+                                     std::uint64_t first_index = 0);
 
     // The rayset of the last run() as traced (ordered by direction), when it was kept
     // (it fits the cache budget); for tests and views of the rays.
@@ -198,7 +201,10 @@ class FastTracer {
     // Every bounce of a batch whose rays are in `rays` (their count in the counters'
     // kCounterEffective): the trace, and between bounces the ordering of the rays it
     // reflected, sized on the device.
-    void record_bounces(VkCommandBuffer cb, const vk::Buffer& rays, FastRun& run, bool record_hits);
+    // `first`: the emission index of the batch's first ray (the rays carry their index's
+    // low word: TracePush).
+    void record_bounces(VkCommandBuffer cb, const vk::Buffer& rays, std::uint64_t first,
+                        FastRun& run, bool record_hits);
     void record_to_lm(VkCommandBuffer cb, FastRun& run);
     // The batch's readback, one small copy each: the counters and the loop's per-bounce
     // counts, for the host, into readback slot `slot` (a candidate's place in a run_batch

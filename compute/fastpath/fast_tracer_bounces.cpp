@@ -67,8 +67,8 @@ void FastTracer::dispatch_trace(VkCommandBuffer cb, const vk::Buffer& in, const 
         p.dispatch_indirect(cb, b, &push, loop_, gpu::kLoopTraceArgs * 4);
 }
 
-void FastTracer::record_bounces(VkCommandBuffer cb, const vk::Buffer& rays, FastRun& run,
-                                bool record_hits) {
+void FastTracer::record_bounces(VkCommandBuffer cb, const vk::Buffer& rays, std::uint64_t first,
+                                FastRun& run, bool record_hits) {
     // Every bounce is recorded, each sized on the device by the one before (bounce_args.comp):
     // a bounce without active rays is an indirect dispatch of 0 groups, which costs next
     // to nothing (the skip of empty bounces; with the skip off it runs one workgroup).
@@ -88,7 +88,9 @@ void FastTracer::record_bounces(VkCommandBuffer cb, const vk::Buffer& rays, Fast
                 vkCmdFillBuffer(cb, order_buckets_.get(), 0, VK_WHOLE_SIZE, 0);
                 vk::barrier_all(cb);
             }
-            const gpu::TracePush push{.bounce = bounce,
+            const gpu::TracePush push{.first_lo = std::uint32_t(first),
+                                      .first_hi = std::uint32_t(first >> 32),
+                                      .bounce = bounce,
                                       .final_check = bounce == params_.max_bounces ? 1u : 0u,
                                       .record_hits = record_hits && bounce == 0 ? 1u : 0u,
                                       .order_output = order ? 1u : 0u,

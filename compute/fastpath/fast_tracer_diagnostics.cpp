@@ -25,13 +25,17 @@ FastRun FastTracer::run_rays(const std::vector<Ray>& rays, std::vector<glm::dvec
     FastRun run = new_run(rays.size());
     run.heightfield_reused = !state().heightfield_dirty;
     run.timings.heightfield_ms += rasterize_mesh();
-    // Upload all rays (the caller chose them; none are discarded here), in the frame.
+    // Upload all rays (the caller chose them; none are discarded here), in the frame; ray
+    // i is emission index i (its finish's draws: material.h).
     std::vector<float> packed(rays.size() * 8, 0.0f);
-    for (std::size_t i = 0; i < rays.size(); ++i)
+    for (std::size_t i = 0; i < rays.size(); ++i) {
         for (int k = 0; k < 3; ++k) {
             packed[i * 8 + k] = float(rays[i].origin[k] - origin_[k]);
             packed[i * 8 + 4 + k] = float(rays[i].direction[k]);
         }
+        const auto index = std::uint32_t(i);
+        std::memcpy(&packed[i * 8 + 3], &index, 4);
+    }
     vk::Buffer uploaded(*ctx_, std::max<std::size_t>(rays.size(), 1) * kRayBytes, vk::kStorageUsage,
                         vk::MemoryUse::Device, "fird.rays.uploaded");
     uploaded.upload(*ctx_, std::span<const float>(packed));
@@ -42,7 +46,7 @@ FastRun FastTracer::run_rays(const std::vector<Ray>& rays, std::vector<glm::dvec
         if (state().heightfield_dirty) record_heightfield(cb, run);
         record_run_start(cb, false);
         record_batch_start(cb, rays.size(), rays.size());
-        record_bounces(cb, uploaded, run, hits != nullptr);
+        record_bounces(cb, uploaded, 0, run, hits != nullptr);
         record_to_lm(cb, run);
         record_batch_end(cb);
     });
@@ -105,7 +109,8 @@ TexelHits FastTracer::read_texel_hits() const {
 }
 
 std::vector<RayPath> FastTracer::trace_paths(const std::vector<Ray>& rays, std::size_t pick,
-                                             std::vector<WalkStep>* walk) {
+                                             std::vector<WalkStep>* walk,
+                                             std::uint64_t first_index) {
     if (!current_.reflector) throw std::logic_error("FastTracer::trace_paths: no reflector set");
     if (rays.size() > batch_capacity_)
         throw std::invalid_argument("trace_paths: more rays than one batch holds");
@@ -131,8 +136,8 @@ std::vector<RayPath> FastTracer::trace_paths(const std::vector<Ray>& rays, std::
                    "fird.paths.out");
     vk::Buffer counters(*ctx_, kCountersBytes, vk::kStorageUsage, vk::MemoryUse::Device,
                         "fird.paths.counters");
-    vk::Buffer farfield(*ctx_, std::uint64_t(farfield_cells()) * 4, vk::kStorageUsage,
-                        vk::MemoryUse::Device, "fird.paths.farfield");
+    vk::Buffer farfield(*ctx_, std::uint64_t(farfield_cells()) * 4 * params_.farfield_layers,
+                        vk::kStorageUsage, vk::MemoryUse::Device, "fird.paths.farfield");
     vk::Buffer kept_hits = std::move(hits_);
     hits_ = vk::Buffer(*ctx_, slots * 32, vk::kStorageUsage, vk::MemoryUse::Readback,
                        "fird.paths.hits");
@@ -150,7 +155,8 @@ std::vector<RayPath> FastTracer::trace_paths(const std::vector<Ray>& rays, std::
         walk->clear();
     }
     // One bounce per submission, as the fast path traces them: a reflection's ray
-    // starts at its hit, skipping the texel it left (the w components carry it).
+    // starts at its hit, skipping the texel it left (direction.w carries it; origin.w the
+    // ray's emission index, its place in `rays`).
     for (std::uint32_t bounce = 0; bounce < params_.max_bounces && !live.empty(); ++bounce) {
         std::vector<float> packed(live.size() * 8, 0.0f);
         for (std::size_t k = 0; k < live.size(); ++k) {
@@ -159,11 +165,12 @@ std::vector<RayPath> FastTracer::trace_paths(const std::vector<Ray>& rays, std::
                 packed[k * 8 + c] = l.origin[c];
                 packed[k * 8 + 4 + c] = l.direction[c];
             }
+            const auto index = std::uint32_t(first_index + l.path);
+            std::memcpy(&packed[k * 8 + 3], &index, 4);
             if (bounce > 0) {
-                const std::int32_t tx = std::int32_t(l.texel % params_.hf_w);
-                const std::int32_t ty = std::int32_t(l.texel / params_.hf_w);
-                std::memcpy(&packed[k * 8 + 3], &tx, 4);
-                std::memcpy(&packed[k * 8 + 7], &ty, 4);
+                const std::uint32_t texel_bits =
+                    (l.texel % params_.hf_w) | ((l.texel / params_.hf_w) << 16);
+                std::memcpy(&packed[k * 8 + 7], &texel_bits, 4);
             }
         }
         in.upload(*ctx_, std::span<const float>(packed));
@@ -178,7 +185,11 @@ std::vector<RayPath> FastTracer::trace_paths(const std::vector<Ray>& rays, std::
             // The count the trace reads (the run's loop state is not needed after its run).
             vkCmdFillBuffer(cb, loop_.get(), gpu::kLoopActive * 4, 4, std::uint32_t(live.size()));
             vk::barrier_all(cb);
-            const gpu::TracePush push{.bounce = bounce, .record_hits = 1u, .walk_ray = walk_ray};
+            const gpu::TracePush push{.first_lo = std::uint32_t(first_index),
+                                      .first_hi = std::uint32_t(first_index >> 32),
+                                      .bounce = bounce,
+                                      .record_hits = 1u,
+                                      .walk_ray = walk_ray};
             dispatch_trace(cb, in, out, counters, farfield, push, walking,
                            groups(live.size(), FIRD_TRACE_WORKGROUP_SIZE));
         });

@@ -22,11 +22,6 @@ inline constexpr std::uint64_t kRaysetCacheBytes = 1ull << 30;
 // Rays per batch of a ray file source (fast_tracer.cpp).
 inline constexpr std::uint64_t kRayFileBatchRays = 1ull << 20;
 
-struct ToLmPush {
-    std::uint32_t count;
-    float lm_per_ray;
-};
-
 inline std::uint32_t groups(std::uint64_t n, std::uint32_t size) {
     return std::uint32_t((n + size - 1) / size);
 }

@@ -29,10 +29,13 @@ void FastTracer::record_rayset(VkCommandBuffer cb, std::uint64_t first, std::uin
         const vk::Binding b[] = {vk::storage(state().params_buffer), vk::storage(rays),
                                  vk::storage(counters_), vk::storage(order_buckets_),
                                  vk::storage(emitter_table_)};
-        const gpu::RaysetPush push{.first_lo = std::uint32_t(first),
-                                   .first_hi = std::uint32_t(first >> 32),
-                                   .count = std::uint32_t(n),
-                                   .keep_all = skips_.discard_before_trace ? 0u : 1u};
+        const gpu::RaysetPush push{
+            .first_lo = std::uint32_t(first),
+            .first_hi = std::uint32_t(first >> 32),
+            .count = std::uint32_t(n),
+            // Direct light binned: the rays that miss the holder
+            // are traced too, and leave as direct light.
+            .keep_all = skips_.discard_before_trace && params_.bin_direct == 0u ? 0u : 1u};
         rayset_pipeline_.dispatch(cb, b, &push, groups(n, FIRD_RAYSET_WORKGROUP_SIZE));
     });
     vk::barrier_all(cb);

@@ -43,7 +43,10 @@ void FastTracer::record_to_lm(VkCommandBuffer cb, FastRun& run) {
     timed(cb, &run.timings.histogram_ms, nullptr, [&] {
         const vk::Binding b[] = {vk::storage(state().farfield_counts),
                                  vk::storage(state().farfield_lm)};
-        const ToLmPush push{cells, float(run.energy_per_ray_lm)};
+        const gpu::ToLmPush push{.count = cells,
+                                 .lm_per_ray = float(run.energy_per_ray_lm),
+                                 .layers = params_.farfield_layers,
+                                 .reflectance = params_.reflectance};
         to_lm_pipeline_.dispatch(cb, b, &push, groups(cells, FIRD_REDUCE_WORKGROUP_SIZE));
     });
     vk::barrier_all(cb);
@@ -74,8 +77,10 @@ void FastTracer::tally_batch(FastRun& run, std::size_t slot) const {
     t.lost += total(gpu::kCounterLost);
     t.below_surface += total(gpu::kCounterBelow);
     run.aborted += total(gpu::kCounterAborted);
-    for (std::uint32_t r = 0; r <= params_.max_bounces; ++r)
+    for (std::uint32_t r = 0; r <= params_.max_bounces; ++r) {
         t.by_reflections[r] += total(gpu::kCounterByReflections + r);
+        t.lost_by_reflections[r] += total(gpu::kCounterLostByReflections + r);
+    }
     const auto* loop =
         static_cast<const std::uint32_t*>(loop_readback_.data()) + slot * gpu::kLoopWords;
     for (std::size_t b = 0; b < run.bounces.size(); ++b)
@@ -95,6 +100,12 @@ void FastTracer::finish(FastRun& run) const {
         throw std::logic_error(
             fmt::format("fast path energy balance broken: {} emitted, {} accounted", t.emitted,
                         t.discarded + t.direct + t.farfield + t.lost));
+    std::uint64_t lost = 0;
+    for (const std::uint64_t n : t.lost_by_reflections)
+        lost += n;
+    if (lost != t.lost)
+        throw std::logic_error(fmt::format(
+            "fast path lost rays by reflections: {} counted, {} by reflections", t.lost, lost));
 }
 
 } // namespace fird

@@ -24,6 +24,11 @@ std::uint64_t farfield_bytes(const gpu::SceneParams& p) {
     return std::uint64_t(p.ff_w) * p.ff_h * 4;
 }
 
+// The counts hold a layer per reflection order where the reflectance is below 1.
+std::uint64_t farfield_counts_bytes(const gpu::SceneParams& p) {
+    return farfield_bytes(p) * p.farfield_layers;
+}
+
 } // namespace
 
 ReflectorState make_reflector_state(const vk::Context& ctx, const gpu::SceneParams& params,
@@ -56,8 +61,8 @@ ReflectorState make_reflector_state(const vk::Context& ctx, const gpu::ScenePara
         vk::TexelView(ctx, s.gradients, VK_FORMAT_R32G32_SFLOAT, name("normals.view"));
     s.corners_view =
         vk::TexelView(ctx, s.corners, VK_FORMAT_R32_SFLOAT, name("heights.corners.view"));
-    s.farfield_counts = vk::Buffer(ctx, farfield_bytes(params), storage, vk::MemoryUse::Device,
-                                   name("farfield.counts"));
+    s.farfield_counts = vk::Buffer(ctx, farfield_counts_bytes(params), storage,
+                                   vk::MemoryUse::Device, name("farfield.counts"));
     s.farfield_lm = vk::Buffer(ctx, farfield_bytes(params), storage, vk::MemoryUse::Device,
                                name("farfield.lm"));
     return s;
@@ -65,7 +70,7 @@ ReflectorState make_reflector_state(const vk::Context& ctx, const gpu::ScenePara
 
 std::uint64_t reflector_state_bytes(const gpu::SceneParams& p) {
     return sizeof(gpu::SceneParams) + 8 + 2 * quadtree_bytes(p) + gradients_bytes(p) +
-           corners_bytes(p) + 2 * farfield_bytes(p);
+           corners_bytes(p) + farfield_bytes(p) + farfield_counts_bytes(p);
 }
 
 bool set_state_reflector(const vk::Context& ctx, ReflectorState& state,

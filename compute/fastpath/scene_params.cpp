@@ -4,6 +4,8 @@
 #include <limits>
 #include <stdexcept>
 
+#include <glm/trigonometric.hpp>
+
 #include "model/source.hpp"
 #include "model/source_clearance.hpp"
 #include "model/surface.hpp"
@@ -96,9 +98,19 @@ gpu::SceneParams scene_params(const Scene& s, std::uint64_t seed) {
     p.ff_h = s.trace.farfield_h;
     p.max_bounces = s.trace.max_bounces;
     p.strict_policy = s.trace.bounce_policy == BouncePolicy::Strict ? 1u : 0u;
+    const MaterialDesc& m = s.reflector.material;
+    p.reflectance = float(m.reflectance);
+    p.spread_rad = float(glm::radians(m.spread_deg));
+    p.spread_lobe = m.lobe == SpreadLobe::Phong ? gpu::kLobePhong : gpu::kLobeGaussian;
+    p.farfield_layers = farfield_layers(s);
+    p.bin_direct = s.trace.direct == DirectLight::Include ? 1u : 0u;
     // A ray crosses at most W + H texels per level; generous slack for descents.
     p.max_steps = 8u * (p.hf_w + p.hf_h) + 64u * q.levels;
     return p;
+}
+
+std::uint32_t farfield_layers(const Scene& s) {
+    return s.reflector.material.reflectance < 1.0 ? s.trace.max_bounces + 1u : 1u;
 }
 
 std::uint32_t gpu_family(Family family) {

@@ -35,6 +35,9 @@ glm::dvec3 frame_origin(const Holder& holder);
 gpu::SceneParams scene_params(const Scene& scene, std::uint64_t seed);
 // The shader family id of a reflector family (meshes: heights uploaded or rasterized).
 std::uint32_t gpu_family(Family family);
+// The far field's layers of counts (SceneParams.farfield_layers): one per reflection order
+// where the reflector's reflectance is below 1, else one.
+std::uint32_t farfield_layers(const Scene& s);
 // The specialization constants of the fast-path pipelines (FIRD_SPEC_* ids).
 std::array<std::uint32_t, FIRD_SPEC_COUNT> specialization(const gpu::SceneParams& params,
                                                           Family family);

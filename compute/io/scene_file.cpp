@@ -338,6 +338,22 @@ void free_every_height(const TableReader& opt, ReflectorDesc& r) {
         }
 }
 
+// [reflector.material]: the finish every reflection applies (shaders/material.h).
+MaterialDesc read_material(const TableReader& t) {
+    t.allow_only({"reflectance", "spread_deg", "lobe"});
+    MaterialDesc m;
+    m.reflectance = t.number_or("reflectance", 1.0);
+    if (!(m.reflectance >= 0.0 && m.reflectance <= 1.0))
+        t.fail(t.find("reflectance"), "reflectance", "must be between 0 and 1");
+    m.spread_deg = t.number_or("spread_deg", 0.0);
+    if (!(m.spread_deg >= 0.0 && m.spread_deg <= kMaxSpread_deg))
+        t.fail(t.find("spread_deg"), "spread_deg",
+               fmt::format("must be between 0 and {} degrees", kMaxSpread_deg));
+    m.lobe = t.choice("lobe", {"gaussian", "phong"}, "gaussian") == "phong" ? SpreadLobe::Phong
+                                                                            : SpreadLobe::Gaussian;
+    return m;
+}
+
 ReflectorDesc read_reflector(const TableReader& t, const std::string& scene_path) {
     ReflectorDesc r;
     const std::string family = t.text("family");
@@ -346,7 +362,7 @@ ReflectorDesc read_reflector(const TableReader& t, const std::string& scene_path
         t.fail(t.find("family"), "family",
                "must be one of: plane, paraboloid, cup, fluted_cup, bspline, mesh");
     r.family = *f;
-    std::set<std::string> allowed = {"family", "optimize"};
+    std::set<std::string> allowed = {"family", "optimize", "material"};
     std::vector<std::string> params = family_parameters(r.family);
     if (r.family == Family::BSpline) {
         allowed.insert({"grid", "heights_mm", "groups"});
@@ -412,6 +428,7 @@ ReflectorDesc read_reflector(const TableReader& t, const std::string& scene_path
         }
     }
     t.allow_only(allowed);
+    if (t.has("material")) r.material = read_material(t.sub("material"));
     if (t.has("optimize")) {
         const TableReader opt = t.sub("optimize");
         for (const auto& [k, v] : opt.table()) {
@@ -432,7 +449,7 @@ ReflectorDesc read_reflector(const TableReader& t, const std::string& scene_path
 // times its subsample); `subsample_given`: the source set subsample, so rays may not.
 TraceSettings read_trace(const TableReader& t, std::optional<std::uint64_t> file_rays,
                          bool subsample_given) {
-    t.allow_only({"rays", "seed", "max_bounces", "bounce_policy", "sampler", "hit_mode",
+    t.allow_only({"rays", "seed", "max_bounces", "bounce_policy", "sampler", "hit_mode", "direct",
                   "heightfield", "farfield"});
     TraceSettings s;
     if (file_rays && !t.has("rays"))
@@ -452,6 +469,9 @@ TraceSettings read_trace(const TableReader& t, std::optional<std::uint64_t> file
     s.hit_mode = t.choice("hit_mode", {"paper", "refined"}, "refined") == "paper"
                      ? HitMode::Paper
                      : HitMode::Refined;
+    s.direct = t.choice("direct", {"exclude", "include"}, "exclude") == "include"
+                   ? DirectLight::Include
+                   : DirectLight::Exclude;
     if (t.has("heightfield"))
         std::tie(s.heightfield_w, s.heightfield_h) = t.size2("heightfield", 16384);
     if (t.has("farfield")) std::tie(s.farfield_w, s.farfield_h) = t.size2("farfield", 8192);
@@ -646,6 +666,13 @@ std::string scene_to_toml(const Scene& s) {
             opt.insert(k, toml::table{{"min", r.min}, {"max", r.max}, {"step", r.step}});
         reflector.insert("optimize", opt);
     }
+    if (s.reflector.material != MaterialDesc{}) {
+        const MaterialDesc& m = s.reflector.material;
+        reflector.insert("material",
+                         toml::table{{"reflectance", m.reflectance},
+                                     {"spread_deg", m.spread_deg},
+                                     {"lobe", m.lobe == SpreadLobe::Phong ? "phong" : "gaussian"}});
+    }
     const TraceSettings& t = s.trace;
     toml::table trace{
         {"rays", std::int64_t(t.rays)},
@@ -656,6 +683,7 @@ std::string scene_to_toml(const Scene& s) {
         {"hit_mode", t.hit_mode == HitMode::Paper ? "paper" : "refined"},
         {"heightfield", toml::array{std::int64_t(t.heightfield_w), std::int64_t(t.heightfield_h)}},
         {"farfield", toml::array{std::int64_t(t.farfield_w), std::int64_t(t.farfield_h)}}};
+    if (t.direct == DirectLight::Include) trace.insert("direct", "include");
     toml::table root{
         {"name", s.name},
         {"source", source},

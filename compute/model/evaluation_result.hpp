@@ -12,15 +12,19 @@
 namespace fird {
 
 // Where the emitted rays went (DESIGN.md §2: emitted = discarded + direct + far field +
-// lost, exactly).
+// lost, exactly, in rays; model/energy_balance.hpp turns it into lumens, where the
+// reflector's reflectance adds the absorbed flux).
 struct RayTally {
     std::uint64_t emitted = 0;
     std::uint64_t discarded = 0;
     std::uint64_t direct = 0;
     std::uint64_t farfield = 0;
     std::uint64_t lost = 0;
-    std::uint64_t below_surface = 0;           // subset of lost: rays born inside the solid
-    std::vector<std::uint64_t> by_reflections; // far-field rays by reflection count
+    std::uint64_t below_surface = 0;                // subset of lost: rays born inside the solid
+    std::vector<std::uint64_t> by_reflections;      // far-field rays by reflection count
+    std::vector<std::uint64_t> lost_by_reflections; // lost rays by the reflections they made
+    double reflectance = 1.0;   // the reflector's: a ray keeps R^k of its flux after k
+    bool direct_binned = false; // [trace] direct = "include": direct light is in the far field
 };
 
 struct StageTimings {

@@ -98,12 +98,25 @@ struct MeshDesc {
     bool operator==(const MeshDesc&) const = default;
 };
 
+// The reflector's surface finish ([reflector.material]; shaders/material.h samples it).
+enum class SpreadLobe { Gaussian, Phong };
+// Beyond a few tens of degrees a lobe about the mirror direction is no longer a specular
+// finish (and much of it folds at the surface); a diffuse finish is not built.
+constexpr double kMaxSpread_deg = 30.0;
+struct MaterialDesc {
+    double reflectance = 1.0; // the share of a ray's flux each reflection keeps (0-1]
+    double spread_deg = 0.0;  // the lobe's sigma about the mirror direction, per axis
+    SpreadLobe lobe = SpreadLobe::Gaussian;
+    bool operator==(const MaterialDesc&) const = default;
+};
+
 struct ReflectorDesc {
     Family family = Family::Plane;
     std::map<std::string, double> parameters;
     std::map<std::string, ParameterRange> optimize;
     BSplineDesc bspline;
     MeshDesc mesh;
+    MaterialDesc material;
     bool operator==(const ReflectorDesc&) const = default;
 };
 
@@ -112,6 +125,10 @@ enum class BouncePolicy { Paper, Strict };
 // default; random: independent Philox rays; sobol: scrambled Sobol points.
 enum class SamplerKind { Stratified, Random, Sobol };
 enum class HitMode { Paper, Refined };
+// exclude: only reflected rays reach the far field (the paper's convention); include: the
+// rays that leave without touching the reflector too (DESIGN.md §2), for comparison with a
+// measured luminaire file.
+enum class DirectLight { Exclude, Include };
 
 struct TraceSettings {
     std::uint64_t rays = 1000000;
@@ -120,6 +137,7 @@ struct TraceSettings {
     BouncePolicy bounce_policy = BouncePolicy::Paper;
     SamplerKind sampler = SamplerKind::Stratified;
     HitMode hit_mode = HitMode::Refined;
+    DirectLight direct = DirectLight::Exclude;
     std::uint32_t heightfield_w = 1200;
     std::uint32_t heightfield_h = 800;
     std::uint32_t farfield_w = 1800;

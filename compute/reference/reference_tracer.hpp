@@ -23,11 +23,21 @@ struct PathResult {
     glm::dvec3 direction{0.0}; // outgoing direction (FarField)
 };
 
-// One ray through the reflector with up to max_bounces specular reflections.
-// `vertices`, when given, receives the path's points (origin, hits, and an end point).
+// The reflector's finish as one ray meets it: the material and the ray's draws (the
+// counter-based stream of its emission index under the seed: shaders/material.h).
+struct RayFinish {
+    MaterialDesc material;
+    std::uint64_t seed = 1;
+    std::uint64_t index = 0;
+};
+
+// One ray through the reflector with up to max_bounces reflections (a perfect mirror
+// without `finish`). `vertices`, when given, receives the path's points (origin, hits, and
+// an end point).
 PathResult trace_path(const Surface& surface, const Holder& holder, const Ray& ray,
                       std::uint32_t max_bounces, BouncePolicy policy,
-                      std::vector<glm::dvec3>* vertices = nullptr);
+                      std::vector<glm::dvec3>* vertices = nullptr,
+                      const RayFinish* finish = nullptr);
 
 struct ReferenceResult {
     RayTally tally;
@@ -45,7 +55,9 @@ struct ReferenceOptions {
     BouncePolicy bounce_policy = BouncePolicy::Paper;
     std::uint32_t farfield_w = 1800;
     std::uint32_t farfield_h = 900;
-    unsigned threads = 0; // 0: all hardware threads
+    unsigned threads = 0;  // 0: all hardware threads
+    MaterialDesc material; // the reflector's finish
+    DirectLight direct = DirectLight::Exclude;
 };
 
 // Emits `rays` rays from the source and traces them against the reflector.

@@ -4,45 +4,22 @@
 // reference), so both tracers sample their rays from this one text. A new emitter is a
 // kind in fird_shared.h, a branch in sample_emitter and its keys in the scene file.
 //
-// The text is the common subset of GLSL and C++ with glm: value parameters only (no
-// out), structs filled member by member, vector constructors and +, -, * on vectors.
+// The text is the common subset of GLSL and C++ with glm that frame.h sets up.
 #ifndef FIRD_EMITTER_H
 #define FIRD_EMITTER_H
 
+#include "frame.h"
+
 #ifdef __cplusplus
-#include <algorithm>
-#include <cmath>
-
-#include <glm/geometric.hpp>
-#include <glm/vec3.hpp>
-#include <glm/vec4.hpp>
-
-#include "fird_shared.h"
-
 namespace fird::gpu::emission {
-using real_t = double;
-using vec3 = glm::dvec3;
-using vec4 = glm::dvec4;
-using glm::cross;
-using glm::normalize;
-using std::cos;
-using std::max;
-using std::min;
-using std::sin;
-using std::sqrt;
-#define FIRD_EMITTER_INLINE inline
 // A photometric emitter's table (emission_table.hpp lays it out): a pointer in C++, the
 // rayset pass's buffer `emitter_table` in GLSL (source.glsl binds it).
 #define FIRD_TABLE_ARG , const float* emitter_table
 #define FIRD_TABLE_PASS , emitter_table
 #else
-#define real_t float
-#define FIRD_EMITTER_INLINE
 #define FIRD_TABLE_ARG
 #define FIRD_TABLE_PASS
 #endif
-
-const real_t kEmitterPi = 3.14159265358979323846;
 
 // An emitter in the frame its tracer works in. `axis` is the emitter's local +z (unit): a
 // cylinder's axis, a cosine point's axis, a disk's or rectangle's normal (the emitting
@@ -68,46 +45,30 @@ struct Emission {
     vec3 direction; // unit length
 };
 
-// Two unit vectors completing n to a right-handed orthonormal frame
-// (Duff et al., "Building an orthonormal basis, revisited", 2017).
-struct Basis {
-    vec3 t;
-    vec3 b;
-};
-FIRD_EMITTER_INLINE Basis basis_about(vec3 n) {
-    const real_t s = n.z >= 0.0 ? 1.0 : -1.0;
-    const real_t a = -1.0 / (s + n.z);
-    const real_t c = n.x * n.y * a;
-    Basis f;
-    f.t = vec3(1.0 + s * n.x * n.x * a, s * c, -s * n.x);
-    f.b = vec3(c, s + n.y * n.y * a, -n.y);
-    return f;
-}
-
 // A Lambertian (cosine-weighted) direction about unit n, in the frame (t, b, n).
-FIRD_EMITTER_INLINE vec3 cosine_direction_in(vec3 n, vec3 t, vec3 b, real_t u1, real_t u2) {
+FIRD_SHARED_INLINE vec3 cosine_direction_in(vec3 n, vec3 t, vec3 b, real_t u1, real_t u2) {
     const real_t r = sqrt(u1);
-    const real_t phi = 2.0 * kEmitterPi * u2;
+    const real_t phi = 2.0 * kSharedPi * u2;
     const real_t cos_theta = sqrt(max(real_t(0.0), real_t(1.0) - u1));
     return normalize(r * cos(phi) * t + r * sin(phi) * b + cos_theta * n);
 }
 
-FIRD_EMITTER_INLINE vec3 cosine_direction(vec3 n, real_t u1, real_t u2) {
+FIRD_SHARED_INLINE vec3 cosine_direction(vec3 n, real_t u1, real_t u2) {
     const Basis f = basis_about(n);
     return cosine_direction_in(n, f.t, f.b, u1, u2);
 }
 
-FIRD_EMITTER_INLINE vec3 uniform_sphere(real_t u1, real_t u2) {
+FIRD_SHARED_INLINE vec3 uniform_sphere(real_t u1, real_t u2) {
     const real_t z = 1.0 - 2.0 * u1;
     const real_t r = sqrt(max(real_t(0.0), real_t(1.0) - z * z));
-    const real_t phi = 2.0 * kEmitterPi * u2;
+    const real_t phi = 2.0 * kSharedPi * u2;
     return vec3(r * cos(phi), r * sin(phi), z);
 }
 
 // t in [0, 1) under the density proportional to a (1 - t) + b t, for the uniform u:
 // the root of (a t + (b - a) t^2 / 2) / ((a + b) / 2) = u, in the form without
 // cancellation (and t = u where a = b).
-FIRD_EMITTER_INLINE real_t linear_density_inverse(real_t a, real_t b, real_t u) {
+FIRD_SHARED_INLINE real_t linear_density_inverse(real_t a, real_t b, real_t u) {
     const real_t root = sqrt(max(real_t(0.0), a * a + (b * b - a * a) * u));
     const real_t denominator = a + root;
     return denominator > 0.0 ? min(u * (a + b) / denominator, real_t(1.0)) : u;
@@ -121,8 +82,8 @@ FIRD_EMITTER_INLINE real_t linear_density_inverse(real_t a, real_t b, real_t u) 
 // cumulative flux of each cell (C_j..C_j+1, gamma_i..gamma_i+1), cell j (table_g - 1) + i,
 // normalised to end at 1. u.x picks the cell (its remainder, the cos gamma inside it), u.y
 // the C inside it.
-FIRD_EMITTER_INLINE vec3 photometric_direction(uint nc, uint ng, real_t ux,
-                                               real_t uy FIRD_TABLE_ARG) {
+FIRD_SHARED_INLINE vec3 photometric_direction(uint nc, uint ng, real_t ux,
+                                              real_t uy FIRD_TABLE_ARG) {
     const uint cells = (nc - 1u) * (ng - 1u);
     const uint cdf_at = nc + ng + nc * ng;
     // The first cell whose cumulative flux exceeds ux (binary search, at most 32 steps).
@@ -171,11 +132,11 @@ FIRD_EMITTER_INLINE vec3 photometric_direction(uint nc, uint ng, real_t ux,
 // photometric: the direction from the table (photometric_direction) turned into the scene
 // by (x_axis, axis x x_axis, axis), the point the centre or uniform over a disk across the
 // axis.
-FIRD_EMITTER_INLINE Emission sample_emitter(Emitter e, vec4 u FIRD_TABLE_ARG) {
+FIRD_SHARED_INLINE Emission sample_emitter(Emitter e, vec4 u FIRD_TABLE_ARG) {
     Emission r;
     if (e.kind == kSourceCylinder) {
         const Basis f = basis_about(e.axis);
-        const real_t phi = 2.0 * kEmitterPi * u.y;
+        const real_t phi = 2.0 * kSharedPi * u.y;
         const vec3 n = cos(phi) * f.t + sin(phi) * f.b;
         r.origin = e.center + (u.x - 0.5) * e.length_mm * e.axis + e.radius_mm * n;
         r.direction = cosine_direction(n, u.z, u.w);
@@ -190,7 +151,7 @@ FIRD_EMITTER_INLINE Emission sample_emitter(Emitter e, vec4 u FIRD_TABLE_ARG) {
         const vec3 d = photometric_direction(e.table_c, e.table_g, u.x, u.y FIRD_TABLE_PASS);
         r.direction = normalize(d.x * e.x_axis + d.y * y_axis + d.z * e.axis);
         const real_t rho = e.radius_mm * sqrt(u.z);
-        const real_t phi = 2.0 * kEmitterPi * u.w;
+        const real_t phi = 2.0 * kSharedPi * u.w;
         r.origin = e.center + rho * cos(phi) * e.x_axis + rho * sin(phi) * y_axis;
     } else if (e.kind == kSourceDisk || e.kind == kSourceRectangle) {
         const vec3 y_axis = cross(e.axis, e.x_axis);
@@ -198,7 +159,7 @@ FIRD_EMITTER_INLINE Emission sample_emitter(Emitter e, vec4 u FIRD_TABLE_ARG) {
         if (e.kind == kSourceDisk) {
             // Uniform over the area: radius sqrt(u) R.
             const real_t rho = e.radius_mm * sqrt(u.z);
-            const real_t phi = 2.0 * kEmitterPi * u.w;
+            const real_t phi = 2.0 * kSharedPi * u.w;
             r.origin = e.center + rho * cos(phi) * e.x_axis + rho * sin(phi) * y_axis;
         } else {
             r.origin =
@@ -211,12 +172,9 @@ FIRD_EMITTER_INLINE Emission sample_emitter(Emitter e, vec4 u FIRD_TABLE_ARG) {
     return r;
 }
 
-#undef FIRD_EMITTER_INLINE
 #undef FIRD_TABLE_ARG
 #undef FIRD_TABLE_PASS
 #ifdef __cplusplus
 } // namespace fird::gpu::emission
-#else
-#undef real_t
 #endif
 #endif

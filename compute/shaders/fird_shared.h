@@ -57,6 +57,13 @@ FIRD_CONSTANT(uint, kFamilyFlutedCup, 3u);
 FIRD_CONSTANT(uint, kFamilyBSpline, 4u);
 FIRD_CONSTANT(uint, kFamilyTexture, 5u); // heights rasterized from a triangle mesh
 
+// The finish's spread lobe (material.h) and its random stream: the counter (ray index,
+// kMaterialStream + bounce) under the seed, so a reflection's draw depends on the ray and
+// the bounce alone (not on the batch or the order the rays are traced in).
+FIRD_CONSTANT(uint, kLobeGaussian, 0u);
+FIRD_CONSTANT(uint, kLobePhong, 1u);
+FIRD_CONSTANT(uint, kMaterialStream, 256u);
+
 FIRD_CONSTANT(uint, kSourceCylinder, 0u);
 FIRD_CONSTANT(uint, kSourceSphere, 1u);
 FIRD_CONSTANT(uint, kSourcePointIsotropic, 2u);
@@ -181,7 +188,10 @@ FIRD_CONSTANT(uint, kCounterLost, 5u);          // strict policy: would hit agai
 FIRD_CONSTANT(uint, kCounterAborted, 6u);       // traversal bound reached (energy lost)
 FIRD_CONSTANT(uint, kCounterActiveOut, 7u);     // rays appended for the next bounce
 FIRD_CONSTANT(uint, kCounterByReflections, 8u); // + r: far-field rays with r reflections
-FIRD_CONSTANT(uint, kCounterCount, 8u + FIRD_MAX_REFLECTIONS + 1u);
+// + r: lost rays (below, aborted, blocked, strict) after r reflections, for the flux their
+// reflections absorbed before (a material's reflectance below 1).
+FIRD_CONSTANT(uint, kCounterLostByReflections, kCounterByReflections + FIRD_MAX_REFLECTIONS + 1u);
+FIRD_CONSTANT(uint, kCounterCount, kCounterLostByReflections + FIRD_MAX_REFLECTIONS + 1u);
 // The counters buffer holds kTallyCopies copies of the counters: a workgroup adds its
 // tallies to copy (workgroup id mod kTallyCopies), so that the threads of a CPU driver do
 // not pass one cache line back and forth on every atomic; the host sums the copies. The
@@ -226,8 +236,18 @@ struct SceneParams {
     uint ff_h;
     uint max_bounces;
     uint strict_policy;
-    uint max_steps;         // traversal bound per ray and bounce
-    float offset_mm;        // a reflected ray's self-intersection offset (scene_params.cpp)
+    uint max_steps;  // traversal bound per ray and bounce
+    float offset_mm; // a reflected ray's self-intersection offset (scene_params.cpp)
+    // The reflector's finish (material.h): its reflectance (counts_to_lm.comp weighs by
+    // it), the lobe's sigma (0: a perfect mirror) and kind.
+    float reflectance;
+    float spread_rad;
+    uint spread_lobe;
+    // Far-field counts per reflection order: 1 (every ray weighs the same), or max_bounces
+    // + 1 where the reflectance is below 1 (layer k: rays that left after k reflections,
+    // weighed R^k by counts_to_lm.comp).
+    uint farfield_layers;
+    uint bin_direct;        // [trace] direct = "include": rays that leave untouched are binned too
     uint sobol_scramble[5]; // Owen scramble seeds: 4 dimensions, then the index
     uint sobol_directions[4 * 32];
 };
@@ -282,7 +302,18 @@ struct BounceArgsPush {
                       // rays left untraced would break the host's energy balance check)
 };
 
+// counts_to_lm.comp: the far field's cells, each ray's lumens, and the layers of counts
+// per reflection order weighed by the reflectance's powers (SceneParams.farfield_layers).
+struct ToLmPush {
+    uint count;
+    float lm_per_ray;
+    uint layers;
+    float reflectance;
+};
+
 struct TracePush {
+    uint first_lo;         // the batch's first emission index: a ray's full index from the
+    uint first_hi;         // low word it carries in origin.w (a batch holds < 2^32 rays)
     uint bounce;           // reflections so far (0: rays from the source)
     uint final_check;      // strict policy: only test for another hit
     uint record_hits;      // hits[2i] = (hit point, t) or t = -1 for input ray i, and

@@ -24,8 +24,11 @@ void main() {
     const uint lo = pc.first_lo + i;
     const uint hi = pc.first_hi + (lo < pc.first_lo ? 1u : 0u);
     // A ray file's rays were read by the host (emitted ones only: i < count).
-    const Ray r = kSourceKind == kSourceRayFile ? ray_file_ray(emitted ? i : 0u)
-                                                : sample_source(ray_uniforms(lo, hi));
+    Ray r = kSourceKind == kSourceRayFile ? ray_file_ray(emitted ? i : 0u)
+                                          : sample_source(ray_uniforms(lo, hi));
+    // The ray carries its emission index's low word through every bounce (the high word
+    // follows from the batch's first index): the finish's draws are keyed on it.
+    r.origin.w = uintBitsToFloat(lo);
     vec2 t01;
     const bool effective =
         emitted && (clip_to_box(r.origin.xyz, r.direction.xyz, holder_min(), holder_max(), t01) ||

@@ -2,8 +2,10 @@
 // One bounce of the fast path (§4.3): every active ray walks the max-mip quadtree from
 // the root, going down where it dips below a node's height and up again after it
 // crosses into a neighbour (RQRM, Algorithms 1-4), until it hits a texel or leaves the
-// holder box. Hits reflect and are appended for the next bounce (ping-pong); rays that
-// leave are binned into the far field with integer atomics (rays carry equal energy).
+// holder box. Hits reflect (material.h: the mirror law and the finish's spread) and are
+// appended for the next bounce (ping-pong); rays that leave are binned into the far field
+// with integer atomics (rays carry equal energy; with a reflectance below 1, per reflection
+// order, which counts_to_lm.comp weighs).
 // The traversal state is the level-0 texel and the level: stepping across a face moves
 // the texel by exact integer arithmetic, so float rounding cannot make a ray bounce
 // between two cells; every loop is bounded by P.max_steps (then counted as aborted).
@@ -12,6 +14,7 @@
 #include "common.glsl"
 #include "direction_bucket.glsl"
 #include "family.glsl"
+#include "material.h"
 
 layout(local_size_x = FIRD_TRACE_WORKGROUP_SIZE) in;
 layout(std430, binding = kTraceBindRaysIn) readonly buffer RaysIn { Ray rays_in[]; };
@@ -423,7 +426,8 @@ void main() {
     ivec2 skip = ivec2(-1);
     float t_start = 0.0;
     if (pc.bounce > 0u) {
-        skip = ivec2(floatBitsToInt(ray.origin.w), floatBitsToInt(ray.direction.w));
+        const uint texel_bits = floatBitsToUint(ray.direction.w); // the texel it reflected from
+        skip = ivec2(texel_bits & 0xFFFFu, texel_bits >> 16u);
         t_start = P.offset_mm; // Algorithm 2 line 7: a small initial offset after a reflection
     } else if (all(greaterThanEqual(w.O, vec2(0.0))) && all(lessThan(w.O, vec2(P.hf_w, P.hf_h))) &&
                w.o.z < (kHitMode == kHitModePaper ? height_at(ivec2(floor(w.O))) : surface_height(w.O))) {
@@ -450,13 +454,20 @@ void main() {
                 const vec2 q = texel_pos(w, t_hit);
                 const vec2 g = kHitMode == kHitModePaper ? gradient_at(hit_texel) : hit_gradient(p, hit_texel);
                 const vec3 n = normalize(vec3(-g, 1.0));
-                vec3 r = normalize(w.d - 2.0 * dot(w.d, n) * n);
+                vec2 u = vec2(0.5);
+                if (P.spread_rad > 0.0) { // this reflection's draw: (ray index, bounce) alone
+                    const uint index_lo = floatBitsToUint(ray.origin.w);
+                    const uint index_hi = pc.first_hi + (index_lo < pc.first_lo ? 1u : 0u);
+                    u = to_unit(philox(uvec4(index_lo, index_hi, kMaterialStream + pc.bounce, 0u),
+                                       uvec2(P.seed_lo, P.seed_hi)).xy);
+                }
+                vec3 r = reflected_direction(w.d, n, P.spread_rad, P.spread_lobe, u.x, u.y);
                 if (kHitMode != kHitModePaper) {
                     // Never into the surface traced: where the true normal and the patch
                     // hit part (within a texel of a kink), reflect about the patch itself,
                     // which the ray met from above (d . n_patch < 0, so r . n_patch > 0).
                     const vec3 n_patch = normalize(vec3(-patch_gradient(q, hit_texel, texel_mm), 1.0));
-                    if (dot(r, n_patch) <= 0.0) r = normalize(w.d - 2.0 * dot(w.d, n_patch) * n_patch);
+                    if (dot(r, n_patch) <= 0.0) r = mirror_direction(w.d, n_patch);
                 }
                 if (kHitMode == kHitModePaper) p.z = max(p.z, height_at(hit_texel)); // on the texel top
                 const uint texel = uint(hit_texel.y) * P.hf_w + uint(hit_texel.x);
@@ -473,18 +484,27 @@ void main() {
                     far_dir = r;
                 } else {
                     append = true;
-                    next.origin = vec4(p, intBitsToFloat(hit_texel.x));
-                    next.direction = vec4(r, intBitsToFloat(hit_texel.y));
+                    // origin.w keeps the ray's emission index; direction.w packs the texel.
+                    next.origin = vec4(p, ray.origin.w);
+                    next.direction = vec4(r, uintBitsToFloat(uint(hit_texel.x) | (uint(hit_texel.y) << 16u)));
                 }
             }
         }
     }
     if (kRecordWalk != 0u && i == pc.walk_ray) walk[0] = vec4(float(g_walk_steps), 0.0, 0.0, 0.0);
     if (kProfile != 0u) profile_walk();
-    if (far_miss || far_final) atomicAdd(farfield[far_field_cell(far_dir)], 1u);
+    // Layer k of the far field holds the rays that left after k reflections (one layer when
+    // every ray weighs the same); direct light is layer 0, binned where the scene asks.
+    const bool binned = far_miss || far_final || (direct && P.bin_direct != 0u);
+    if (binned) {
+        const uint reflections = far_final ? pc.bounce + 1u : pc.bounce;
+        const uint layer = P.farfield_layers > 1u ? reflections : 0u;
+        atomicAdd(farfield[layer * P.ff_w * P.ff_h + far_field_cell(far_dir)], 1u);
+    }
     FIRD_COUNT(counters, kCounterBelow, below);
     FIRD_COUNT(counters, kCounterAborted, aborted);
     FIRD_COUNT(counters, kCounterLost, below || aborted || blocked || lost_again);
+    FIRD_COUNT(counters, kCounterLostByReflections + pc.bounce, below || aborted || blocked || lost_again);
     FIRD_COUNT(counters, kCounterDirect, direct);
     FIRD_COUNT(counters, kCounterFarField, far_miss || far_final);
     FIRD_COUNT(counters, kCounterByReflections + pc.bounce, far_miss);

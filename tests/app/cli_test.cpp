@@ -101,7 +101,7 @@ TEST(Cli, TraceJsonHasEveryContractField) {
     const auto j = nlohmann::json::parse(r.out);
     for (const char* key : {"rays_emitted", "rays_effective", "rays_reflected", "energy_emitted_lm",
                             "energy_farfield_lm", "energy_direct_lm", "energy_discarded_lm",
-                            "energy_lost_lm", "l2", "timings_ms", "device"})
+                            "energy_lost_lm", "energy_absorbed_lm", "l2", "timings_ms", "device"})
         EXPECT_TRUE(j.contains(key)) << key;
     for (const char* key : {"rayset", "heightfield", "trace", "histogram", "compare", "total"})
         EXPECT_TRUE(j["timings_ms"].contains(key)) << key;
@@ -112,18 +112,50 @@ TEST(Cli, TraceJsonHasEveryContractField) {
     EXPECT_NEAR(sum, j["energy_emitted_lm"].get<double>(), 1e-9);
 }
 
-// Batches only cut the work into submissions: the rays are indexed, not drawn per batch,
-// so the tally and the l2 are the same with any --max-batch-rays.
+// A finished reflector (R = 0.9, a 1 degree lobe) with the direct light binned: the five
+// energy terms add up to the emitted flux (DESIGN.md §2), the absorbed one is the share
+// the reflections took (between 1 - R and 1 - R^5 of the reflected rays' flux), and the
+// far field holds the reflected and the direct light, on both backends.
+TEST(Cli, AFinishedReflectorAccountsForTheAbsorbedFlux) {
+    for (const char* backend : {"gpu", "cpu"}) {
+        SCOPED_TRACE(backend);
+        const auto r =
+            run("trace " + std::string(FIRD_SOURCE_DIR) +
+                "/scenes/model_b_aluminium.toml --rays 50000 --json --backend " + backend);
+        ASSERT_EQ(r.code, 0) << r.out;
+        const auto j = nlohmann::json::parse(r.out);
+        const auto lm = [&](const char* key) { return j.at(key).get<double>(); };
+        EXPECT_NEAR(lm("energy_discarded_lm") + lm("energy_direct_lm") + lm("energy_farfield_lm") +
+                        lm("energy_lost_lm") + lm("energy_absorbed_lm"),
+                    lm("energy_emitted_lm"), 1e-9 * lm("energy_emitted_lm"));
+        const double reflected_rays_lm = lm("energy_farfield_lm") + lm("energy_absorbed_lm");
+        EXPECT_GE(lm("energy_absorbed_lm"), 0.1 * reflected_rays_lm);
+        EXPECT_LE(lm("energy_absorbed_lm"), (1.0 - std::pow(0.9, 5)) * reflected_rays_lm);
+        EXPECT_NEAR(lm("energy_binned_lm"), lm("energy_farfield_lm") + lm("energy_direct_lm"),
+                    1e-9 * lm("energy_emitted_lm"));
+        EXPECT_GT(lm("energy_direct_lm"), 0.0);
+    }
+}
+
+// Batches only cut the work into submissions: the rays are indexed, not drawn per batch
+// (a finish's draws too: keyed on the ray's index and bounce), so the tally and the l2 are
+// the same with any --max-batch-rays.
 TEST(Cli, SmallerBatchesTraceTheSameRays) {
-    const std::string scene = std::string(FIRD_SOURCE_DIR) + "/scenes/model_b.toml";
-    const auto whole = run("trace " + scene + " --rays 100000 --json");
-    const auto cut = run("--max-batch-rays 9000 trace " + scene + " --rays 100000 --json");
-    ASSERT_EQ(whole.code, 0) << whole.out;
-    ASSERT_EQ(cut.code, 0) << cut.out;
-    const auto a = nlohmann::json::parse(whole.out), b = nlohmann::json::parse(cut.out);
-    for (const char* key : {"rays_effective", "rays_reflected", "rays_by_reflections", "rays_lost"})
-        EXPECT_EQ(a[key], b[key]) << key;
-    EXPECT_NEAR(a["l2"].get<double>(), b["l2"].get<double>(), 1e-9 * a["l2"].get<double>());
+    for (const char* name : {"model_b.toml", "model_b_aluminium.toml"}) {
+        SCOPED_TRACE(name);
+        const std::string scene = std::string(FIRD_SOURCE_DIR) + "/scenes/" + name;
+        const auto whole = run("trace " + scene + " --rays 100000 --json");
+        const auto cut = run("--max-batch-rays 9000 trace " + scene + " --rays 100000 --json");
+        ASSERT_EQ(whole.code, 0) << whole.out;
+        ASSERT_EQ(cut.code, 0) << cut.out;
+        const auto a = nlohmann::json::parse(whole.out), b = nlohmann::json::parse(cut.out);
+        for (const char* key :
+             {"rays_effective", "rays_reflected", "rays_by_reflections", "rays_lost"})
+            EXPECT_EQ(a[key], b[key]) << key;
+        EXPECT_NEAR(a["l2"].get<double>(), b["l2"].get<double>(), 1e-9 * a["l2"].get<double>());
+        EXPECT_NEAR(a["energy_absorbed_lm"].get<double>(), b["energy_absorbed_lm"].get<double>(),
+                    1e-9);
+    }
 }
 
 // fird trace --profile: one row per bounce, read by key; the rays of bounce 0 are the
@@ -156,10 +188,17 @@ TEST(Cli, TraceProfileHasARowPerBounce) {
     EXPECT_EQ(cpu.code, 2) << cpu.out;
 }
 
+// The luminaire files hold what the far field holds, in absolute candela for the source's
+// real flux: the finished Model B with its direct light (1100 lm source). The IES file is
+// LM-63-2019 with its required keywords and a simulation's file generation type (read here
+// as text, line by line); the EULUMDAT file's lamp is the source and its light output
+// ratio the far field's share of it (read as text: line 23 LORL, the first lamp set's
+// flux at line 29 of the fixed header).
 TEST(Cli, TraceOutWritesNpyPicturesAndLuminaireFiles) {
     const std::string dir = ::testing::TempDir() + "/fird_out";
-    const auto r = run("trace " + std::string(FIRD_SOURCE_DIR) +
-                       "/scenes/model_b.toml --backend cpu --rays 5000 --json --out " + dir);
+    const auto r =
+        run("trace " + std::string(FIRD_SOURCE_DIR) +
+            "/scenes/model_b_aluminium.toml --backend cpu --rays 20000 --json --out " + dir);
     ASSERT_EQ(r.code, 0) << r.out;
     for (const char* name : {"farfield.npy", "farfield.png", "target.npy", "target.png",
                              "difference.png", "farfield.ies", "farfield.ldt"}) {
@@ -167,15 +206,39 @@ TEST(Cli, TraceOutWritesNpyPicturesAndLuminaireFiles) {
         EXPECT_TRUE(f) << name;
         if (f) std::fclose(f);
     }
-    // The luminaire files hold the far field's flux.
-    const double farfield_lm = nlohmann::json::parse(r.out)["energy_farfield_lm"].get<double>();
+    const double binned_lm = nlohmann::json::parse(r.out)["energy_binned_lm"].get<double>();
     for (const char* name : {"farfield.ies", "farfield.ldt"}) {
         const auto info = run("photometry info --json " + dir + "/" + name);
         ASSERT_EQ(info.code, 0) << info.out;
-        EXPECT_NEAR(nlohmann::json::parse(info.out)["flux_integrated_lm"].get<double>(),
-                    farfield_lm, 1e-3 * farfield_lm)
+        EXPECT_NEAR(nlohmann::json::parse(info.out)["flux_integrated_lm"].get<double>(), binned_lm,
+                    1e-3 * binned_lm)
             << name;
     }
+    const auto lines = [](const std::string& path) {
+        std::ifstream in(path);
+        std::vector<std::string> out;
+        for (std::string l; std::getline(in, l);)
+            out.push_back(l.substr(0, l.find('\r')));
+        return out;
+    };
+    const std::vector<std::string> ies = lines(dir + "/farfield.ies");
+    ASSERT_GT(ies.size(), 12u);
+    EXPECT_EQ(ies[0], "IES:LM-63-2019");
+    for (const char* keyword : {"[TEST] ", "[TESTLAB] ", "[ISSUEDATE] ", "[MANUFAC] "})
+        EXPECT_TRUE(std::any_of(ies.begin(), ies.end(), [&](const std::string& l) {
+            return l.rfind(keyword, 0) == 0;
+        })) << keyword;
+    const auto tilt = std::find(ies.begin(), ies.end(), "TILT=NONE");
+    ASSERT_NE(tilt, ies.end());
+    EXPECT_EQ((tilt + 1)->substr(0, 5), "1 -1 ") << "absolute photometry";
+    EXPECT_EQ(*(tilt + 2), "1 1.00010 0") << "a simulation's file generation type";
+    const std::vector<std::string> ldt = lines(dir + "/farfield.ldt");
+    ASSERT_GT(ldt.size(), 30u);
+    EXPECT_NEAR(std::stod(ldt[28]), 1100.0, 1e-9) << "the lamp is the source";
+    EXPECT_NEAR(std::stod(ldt[22]), 100.0 * binned_lm / 1100.0, 0.1) << "LORL %";
+    const auto ldt_info =
+        nlohmann::json::parse(run("photometry info --json " + dir + "/farfield.ldt").out);
+    EXPECT_NEAR(ldt_info["flux_declared_lm"].get<double>(), binned_lm, 1e-3 * binned_lm);
 }
 
 // A CSV file read by column name (header first; fields may be quoted, none holds a comma).

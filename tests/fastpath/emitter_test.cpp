@@ -18,6 +18,7 @@
 #include "farfield/farfield.hpp"
 #include "fastpath/fast_tracer.hpp"
 #include "io/scene_file.hpp"
+#include "mirror_scene.hpp"
 #include "model/emission_table.hpp"
 #include "model/source.hpp"
 #include "photometry/photometry_file.hpp"
@@ -26,36 +27,6 @@
 
 namespace fird::test {
 namespace {
-
-// A flat mirror z = -10 mm over a 200 x 200 mm holder; the source above it, pointing down.
-Scene mirror_scene(const SourceDesc& source, std::uint64_t rays) {
-    Scene s = parse_scene(R"(
-[source]
-type = "point"
-center_mm = [0.0, 0.0, 0.0]
-flux_lm = 100.0
-[holder]
-min_mm = [-100.0, -100.0, -12.0]
-max_mm = [100.0, 100.0, 2.0]
-[reflector]
-family = "plane"
-z0 = -10.0
-sx = 0.0
-sy = 0.0
-cx = 0.0
-cy = 0.0
-[trace]
-rays = 1000
-seed = 3
-max_bounces = 1
-farfield = [72, 36]
-heightfield = [64, 64]
-)",
-                          "mirror.toml");
-    s.source = source;
-    s.trace.rays = rays;
-    return s;
-}
 
 // The hand-made asymmetric IES file of tests/photometry/data, from a point or a disk.
 SourceDesc photometric(const glm::dvec3& normal, double radius_mm) {
@@ -125,17 +96,6 @@ TEST_F(VulkanTest, EveryEmitterEmitsTheSameRaysOnBothTracers) {
             // Near-equal x components may sort apart between float and double.
             EXPECT_GE(double(matched), 0.99 * double(cpu.size()));
         }
-}
-
-// The fraction of a Lambertian emitter's flux, mirrored to leave about the zenith, that
-// falls in far-field row `row`: (1/pi) times the integral of cos(gamma) dOmega over the
-// row, with gamma the angle from the zenith and e = pi/2 - gamma the elevation:
-// (1/pi) 2 pi [sin^2 e / 2] from e_bottom to e_top = sin^2 e_top - sin^2 e_bottom.
-double cosine_law_row_fraction(std::uint32_t row, std::uint32_t rows) {
-    const double top = std::numbers::pi / 2 - std::numbers::pi * row / rows;
-    const double bottom = std::numbers::pi / 2 - std::numbers::pi * (row + 1) / rows;
-    const auto sin2 = [](double e) { return e > 0 ? std::sin(e) * std::sin(e) : 0.0; };
-    return sin2(top) - sin2(bottom);
 }
 
 // A disk facing straight down, 10 mm over the flat mirror: every ray

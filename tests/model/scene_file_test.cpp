@@ -62,6 +62,33 @@ rays = 1000
 max_bounces = 1
 )";
 
+// A reflector's finish and the direct light read as written and round-trip; their
+// defaults are the paper's perfect mirror without direct light.
+TEST(SceneFile, AMaterialAndDirectLightReadAndRoundTrip) {
+    const std::string head = R"([source]
+type = "point"
+center_mm = [0.0, 0.0, -2.0]
+flux_lm = 100.0
+)";
+    const Scene plain = parse_scene(head + kAfterSource, "plain.toml");
+    EXPECT_EQ(plain.reflector.material.reflectance, 1.0);
+    EXPECT_EQ(plain.reflector.material.spread_deg, 0.0);
+    EXPECT_EQ(plain.trace.direct, DirectLight::Exclude);
+    const Scene s = parse_scene(head + kAfterSource + R"(direct = "include"
+[reflector.material]
+reflectance = 0.88
+spread_deg = 1.5
+lobe = "phong"
+)",
+                                "finished.toml");
+    EXPECT_EQ(s.reflector.material.reflectance, 0.88);
+    EXPECT_EQ(s.reflector.material.spread_deg, 1.5);
+    EXPECT_EQ(s.reflector.material.lobe, SpreadLobe::Phong);
+    EXPECT_EQ(s.trace.direct, DirectLight::Include);
+    EXPECT_EQ(parse_scene(scene_to_toml(s), "finished.toml"), s);
+    EXPECT_EQ(parse_scene(scene_to_toml(plain), "plain.toml"), plain);
+}
+
 // A disk and a rectangle, tilted and turned, read as written and round-trip; a normal and
 // an x_axis not of unit length are made unit, the x_axis perpendicular to the normal.
 TEST(SceneFile, DiskAndRectangleSourcesReadTheirFrameAndRoundTrip) {
@@ -239,6 +266,18 @@ INSTANTIATE_TEST_SUITE_P(
                 "zz: is not a parameter"},
         BadCase{"max_bounces = 2", "max_bounces = 2\n[target]\nseed = 4", "give either parameters"},
         BadCase{"[trace]", "[trace]\n[trace]", "redefine existing table 'trace'"},
+        BadCase{"[trace]", "[reflector.material]\nreflectance = 1.2\n[trace]",
+                "bad.toml:21: [reflector.material] reflectance: must be between 0 and 1"},
+        BadCase{"[trace]", "[reflector.material]\nspread_deg = -1\n[trace]",
+                "[reflector.material] spread_deg: must be between 0 and 30 degrees"},
+        BadCase{"[trace]", "[reflector.material]\nspread_deg = 45.0\n[trace]",
+                "spread_deg: must be between 0 and 30 degrees"},
+        BadCase{"[trace]", "[reflector.material]\nlobe = \"lambert\"\n[trace]",
+                "[reflector.material] lobe: must be one of: gaussian, phong"},
+        BadCase{"[trace]", "[reflector.material]\nroughness = 0.1\n[trace]",
+                "[reflector.material] roughness: unknown key"},
+        BadCase{"max_bounces = 2", "max_bounces = 2\ndirect = \"both\"",
+                "[trace] direct: must be one of: exclude, include"},
         BadCase{"fx = 3.0", "fx = 3.0 3.0", "bad.toml:13"}));
 
 // A B-spline whose every control height is freed by one line: bad values of heights_mm

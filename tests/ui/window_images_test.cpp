@@ -40,20 +40,34 @@ TEST(WindowedSession, AParameterChangeChangesTheFarFieldShown) {
     EXPECT_LT(region_difference(before, after, wa, ha, 0.01, 0.70, 0.22, 0.99), 0.5);
 }
 
+// Each screenshot of a session (same size) shows another far field in the panel than the
+// one before it.
+void expect_each_far_field_changed(const std::vector<std::string>& shots) {
+    int w0 = 0, h0 = 0;
+    std::vector<std::uint8_t> before = plot::read_png_rgba(shots[0], w0, h0);
+    for (std::size_t k = 1; k < shots.size(); ++k) {
+        int w = 0, h = 0;
+        std::vector<std::uint8_t> after = plot::read_png_rgba(shots[k], w, h);
+        ASSERT_EQ(w, w0);
+        ASSERT_EQ(h, h0);
+        EXPECT_GT(region_difference(before, after, w0, h0, 0.66, 0.08, 0.99, 0.58), 2.0)
+            << shots[k];
+        before = std::move(after);
+    }
+}
+
 // After tests/ui/change_source.fird: the LED die, a tilted disk and an IES file's
 // distribution each give another far field in the panel.
 TEST(WindowedSession, AChangedSourceChangesTheFarFieldShown) {
-    int w[3] = {}, h[3] = {};
-    const std::vector<std::uint8_t> shot[3] = {
-        plot::read_png_rgba("ui_source_die.png", w[0], h[0]),
-        plot::read_png_rgba("ui_source_disk.png", w[1], h[1]),
-        plot::read_png_rgba("ui_source_photometric.png", w[2], h[2])};
-    for (int k = 1; k < 3; ++k) {
-        ASSERT_EQ(w[k], w[0]);
-        ASSERT_EQ(h[k], h[0]);
-        EXPECT_GT(region_difference(shot[k - 1], shot[k], w[0], h[0], 0.66, 0.08, 0.99, 0.58), 2.0)
-            << "shot " << k;
-    }
+    expect_each_far_field_changed(
+        {"ui_source_die.png", "ui_source_disk.png", "ui_source_photometric.png"});
+}
+
+// After tests/ui/change_material.fird: a spread lobe, then the direct light binned, each
+// give another far field in the panel.
+TEST(WindowedSession, AChangedMaterialChangesTheFarFieldShown) {
+    expect_each_far_field_changed(
+        {"ui_material_mirror.png", "ui_material_spread.png", "ui_material_direct.png"});
 }
 
 // The panel layout (its splits) is saved with the settings in the config directory when
