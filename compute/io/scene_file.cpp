@@ -4,6 +4,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <set>
 #include <sstream>
 
@@ -13,6 +14,7 @@
 #include <glm/geometric.hpp>
 
 #include "model/emission_table.hpp"
+#include "model/ray_file_source.hpp"
 #include "model/source.hpp"
 #include "model/source_clearance.hpp"
 #include "model/surface.hpp"
@@ -188,12 +190,49 @@ void read_emitter_frame(const TableReader& t, SourceDesc& s) {
     s.x_axis = made_unit(across);
 }
 
-SourceDesc read_source(const TableReader& t, const std::string& scene_path) {
+// A ray file source: its file indexed (read through once), its frame, its flux (the file's
+// unless flux_lm rescales it) and `subsample`, returned: the fraction of the file's rays
+// emitted where [trace] sets no rays.
+void read_ray_file_source(const TableReader& t, const std::string& scene_path, SourceDesc& s,
+                          std::optional<double>& subsample) {
+    t.allow_only(
+        {"optimize", "type", "center_mm", "normal", "x_axis", "file", "subsample", "flux_lm"});
+    s.kind = SourceKind::RayFile;
+    read_emitter_frame(t, s);
+    if (t.has("subsample")) {
+        subsample = t.number("subsample");
+        if (!(*subsample > 0.0 && *subsample <= 1.0))
+            t.fail(t.find("subsample"), "subsample", "must be > 0 and <= 1");
+    }
+    s.file = t.text("file");
+    s.resolved_path = resolve_beside(scene_path, s.file);
+    try {
+        s.ray_file.index = index_ray_file(s.resolved_path);
+    } catch (const std::exception& e) {
+        t.fail(t.find("file"), "file", e.what());
+    }
+    if (t.has("flux_lm")) {
+        s.flux_lm = t.positive("flux_lm");
+    } else if (std::isfinite(s.ray_file.index->file_flux_lm)) {
+        s.flux_lm = s.ray_file.index->file_flux_lm;
+    } else {
+        t.fail(t.find("file"), "flux_lm",
+               "the ray file gives no luminous flux (no lumens per ray, none in a header): "
+               "give flux_lm");
+    }
+}
+
+SourceDesc read_source(const TableReader& t, const std::string& scene_path,
+                       std::optional<double>& subsample) {
     SourceDesc s;
-    const std::string type =
-        t.choice("type", {"cylinder", "sphere", "point", "disk", "rectangle", "photometric"}, "");
+    const std::string type = t.choice(
+        "type", {"cylinder", "sphere", "point", "disk", "rectangle", "photometric", "rayfile"}, "");
     if (type.empty()) t.need("type");
     s.center_mm = t.vec3("center_mm");
+    if (type == "rayfile") {
+        read_ray_file_source(t, scene_path, s, subsample);
+        return s;
+    }
     if (type == "photometric") {
         // The file's own flux unless flux_lm rescales it (its distribution is kept).
         t.allow_only(
@@ -470,11 +509,21 @@ ToleranceDesc read_tolerance(const TableReader& t, const SourceDesc& source) {
     return d;
 }
 
-TraceSettings read_trace(const TableReader& t) {
+// `file_rays`: a ray file source's emission count where `rays` is not given (its rays
+// times its subsample); `subsample_given`: the source set subsample, so rays may not.
+TraceSettings read_trace(const TableReader& t, std::optional<std::uint64_t> file_rays,
+                         bool subsample_given) {
     t.allow_only({"rays", "seed", "max_bounces", "bounce_policy", "sampler", "hit_mode", "direct",
                   "heightfield", "farfield"});
     TraceSettings s;
-    s.rays = std::uint64_t(t.integer("rays", 1, 10'000'000'000));
+    if (file_rays && !t.has("rays"))
+        s.rays = *file_rays;
+    else
+        s.rays = std::uint64_t(t.integer("rays", 1, 10'000'000'000));
+    if (subsample_given && t.has("rays"))
+        t.fail(t.find("rays"), "rays",
+               "a ray file source with subsample emits that share of its rays: give rays or "
+               "[source] subsample, not both");
     s.seed = std::uint64_t(t.has("seed") ? t.integer("seed", 0, INT64_MAX) : 1);
     s.max_bounces = std::uint32_t(t.integer("max_bounces", 1, 64));
     s.bounce_policy = t.choice("bounce_policy", {"paper", "strict"}, "paper") == "strict"
@@ -582,12 +631,16 @@ Scene parse_scene(const std::string& text, const std::string& path) {
     Scene s;
     s.path = path;
     s.name = top.has("name") ? top.text("name") : std::filesystem::path(path).stem().string();
-    s.source = read_source(top.sub("source"), path);
+    std::optional<double> subsample;
+    s.source = read_source(top.sub("source"), path, subsample);
     if (top.sub("source").has("optimize"))
         s.source_optimize = read_source_optimize(top.sub("source").sub("optimize"), s.source);
     s.holder = read_holder(top.sub("holder"));
     s.reflector = read_reflector(top.sub("reflector"), path);
-    s.trace = read_trace(top.sub("trace"));
+    std::optional<std::uint64_t> file_rays;
+    if (s.source.kind == SourceKind::RayFile)
+        file_rays = subsampled_rays(*s.source.ray_file.index, subsample.value_or(1.0));
+    s.trace = read_trace(top.sub("trace"), file_rays, subsample.has_value());
     if (top.has("target")) s.target = read_target(top.sub("target"), s.reflector, s.trace, path);
     if (top.has("optimize")) s.optimize = read_optimize(top.sub("optimize"));
     if (top.has("tolerance")) s.tolerance = read_tolerance(top.sub("tolerance"), s.source);
@@ -631,11 +684,13 @@ std::string scene_to_toml(const Scene& s) {
         source.insert("length_mm", s.source.length_mm);
     }
     if (s.source.kind == SourceKind::Disk || s.source.kind == SourceKind::Rectangle ||
-        s.source.kind == SourceKind::Photometric) {
+        s.source.kind == SourceKind::Photometric || s.source.kind == SourceKind::RayFile) {
         source.insert("normal", vec(s.source.axis));
         source.insert("x_axis", vec(s.source.x_axis));
     }
-    if (s.source.kind == SourceKind::Photometric) {
+    if (s.source.kind == SourceKind::RayFile) {
+        source.insert("file", s.source.file); // [trace] rays says how many it emits
+    } else if (s.source.kind == SourceKind::Photometric) {
         source.insert("file", s.source.file);
         if (s.source.radius_mm > 0.0) source.insert("radius_mm", s.source.radius_mm);
     } else if (s.source.kind == SourceKind::Rectangle)

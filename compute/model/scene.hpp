@@ -12,7 +12,7 @@
 
 namespace fird {
 
-enum class SourceKind { Cylinder, Sphere, Point, Disk, Rectangle, Photometric };
+enum class SourceKind { Cylinder, Sphere, Point, Disk, Rectangle, Photometric, RayFile };
 
 // A photometric emitter's sampling table (model/emission_table.hpp, read by
 // shaders/emitter.h), shared by the copies of a scene; equal where the tables are.
@@ -26,6 +26,16 @@ struct EmissionTable {
     }
 };
 enum class Emittance { Cosine, Isotropic };
+
+// A ray file's index (model/ray_file_source.hpp: its layout, weights and extent), built
+// once when the scene is read and shared by the copies of a scene. The file it indexes is
+// SourceDesc::resolved_path, which the scenes' comparison covers; so two reads of one file
+// compare equal.
+struct RayFileIndex;
+struct RayFileHandle {
+    std::shared_ptr<const RayFileIndex> index;
+    bool operator==(const RayFileHandle& o) const { return !index == !o.index; }
+};
 
 struct SourceDesc {
     SourceKind kind = SourceKind::Point;
@@ -43,9 +53,10 @@ struct SourceDesc {
     double height_mm = 0.0; // rectangle, along axis x x_axis
     Emittance emittance = Emittance::Cosine;
     double flux_lm = 1100.0;
-    std::string file;          // photometric: the IES / LDT file as written in the scene
+    std::string file;          // photometric, ray file: the file as written in the scene
     std::string resolved_path; // ... and found beside the scene
-    EmissionTable table;       // ... its distribution, to sample
+    EmissionTable table;       // photometric: its distribution, to sample
+    RayFileHandle ray_file;    // ray file: its index (the rays are read as they are traced)
     bool operator==(const SourceDesc&) const = default;
 };
 

@@ -219,6 +219,9 @@ std::string best_scene_toml(const Scene& scene, const SearchResult& r) {
         best.reflector.mesh.file = fs::absolute(best.reflector.mesh.resolved_path).string();
     if (!best.target.file.empty())
         best.target.file = fs::absolute(best.target.resolved_path).string();
+    // A photometric source's or a ray file's file, found from the output folder too.
+    if (!best.source.file.empty())
+        best.source.file = fs::absolute(best.source.resolved_path).string();
     std::string text = fmt::format(
         "# {}: the best reflector of fird optimize ({}, l2 {:.6g} lm at evaluation {})\n",
         scene.name, r.method, r.best_l2_lm, r.best ? *r.best : 0);

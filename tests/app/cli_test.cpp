@@ -16,6 +16,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "io/ray_files_fixture.hpp"
 #include "io/scene_file.hpp"
 #include "run_fird.hpp"
 
@@ -500,6 +501,29 @@ TEST(CliOptimize, JsonHasTheContractKeysAndOutHasTheFiles) {
     // best.toml traces as it is, from anywhere, and gives the best reflector.
     const auto t = run("trace " + dir + "/best.toml --json --rays 1000");
     EXPECT_EQ(t.code, 0) << t.out;
+}
+
+// A ray file source (the writer's, beside its scene): a search over it runs, and its
+// best.toml finds the ray file from the output folder (written absolute).
+TEST(CliOptimize, ARayFileScenesBestTomlTracesFromItsOutputFolder) {
+    const fird::test::RayFiles& files = fird::test::ray_files();
+    std::ifstream in(std::string(FIRD_SOURCE_DIR) + "/scenes/led_die.toml");
+    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    text = text.substr(0, text.find("[source]")) +
+           "[source]\ntype = \"rayfile\"\nfile = \"disk.tm25ray\"\ncenter_mm = [0.0, 0.0, "
+           "0.0]\nnormal = [0.0, 0.0, -1.0]\n\n" +
+           text.substr(text.find("[holder]"));
+    const std::string scene = files("led_ray_file.toml");
+    std::ofstream(scene) << text;
+    const std::string dir = ::testing::TempDir() + "/fird_optimize_ray_file";
+    std::filesystem::remove_all(dir);
+    const auto r =
+        run("optimize " + scene + " --method bobyqa --max-evals 3 --rays 5e4 --out " + dir);
+    ASSERT_EQ(r.code, 0) << r.out;
+    const auto t = run("trace " + dir + "/best.toml --json --rays 1000");
+    ASSERT_EQ(t.code, 0) << t.out;
+    const auto j = nlohmann::json::parse(t.out.substr(t.out.find('{')));
+    EXPECT_EQ(j["energy_emitted_lm"].get<double>(), 100.0) << "the file's header lumens";
 }
 
 TEST(CliOptimize, BadOptionsAreUsageErrorsAndAMissingBoxIsRefused) {
