@@ -71,7 +71,7 @@ TracedScene trace_for_views(const vk::Context& ctx, const Scene& input, const Tr
     std::vector<Ray> rays;
     for (const std::uint64_t i : indices)
         rays.push_back(emit_ray(s.source, s.trace.sampler, s.trace.seed, i, t.rayset_rays));
-    v.paths = t.evaluator->trace_paths(rays);
+    v.paths = t.evaluator->trace_paths(rays, &indices);
     for (std::size_t k = 0; k < v.paths.size(); ++k)
         v.paths[k].ray_index = indices[k];
     if (o.pick) {

@@ -20,14 +20,16 @@ namespace fird::ui {
 void start_search(Frame& f, SearchMethod method) {
     WorkbenchState& s = f.state;
     if (!s.editor.scene) return add_log(s, "error: open a scene before optimizing");
-    if (s.editor.scene->reflector.optimize.empty() ||
+    if ((s.editor.scene->reflector.optimize.empty() && s.editor.scene->source_optimize.empty()) ||
         s.editor.scene->target.kind == TargetDesc::Kind::None)
-        return add_log(s, "error: the scene needs [reflector.optimize] and a [target] to optimize");
+        return add_log(s, "error: the scene needs [reflector.optimize] (or [source.optimize]) and "
+                          "a [target] to optimize");
     const std::string out = new_run_folder(s, "optimize");
     if (out.empty()) return; // the error is in the log
     f.worker.submit(SearchJob{.scene = edited_scene(s), .method = method, .out_dir = out});
     s.search = {.scene_path = s.editor.path,
                 .start = s.editor.parameters,
+                .start_source = s.editor.scene->source,
                 .running = true,
                 .generation = f.worker.search().generation,
                 .started_s = ImGui::GetTime()};
@@ -65,8 +67,11 @@ void put_on_sliders(WorkbenchState& s, const std::map<std::string, double>& valu
         else if (auto it = s.editor.parameters.find(name); it != s.editor.parameters.end())
             it->second = value;
     }
-    if (!source.empty() && s.editor.scene)
-        (void)set_source(s, moved_source(s.editor.scene->source, source));
+    // Applied to the source the search started from (its tilts are relative to it); with
+    // no source values (revert to start) that source itself.
+    if (s.search.start_source && s.editor.scene && !s.editor.scene->source_optimize.empty())
+        (void)set_source(s, source.empty() ? *s.search.start_source
+                                           : moved_source(*s.search.start_source, source));
     s.editor.dirty = true;
 }
 

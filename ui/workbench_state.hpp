@@ -100,6 +100,9 @@ struct ScriptedMouse {
 struct SearchFollow {
     std::string scene_path;              // the scene it searched (its results are that scene's)
     std::map<std::string, double> start; // the sliders when it started ("revert to start")
+    // The source when it started: [source.optimize]'s values (its tilts are relative to
+    // this orientation) are applied to it, never to the source shown.
+    std::optional<SourceDesc> start_source;
     bool running = false;                // started and not yet seen to end
     std::uint64_t generation = 0;        // the worker's search generation before it started
     double started_s = 0.0;              // ImGui time at its start (what the panel shows)

@@ -10,6 +10,7 @@
 
 #include "evaluation/desired_farfield.hpp"
 #include "evaluation/evaluator.hpp"
+#include "model/design_parameters.hpp"
 #include "optimize/parameter_space.hpp"
 #include "optimize/search.hpp"
 
@@ -234,6 +235,17 @@ SemivariogramResult calibrate_semivariogram(const vk::Context& ctx, const Scene&
             "--points {}: a semivariogram needs at least 3 points along the parameter", o.points));
     if (o.rays == 0) throw std::invalid_argument("--rays must be at least 1");
     std::vector<std::string> names = o.parameters.empty() ? space.names : o.parameters;
+    // The semivariogram moves reflector parameters; the source's place is not calibrated.
+    std::erase_if(names, [&](const std::string& n) {
+        if (!is_source_parameter(n)) return false;
+        if (!o.parameters.empty())
+            throw std::invalid_argument(fmt::format(
+                "--parameter {}: the source's place ([source.optimize]) is not calibrated", n));
+        return true;
+    });
+    if (names.empty())
+        throw std::invalid_argument(fmt::format(
+            "{}: no reflector parameter to calibrate ([source.optimize]'s are not)", scene.path));
     for (const std::string& n : names)
         if (std::find(space.names.begin(), space.names.end(), n) == space.names.end())
             throw std::invalid_argument(

@@ -112,8 +112,10 @@ class Evaluator {
     std::vector<glm::vec2> read_gradients() { return fast().read_gradients(); }
     void set_count_texel_hits(bool on) { fast().set_count_texel_hits(on); }
     TexelHits read_texel_hits() const { return fast().read_texel_hits(); }
-    std::vector<RayPath> trace_paths(const std::vector<Ray>& rays) {
-        return fast().trace_paths(rays);
+    // `indices`: the rays' emission indices (their finish's draws), else 0, 1, ...
+    std::vector<RayPath> trace_paths(const std::vector<Ray>& rays,
+                                     const std::vector<std::uint64_t>* indices = nullptr) {
+        return fast().trace_paths(rays, 0, nullptr, 0, indices);
     }
     // Ray `index` of `scene`'s rayset, its path and its walk (picked_ray.hpp).
     PickedRay pick_ray(const Scene& scene, std::uint64_t index) {

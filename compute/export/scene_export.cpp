@@ -95,7 +95,13 @@ ExportReport export_scene(const vk::Context& ctx, const Scene& input, const Expo
     const std::vector<float> tree = ev.read_quadtree();
     const std::vector<glm::vec2> gradients = ev.read_gradients();
     const std::vector<float> heights(tree.begin(), tree.begin() + std::ptrdiff_t(hits.all.size()));
-    const auto paths = ev.trace_paths(sample_effective_rays(scene, o.paths));
+    // The sampled rays under their rayset indices (a finish's draws are keyed on them).
+    const std::vector<std::uint64_t> indices = sample_effective_ray_indices(scene, o.paths);
+    std::vector<Ray> sampled;
+    for (const std::uint64_t i : indices)
+        sampled.push_back(
+            emit_ray(scene.source, scene.trace.sampler, scene.trace.seed, i, scene.trace.rays));
+    const auto paths = ev.trace_paths(sampled, &indices);
 
     const auto write = [&](const std::string& name, vtkDataObject* data) {
         report.files.push_back({name, vtkio::write_dataset((fs::path(dir) / name).string(), data)});

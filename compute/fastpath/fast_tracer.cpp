@@ -193,6 +193,11 @@ void FastTracer::set_source(const SourceDesc& source) {
                                     "another tracer");
     scene_.source = source;
     set_seed(std::uint64_t(params_.seed_lo) | (std::uint64_t(params_.seed_hi) << 32));
+    // The walk's start level (walk_start.comp) depends on the source's box: made again
+    // with the height field's passes.
+    current_.heightfield_dirty = true;
+    for (ReflectorState& s : batch_states_)
+        s.heightfield_dirty = true;
 }
 
 void FastTracer::set_seed(std::uint64_t seed) {

@@ -137,11 +137,13 @@ class FastTracer {
     // trace pass; the run's far field and counters are left as they are. With `walk`,
     // the trace also records ray `pick`'s walk, step by step (a pipeline variant that
     // records; at most kWalkCapacity steps per bounce).
-    // The rays' emission indices are first_index, first_index + 1, ... (the finish's
-    // draws are keyed on them: material.h).
+    // The rays' emission indices (the finish's draws are keyed on them: material.h) are
+    // `indices` where given (one per ray, below 2^32 as every fast-path rayset's), else
+    // first_index, first_index + 1, ...
     std::vector<RayPath> trace_paths(const std::vector<Ray>& rays, std::size_t pick = 0,
                                      std::vector<WalkStep>* walk = nullptr,
-                                     std::uint64_t first_index = 0);
+                                     std::uint64_t first_index = 0,
+                                     const std::vector<std::uint64_t>* indices = nullptr);
 
     // The rayset of the last run() as traced (ordered by direction), when it was kept
     // (it fits the cache budget); for tests and views of the rays.

@@ -109,8 +109,13 @@ TexelHits FastTracer::read_texel_hits() const {
 }
 
 std::vector<RayPath> FastTracer::trace_paths(const std::vector<Ray>& rays, std::size_t pick,
-                                             std::vector<WalkStep>* walk,
-                                             std::uint64_t first_index) {
+                                             std::vector<WalkStep>* walk, std::uint64_t first_index,
+                                             const std::vector<std::uint64_t>* indices) {
+    if (indices && (indices->size() != rays.size() ||
+                    std::any_of(indices->begin(), indices->end(),
+                                [](std::uint64_t i) { return i >> 32 != 0; })))
+        throw std::invalid_argument("trace_paths: one index below 2^32 per ray");
+    if (indices) first_index = 0; // each ray's own index, its high word 0
     if (!current_.reflector) throw std::logic_error("FastTracer::trace_paths: no reflector set");
     if (rays.size() > batch_capacity_)
         throw std::invalid_argument("trace_paths: more rays than one batch holds");
@@ -165,7 +170,7 @@ std::vector<RayPath> FastTracer::trace_paths(const std::vector<Ray>& rays, std::
                 packed[k * 8 + c] = l.origin[c];
                 packed[k * 8 + 4 + c] = l.direction[c];
             }
-            const auto index = std::uint32_t(first_index + l.path);
+            const auto index = std::uint32_t(indices ? (*indices)[l.path] : first_index + l.path);
             std::memcpy(&packed[k * 8 + 3], &index, 4);
             if (bounce > 0) {
                 const std::uint32_t texel_bits =

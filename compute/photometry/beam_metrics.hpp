@@ -13,8 +13,8 @@ struct BeamMetrics {
     // an enormous intensity.
     double peak_cd = 0.0;
     // The full angle of the cone about the zenith out to the last polar angle where the
-    // azimuth-averaged intensity is at least half its largest value (linear between rows;
-    // for a batwing, its outer half-maximum edge).
+    // azimuth-averaged intensity, over bands of about 1 degree, is at least half its
+    // largest value (linear between band centres; for a batwing, its outer edge).
     double beam_angle_deg = 0.0;
 };
 

@@ -129,8 +129,10 @@ StressResult run_stress_case(const vk::Context& ctx, const StressCase& c) {
         for (const glm::dvec3& v : paths[i].vertices)
             if (!finite(v)) ++r.nonfinite;
         std::vector<glm::dvec3> ref_vertices;
+        // The finish's draws of ray i (trace_paths keys ray i on index i).
+        const RayFinish finish{.material = s.reflector.material, .seed = s.trace.seed, .index = i};
         const PathResult ref = trace_path(surface, s.holder, rays[i], s.trace.max_bounces,
-                                          s.trace.bounce_policy, &ref_vertices);
+                                          s.trace.bounce_policy, &ref_vertices, &finish);
         if (ref.fate == RayFate::Lost || ref.fate == RayFate::BelowSurface) continue;
         // vertices: the origin, then hit k at [k] (the fast path's and the reference's).
         if (paths[i].reflections > ref.reflections) {

@@ -15,6 +15,7 @@ namespace fird {
 namespace {
 constexpr int kFeatures = 64;
 constexpr std::uint32_t kSurfaceStream = 20100;
+constexpr int kMaxVertices = 801; // per side of the mesh
 } // namespace
 
 double SurfaceError::at(double x, double y) const {
@@ -44,9 +45,21 @@ PerturbedMesh perturbed_mesh(const Scene& scene, const SurfaceError& error, doub
     const Surface surface = Surface::make(scene.reflector, scene.holder);
     const Holder& h = scene.holder;
     const glm::dvec3 size = h.max_mm - h.min_mm;
-    const double spacing = std::min(correlation_mm / 4.0, std::max(size.x, size.y) / 200.0);
-    const int nx = std::clamp(int(std::ceil(size.x / spacing)) + 1, 2, 801);
-    const int ny = std::clamp(int(std::ceil(size.y / spacing)) + 1, 2, 801);
+    const double spacing = std::min(correlation_mm / 4.0, std::min(size.x, size.y) / 200.0);
+    const int nx = std::clamp(int(std::ceil(size.x / spacing)) + 1, 2, kMaxVertices);
+    const int ny = std::clamp(int(std::ceil(size.y / spacing)) + 1, 2, kMaxVertices);
+    // Too fine an error for the mesh, or for the height field the fast path traces it on,
+    // would be traced smoothed away: refused, naming what resolves it.
+    const double mesh_mm = std::max(size.x / (nx - 1), size.y / (ny - 1));
+    const double texel_mm =
+        std::max(size.x / scene.trace.heightfield_w, size.y / scene.trace.heightfield_h);
+    if (mesh_mm > correlation_mm / 4.0 * (1.0 + 1e-9) || texel_mm > correlation_mm / 4.0)
+        throw std::invalid_argument(fmt::format(
+            "surface correlation length {} mm: below what this holder's mesh ({} vertices a "
+            "side at most) and height field ({:.4g} mm texels) resolve at 4 points per length: "
+            "use at least {:.4g} mm, or a finer [trace] heightfield",
+            correlation_mm, kMaxVertices, texel_mm,
+            4.0 * std::max(std::max(size.x, size.y) / (kMaxVertices - 1), texel_mm)));
     std::string obj = fmt::format("# fird tolerance: the reflector with a random surface error "
                                   "({:.4g} mm RMS)\n",
                                   error.rms_mm);
@@ -55,9 +68,9 @@ PerturbedMesh perturbed_mesh(const Scene& scene, const SurfaceError& error, doub
         for (int i = 0; i < nx; ++i) {
             const double x = h.min_mm.x + size.x * i / (nx - 1);
             const double y = h.min_mm.y + size.y * j / (ny - 1);
-            const double dz = error.at(x, y);
-            sum2 += dz * dz;
-            const double z = std::clamp(surface.height(x, y) + dz, h.min_mm.z, h.max_mm.z);
+            const double base = surface.height(x, y);
+            const double z = std::clamp(base + error.at(x, y), h.min_mm.z, h.max_mm.z);
+            sum2 += (z - base) * (z - base); // the error as traced: after the clamp
             obj += fmt::format("v {:.9g} {:.9g} {:.9g}\n", x, y, z);
         }
     for (int j = 0; j + 1 < ny; ++j)

@@ -32,8 +32,10 @@ struct PerturbedMesh {
 
 // The scene's reflector (clamped to the holder) plus the error, sampled on a vertex grid
 // over the holder's footprint fine enough for the error (4 vertices per correlation
-// length, and at least 200 across), clamped again, written to `path` as an OBJ height
-// field that both tracers read as the mesh family (the material kept).
+// length, and at least 200 along each side; at most 801), clamped again, written to `path`
+// as an OBJ height field that both tracers read as the mesh family (the material kept).
+// Throws std::invalid_argument where the mesh or the scene's height field would not
+// resolve the correlation length. `rms_mm`: the error as traced (after the clamp).
 PerturbedMesh perturbed_mesh(const Scene& scene, const SurfaceError& error, double correlation_mm,
                              const std::string& path);
 

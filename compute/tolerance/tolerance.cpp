@@ -13,6 +13,7 @@
 #include "evaluation/desired_farfield.hpp"
 #include "io/atomic_file.hpp"
 #include "model/design_parameters.hpp"
+#include "optimize/parameter_space.hpp"
 #include "photometry/beam_metrics.hpp"
 #include "plot/chart.hpp"
 #include "sampling/philox.hpp"
@@ -86,7 +87,7 @@ std::vector<double> metric(const std::vector<RealisationResult>& rows, const std
                            double (*get)(const RealisationResult&)) {
     std::vector<double> v;
     for (const RealisationResult& r : rows)
-        if (r.kind == kind) v.push_back(get(r));
+        if (r.kind == kind && r.feasible) v.push_back(get(r));
     return v;
 }
 
@@ -158,8 +159,8 @@ ToleranceResult run_tolerance(const vk::Context& ctx, const Scene& scene, const 
     if (tol.realisations == 0)
         throw std::invalid_argument("--realisations: at least one realisation is needed");
     if (tol.source_tilt_deg > 0.0 && !has_axis(scene.source))
-        throw std::invalid_argument(fmt::format(
-            "source tilt: a {} source has no axis to tilt", source_type_name(scene.source.kind)));
+        throw std::invalid_argument(fmt::format("source tilt: a {} source has no axis to tilt",
+                                                source_type_name(scene.source.kind)));
     ToleranceResult out;
     out.tolerances = tol;
     out.seed = run.seed;
@@ -183,31 +184,40 @@ ToleranceResult run_tolerance(const vk::Context& ctx, const Scene& scene, const 
     const auto evaluate = [&](const std::string& kind, std::uint64_t r, const ToleranceDraw& d) {
         RealisationResult row{.kind = kind, .realisation = r, .draw = d};
         const Scene s = perturbed_scene(scene, tol, d, run.seed, r, mesh_path, row.surface_rms_mm);
+        row.feasible = candidate_feasibility(s, s.reflector).feasible;
         Evaluator ev(ctx, s, scene_fidelity(s), run.backend);
         if (desired) ev.set_desired(*desired);
         const CandidateResult result = ev.evaluate(s.reflector);
         row.l2_lm = result.l2_lm;
         row.efficiency = result.farfield_lm / s.source.flux_lm;
-        const BeamMetrics beam = beam_metrics(ev.farfield());
+        FarField farfield = ev.farfield();
+        const BeamMetrics beam = beam_metrics(farfield);
         row.peak_cd = beam.peak_cd;
         row.beam_angle_deg = beam.beam_angle_deg;
         if (run.progress) run.progress(row, ++done, total);
-        return row;
+        return std::pair{row, std::move(farfield)};
     };
-    // The desired far field: the scene's own target (a reflector traced as written, or a
-    // luminaire file scaled to the nominal luminaire's flux), then the nominal luminaire.
+    // The nominal luminaire (traced as every realisation is), then the desired far field:
+    // the scene's own target (a reflector traced as written, or a luminaire file scaled to
+    // the nominal luminaire's flux).
+    const auto [nominal, nominal_farfield] =
+        evaluate("nominal", 0, draw_tolerances(ToleranceDesc{}, scene, run.seed, 0));
+    out.nominal = nominal;
     if (scene.target.kind != TargetDesc::Kind::None) {
-        Evaluator ev(ctx, scene, scene_fidelity(scene), run.backend);
-        const double flux_lm = ev.evaluate(scene.reflector).farfield_lm;
-        desired = desired_farfield(ctx, scene, flux_lm, run.backend).farfield;
+        desired =
+            desired_farfield(ctx, scene, nominal.efficiency * scene.source.flux_lm, run.backend)
+                .farfield;
+        out.nominal.l2_lm = l2_distance(nominal_farfield, *desired);
     }
-    out.nominal = evaluate("nominal", 0, draw_tolerances(ToleranceDesc{}, scene, run.seed, 0));
     for (std::uint64_t r = 0; r < tol.realisations; ++r)
-        out.rows.push_back(evaluate("joint", r, draw_tolerances(tol, scene, run.seed, r)));
+        out.rows.push_back(evaluate("joint", r, draw_tolerances(tol, scene, run.seed, r)).first);
     for (const std::string& name : out.active)
         for (std::uint64_t r = 0; r < tol.realisations; ++r)
-            out.rows.push_back(evaluate(name, r, draw_tolerances(tol, scene, run.seed, r, name)));
+            out.rows.push_back(
+                evaluate(name, r, draw_tolerances(tol, scene, run.seed, r, name)).first);
     out.ranked_by = desired ? "l2" : "efficiency";
+    for (const RealisationResult& row : out.rows)
+        out.infeasible += row.feasible ? 0 : 1;
     double widest = -1.0;
     for (const std::string& name : out.active) {
         const Spread s = spread_of(metric(out.rows, name, desired ? get_l2 : get_efficiency));
@@ -247,6 +257,7 @@ nlohmann::json tolerance_json(const ToleranceResult& r) {
     j["most_sensitive"] =
         r.most_sensitive.empty() ? nlohmann::json(nullptr) : nlohmann::json(r.most_sensitive);
     j["ranked_by"] = r.ranked_by;
+    j["infeasible"] = r.infeasible;
     j["time_s"] = r.time_s;
     return j;
 }
@@ -257,18 +268,18 @@ void write_tolerance_outputs(const std::string& dir, const Scene& scene, const T
     const auto path = [&](const char* name) { return (fs::path(dir) / name).string(); };
     std::string csv = "kind,realisation,source_dx_mm,source_dy_mm,source_dz_mm,tilt_x_deg,"
                       "tilt_y_deg,reflectance,surface_rms_mm,l2_lm,efficiency,peak_cd,"
-                      "beam_angle_deg\n";
+                      "beam_angle_deg,feasible\n";
     std::vector<RealisationResult> all{r.nominal};
     all.insert(all.end(), r.rows.begin(), r.rows.end());
     for (const RealisationResult& row : all) {
         const ToleranceDraw& d = row.draw;
         csv += fmt::format("{},{},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{},{:.9g},"
-                           "{:.9g},{:.9g}\n",
+                           "{:.9g},{:.9g},{}\n",
                            row.kind, row.realisation, d.source_shift_mm.x, d.source_shift_mm.y,
                            d.source_shift_mm.z, d.tilt_x_deg, d.tilt_y_deg, d.reflectance,
                            row.surface_rms_mm,
                            row.l2_lm ? fmt::format("{:.9g}", *row.l2_lm) : std::string(),
-                           row.efficiency, row.peak_cd, row.beam_angle_deg);
+                           row.efficiency, row.peak_cd, row.beam_angle_deg, row.feasible ? 1 : 0);
     }
     write_text_file(path("tolerance.csv"), csv);
     write_text_file(path("tolerance.json"), tolerance_json(r).dump(2) + "\n");

@@ -44,6 +44,9 @@ struct RealisationResult {
     double efficiency = 0.0;     // what the far field holds over the source's flux
     double peak_cd = 0.0;
     double beam_angle_deg = 0.0;
+    // The realisation's source stays over the footprint and clear of the surface (the
+    // search's check): else it is traced and listed, but left out of the spreads.
+    bool feasible = true;
 };
 
 struct Spread {
@@ -58,8 +61,9 @@ struct ToleranceResult {
     RealisationResult nominal;
     std::vector<RealisationResult> rows; // joint, then each tolerance's
     std::vector<std::string> active;
-    std::string most_sensitive; // the tolerance whose own runs spread the metric most
-    std::string ranked_by;      // "l2" (with a target) or "efficiency"
+    std::string most_sensitive;   // the tolerance whose own runs spread the metric most
+    std::string ranked_by;        // "l2" (with a target) or "efficiency"
+    std::uint64_t infeasible = 0; // rows left out of the spreads (ToleranceResult::rows)
     double time_s = 0.0;
 };
 
