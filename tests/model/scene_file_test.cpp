@@ -89,6 +89,31 @@ lobe = "phong"
     EXPECT_EQ(parse_scene(scene_to_toml(plain), "plain.toml"), plain);
 }
 
+// The press's constraints read as written, each optional (absent: no limit), and
+// round-trip; a scene without them writes none.
+TEST(SceneFile, ThePresssConstraintsReadAndRoundTrip) {
+    const std::string head = R"([source]
+type = "point"
+center_mm = [0.0, 0.0, -2.0]
+flux_lm = 100.0
+)";
+    const Scene plain = parse_scene(head + kAfterSource, "plain.toml");
+    EXPECT_FALSE(plain.reflector.constraints.any());
+    EXPECT_EQ(scene_to_toml(plain).find("constraints"), std::string::npos);
+    const Scene s = parse_scene(head + kAfterSource + R"([reflector.constraints]
+max_slope_deg = 55.0
+max_depth_mm = 12
+)",
+                                "pressed.toml");
+    EXPECT_EQ(s.reflector.constraints.max_slope_deg, 55.0);
+    EXPECT_FALSE(s.reflector.constraints.min_radius_mm);
+    EXPECT_EQ(s.reflector.constraints.max_depth_mm, 12.0);
+    EXPECT_EQ(parse_scene(scene_to_toml(s), "pressed.toml"), s);
+    Scene all = s;
+    all.reflector.constraints.min_radius_mm = 2.5;
+    EXPECT_EQ(parse_scene(scene_to_toml(all), "all.toml"), all);
+}
+
 // A disk and a rectangle, tilted and turned, read as written and round-trip; a normal and
 // an x_axis not of unit length are made unit, the x_axis perpendicular to the normal.
 TEST(SceneFile, DiskAndRectangleSourcesReadTheirFrameAndRoundTrip) {
@@ -278,6 +303,14 @@ INSTANTIATE_TEST_SUITE_P(
                 "[reflector.material] roughness: unknown key"},
         BadCase{"max_bounces = 2", "max_bounces = 2\ndirect = \"both\"",
                 "[trace] direct: must be one of: exclude, include"},
+        BadCase{"[trace]", "[reflector.constraints]\nmax_slope_deg = 90.0\n[trace]",
+                "bad.toml:21: [reflector.constraints] max_slope_deg: must be between 0 and 90"},
+        BadCase{"[trace]", "[reflector.constraints]\nmin_radius_mm = 0\n[trace]",
+                "bad.toml:21: [reflector.constraints] min_radius_mm: must be > 0"},
+        BadCase{"[trace]", "[reflector.constraints]\nmax_depth_mm = \"deep\"\n[trace]",
+                "[reflector.constraints] max_depth_mm: must be a number"},
+        BadCase{"[trace]", "[reflector.constraints]\nmax_draft = 5.0\n[trace]",
+                "[reflector.constraints] max_draft: unknown key"},
         BadCase{"fx = 3.0", "fx = 3.0 3.0", "bad.toml:13"}));
 
 // A B-spline whose every control height is freed by one line: bad values of heights_mm
