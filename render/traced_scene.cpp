@@ -25,7 +25,7 @@ TracedScene trace_for_views(const vk::Context& ctx, const Scene& input, const Tr
                                                     k, family_name(t.scene.reflector.family)));
         t.scene.reflector.parameters[k] = v;
     }
-    const Feasibility f = candidate_feasibility(t.scene, t.scene.reflector);
+    const Feasibility f = traceable(t.scene, t.scene.reflector);
     if (!f.feasible) throw std::invalid_argument("--parameters: " + f.reason);
     const Scene& s = t.scene;
     t.evaluator = std::make_unique<Evaluator>(ctx, s, scene_fidelity(s));

@@ -48,7 +48,7 @@ std::uint64_t Objective::remaining() const {
 double Objective::penalty(const Feasibility& f) const {
     const double dz = scene_.holder.max_mm.z - scene_.holder.min_mm.z;
     return (stage_desired_norm_lm_ + scene_.source.flux_lm) *
-           (1.0 + std::max(0.0, -f.clearance_mm) / dz);
+           (1.0 + std::max(0.0, -f.clearance_mm) / dz + f.violation);
 }
 
 double Objective::operator()(const std::vector<double>& x) {

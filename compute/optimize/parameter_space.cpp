@@ -3,10 +3,12 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 
 #include <fmt/format.h>
 
+#include "model/press_measures.hpp"
 #include "model/source_clearance.hpp"
 #include "model/surface.hpp"
 
@@ -119,11 +121,15 @@ ParameterSpace parameter_space(const Scene& scene) {
     return s;
 }
 
-Feasibility candidate_feasibility(const Scene& scene, const ReflectorDesc& reflector) {
+namespace {
+
+// Whether the reflector makes a surface clear of the source, and that surface.
+Feasibility traceable(const Scene& scene, const ReflectorDesc& reflector,
+                      std::optional<Surface>& surface) {
     Feasibility f;
     try {
-        const Surface surface = Surface::make(reflector, scene.holder);
-        f.clearance_mm = source_clearance_mm(surface, scene.source);
+        surface.emplace(Surface::make(reflector, scene.holder));
+        f.clearance_mm = source_clearance_mm(*surface, scene.source);
     } catch (const std::invalid_argument& e) {
         f.feasible = false;
         f.clearance_mm = 0.0;
@@ -134,6 +140,31 @@ Feasibility candidate_feasibility(const Scene& scene, const ReflectorDesc& refle
         f.feasible = false;
         f.reason =
             fmt::format("the surface cuts the light source ({:.3g} mm deep)", -f.clearance_mm);
+    }
+    return f;
+}
+
+} // namespace
+
+Feasibility traceable(const Scene& scene, const ReflectorDesc& reflector) {
+    std::optional<Surface> surface;
+    return traceable(scene, reflector, surface);
+}
+
+Feasibility candidate_feasibility(const Scene& scene, const ReflectorDesc& reflector) {
+    std::optional<Surface> surface;
+    Feasibility f = traceable(scene, reflector, surface);
+    if (!f.feasible || !reflector.constraints.any()) return f;
+    for (const ConstraintCheck& c :
+         check_constraints(press_measures(*surface), reflector.constraints)) {
+        if (c.met) continue;
+        f.feasible = false;
+        f.constraint = c.name;
+        f.violation = c.violation;
+        f.reason = fmt::format("[reflector.constraints] {}: the surface measures {:.4g}, beyond "
+                               "the limit {:.4g}",
+                               c.name, c.value, c.limit);
+        break;
     }
     return f;
 }
