@@ -22,6 +22,14 @@ Surface surface(Family family, std::map<std::string, double> parameters, const H
     return Surface::make(r, holder);
 }
 
+// Model B's cup (a 4, b 3, p 4, h 6 about (5, -5) in its holder) with its floor at z0.
+Surface model_b_cup(double z0) {
+    const Holder h{{0.0, -10.0, -6.0}, {10.0, 0.0, 0.0}};
+    return surface(
+        Family::Cup,
+        {{"a", 4.0}, {"b", 3.0}, {"p", 4.0}, {"h", 6.0}, {"z0", z0}, {"cx", 5.0}, {"cy", -5.0}}, h);
+}
+
 // A paraboloid of revolution z = z0 + r^2 / (4 f), its apex at the holder's centre and
 // unclamped everywhere: slope atan(r / 2f); principal curvatures (1/2f) / (1 + (r/2f)^2)^(3/2)
 // along the meridian and (1/2f) / (1 + (r/2f)^2)^(1/2) around it, so the smallest radius
@@ -87,11 +95,7 @@ TEST(PressMeasures, APlanesTiltAreaAndDepthAreExactAndItHasNoCurvature) {
 // Model B's cup with its floor lifted: the depth is from the floor z0 to the holder's top,
 // where the clamp holds the cup's corners.
 TEST(PressMeasures, ACupsDepthIsFromItsFloorToTheClampAtTheTop) {
-    const Holder h{{0.0, -10.0, -6.0}, {10.0, 0.0, 0.0}};
-    const Surface s = surface(
-        Family::Cup,
-        {{"a", 4.0}, {"b", 3.0}, {"p", 4.0}, {"h", 6.0}, {"z0", -5.5}, {"cx", 5.0}, {"cy", -5.0}},
-        h);
+    const Surface s = model_b_cup(-5.5);
     const PressMeasures m = press_measures(s);
     // The floor (5, -5) is a sample of the 513 x 513 grid and the corners are clamped at 0.
     EXPECT_NEAR(m.depth_mm, 5.5, 1e-12);
@@ -133,11 +137,7 @@ TEST(PressMeasures, TheCurvatureByDifferencesOfTheGradientIsTheClosedForm) {
 // the clamp's crease, nowhere near a sample), a coarse grid's extreme plus its reported
 // sampling error still bounds what a grid 16 times finer finds.
 TEST(PressMeasures, TheReportedSamplingErrorBoundsWhatAFinerGridFinds) {
-    const Holder h{{0.0, -10.0, -6.0}, {10.0, 0.0, 0.0}};
-    const Surface s = surface(
-        Family::Cup,
-        {{"a", 4.0}, {"b", 3.0}, {"p", 4.0}, {"h", 6.0}, {"z0", -6.0}, {"cx", 5.0}, {"cy", -5.0}},
-        h);
+    const Surface s = model_b_cup(-6.0);
     const PressMeasures coarse = press_measures(s, 33, 33);
     const PressMeasures fine = press_measures(s, 513, 513);
     EXPECT_GT(coarse.slope_error_deg, 0.0);

@@ -62,19 +62,21 @@ rays = 1000
 max_bounces = 1
 )";
 
-// A reflector's finish and the direct light read as written and round-trip; their
-// defaults are the paper's perfect mirror without direct light.
-TEST(SceneFile, AMaterialAndDirectLightReadAndRoundTrip) {
-    const std::string head = R"([source]
+// A point source's table: the head of a scene whose rest is kAfterSource.
+const std::string kPointSource = R"([source]
 type = "point"
 center_mm = [0.0, 0.0, -2.0]
 flux_lm = 100.0
 )";
-    const Scene plain = parse_scene(head + kAfterSource, "plain.toml");
+
+// A reflector's finish and the direct light read as written and round-trip; their
+// defaults are the paper's perfect mirror without direct light.
+TEST(SceneFile, AMaterialAndDirectLightReadAndRoundTrip) {
+    const Scene plain = parse_scene(kPointSource + kAfterSource, "plain.toml");
     EXPECT_EQ(plain.reflector.material.reflectance, 1.0);
     EXPECT_EQ(plain.reflector.material.spread_deg, 0.0);
     EXPECT_EQ(plain.trace.direct, DirectLight::Exclude);
-    const Scene s = parse_scene(head + kAfterSource + R"(direct = "include"
+    const Scene s = parse_scene(kPointSource + kAfterSource + R"(direct = "include"
 [reflector.material]
 reflectance = 0.88
 spread_deg = 1.5
@@ -92,15 +94,10 @@ lobe = "phong"
 // The press's constraints read as written, each optional (absent: no limit), and
 // round-trip; a scene without them writes none.
 TEST(SceneFile, ThePresssConstraintsReadAndRoundTrip) {
-    const std::string head = R"([source]
-type = "point"
-center_mm = [0.0, 0.0, -2.0]
-flux_lm = 100.0
-)";
-    const Scene plain = parse_scene(head + kAfterSource, "plain.toml");
+    const Scene plain = parse_scene(kPointSource + kAfterSource, "plain.toml");
     EXPECT_FALSE(plain.reflector.constraints.any());
     EXPECT_EQ(scene_to_toml(plain).find("constraints"), std::string::npos);
-    const Scene s = parse_scene(head + kAfterSource + R"([reflector.constraints]
+    const Scene s = parse_scene(kPointSource + kAfterSource + R"([reflector.constraints]
 max_slope_deg = 55.0
 max_depth_mm = 12
 )",
