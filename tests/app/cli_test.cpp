@@ -450,6 +450,26 @@ TEST(CliOptimize, JsonHasTheContractKeysAndOutHasTheFiles) {
     EXPECT_EQ(t.code, 0) << t.out;
 }
 
+// A press's limit nothing in the box meets (the focused paraboloid rises from z0 = -10 to
+// the clamp at 0 for every fx, fy: 10 mm deep): one line naming the key, exit 1, before
+// the device is opened (there is none).
+TEST(CliOptimize, AConstraintNoCandidateMeetsIsRefusedNamingTheKey) {
+    const std::string dir = ::testing::TempDir() + "/fird_optimize_unmeetable";
+    std::filesystem::create_directories(dir);
+    const std::string scene = dir + "/steep.toml";
+    {
+        std::ifstream in(std::string(FIRD_SOURCE_DIR) +
+                         "/scenes/test/focused_paraboloid_search.toml");
+        std::ofstream out(scene);
+        out << in.rdbuf() << "\n[reflector.constraints]\nmax_depth_mm = 5.0\n";
+    }
+    const auto r = run_env("VK_DRIVER_FILES=/nonexistent.json VK_ICD_FILENAMES=/nonexistent.json",
+                           "optimize " + scene);
+    EXPECT_EQ(r.code, 1) << r.out;
+    EXPECT_NE(r.out.find("[reflector.constraints] max_depth_mm = 5:"), std::string::npos) << r.out;
+    EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << r.out;
+}
+
 TEST(CliOptimize, BadOptionsAreUsageErrorsAndAMissingBoxIsRefused) {
     const std::string scene = std::string(FIRD_SOURCE_DIR) + "/scenes/test/mirror_search.toml";
     for (const char* bad : {"--method nope", "--rays 0", "--rays 1e5,x", "--max-evals 0",
