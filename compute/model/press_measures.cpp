@@ -97,6 +97,28 @@ void find_walls(const Surface& surf, const RimSide& side, std::vector<RimWall>& 
     }
 }
 
+// How much higher than `sampled` (the largest sample) the values may rise between samples:
+// within a cell they may exceed its largest corner by up to the spread of its corners (one
+// step's change), so the largest of (largest corner + spread) over the cells, less the
+// sample. Cells with a clamped corner count their unclamped corners. An estimate from the
+// samples (a feature narrower than a cell goes unseen), local to where the extreme can be.
+double missed_by_cells(const std::vector<double>& v, int nx, int ny, double sampled) {
+    double worst = sampled;
+    for (int j = 0; j + 1 < ny; ++j)
+        for (int i = 0; i + 1 < nx; ++i) {
+            double lo = HUGE_VAL, hi = -HUGE_VAL;
+            for (const std::size_t k :
+                 {std::size_t(j) * nx + i, std::size_t(j) * nx + i + 1, std::size_t(j + 1) * nx + i,
+                  std::size_t(j + 1) * nx + i + 1})
+                if (!std::isnan(v[k])) {
+                    lo = std::min(lo, v[k]);
+                    hi = std::max(hi, v[k]);
+                }
+            if (hi >= lo) worst = std::max(worst, hi + (hi - lo));
+        }
+    return worst - sampled;
+}
+
 // The trapezoid rule's weight of sample i of n along an axis.
 double trapezoid(int i, int n) {
     return (i == 0 || i == n - 1) ? 0.5 : 1.0;
@@ -172,19 +194,9 @@ PressMeasures press_measures(const Surface& surface, int nx, int ny, bool with_m
         m.min_radius_mm = 0.0;
     } else if (max_curvature > 0.0)
         m.min_radius_mm = 1.0 / max_curvature;
-    // The sampling error: the largest change between neighbouring unclamped samples.
-    for (int j = 0; j < ny; ++j)
-        for (int i = 0; i < nx; ++i) {
-            const std::size_t k = std::size_t(j) * nx + i;
-            for (const std::size_t n : {k + 1, k + std::size_t(nx)}) {
-                if ((n == k + 1 && i + 1 >= nx) || (n != k + 1 && j + 1 >= ny)) continue;
-                if (!std::isnan(slope[k]) && !std::isnan(slope[n]))
-                    m.slope_error_deg = std::max(m.slope_error_deg, std::abs(slope[k] - slope[n]));
-                if (!std::isnan(curvature[k]) && !std::isnan(curvature[n]))
-                    m.curvature_error_per_mm =
-                        std::max(m.curvature_error_per_mm, std::abs(curvature[k] - curvature[n]));
-            }
-        }
+    m.slope_error_deg = missed_by_cells(slope, nx, ny, m.max_slope_deg);
+    if (!m.kink && max_curvature > 0.0)
+        m.curvature_error_per_mm = missed_by_cells(curvature, nx, ny, max_curvature);
     const glm::dvec2 lo{h.min_mm.x, h.min_mm.y}, hi{h.max_mm.x, h.max_mm.y};
     for (const RimSide& side :
          {RimSide{"y_min", lo, {hi.x, lo.y}, nx}, RimSide{"x_max", {hi.x, lo.y}, hi, ny},

@@ -41,9 +41,9 @@ struct PressMeasures {
     bool any_unclamped = false; // false: the clamp holds the whole surface (a flat part)
     double max_slope_deg = 0.0;
     glm::dvec2 max_slope_at_mm{0.0};
-    // How much steeper the surface may be between samples: the largest change of slope
-    // between neighbouring unclamped samples (one step on; the extreme is within half a
-    // step of a sample along each axis).
+    // How much steeper the surface may be between samples: over the cells of the grid, the
+    // largest corner plus the corners' spread (one step's change), less the largest sample
+    // (press_measures.cpp, missed_by_cells).
     double slope_error_deg = 0.0;
     // Infinity for a plane; the curvature from the Hessian by central differences of the
     // family's analytic gradient (docs/export.md); NaN for a mesh (its facets have none).
@@ -52,9 +52,10 @@ struct PressMeasures {
     // The surface has a kink there (its gradient jumps: radius 0, min_radius_mm = 0), found
     // where the curvature exceeds what the differences resolve (docs/export.md).
     bool kink = false;
-    double curvature_error_per_mm = 0.0; // as slope_error_deg, for the curvature 1 / radius
-    double depth_mm = 0.0;               // highest minus lowest point of the surface
-    double area_mm2 = 0.0;               // the whole surface, the clamp's flats included
+    // As slope_error_deg, for the curvature 1 / radius (0 at a kink: no bound is meant).
+    double curvature_error_per_mm = 0.0;
+    double depth_mm = 0.0; // highest minus lowest point of the surface
+    double area_mm2 = 0.0; // the whole surface, the clamp's flats included
     double unclamped_area_mm2 = 0.0;
     std::vector<RimWall> rim_walls;
     PressMaps maps; // filled when asked for
