@@ -119,22 +119,34 @@ double missed_by_cells(const std::vector<double>& v, int nx, int ny, double samp
     return worst - sampled;
 }
 
-// The trapezoid rule's weight of sample i of n along an axis.
-double trapezoid(int i, int n) {
-    return (i == 0 || i == n - 1) ? 0.5 : 1.0;
+// Every stride-th index of 0 .. n - 1, and n - 1.
+std::vector<int> strided(int n, int stride) {
+    std::vector<int> out;
+    for (int i = 0; i < n - 1; i += std::max(stride, 1))
+        out.push_back(i);
+    out.push_back(n - 1);
+    return out;
+}
+
+// The trapezoid rule's weight of sample a of the indices (in grid steps).
+double cell_share(const std::vector<int>& indices, int a) {
+    const std::size_t k = std::size_t(a);
+    const double before = k > 0 ? indices[k] - indices[k - 1] : 0.0;
+    const double after = k + 1 < indices.size() ? indices[k + 1] - indices[k] : 0.0;
+    return 0.5 * (before + after);
 }
 
 } // namespace
 
-PressMeasures press_measures(const Surface& surface, bool with_maps) {
+PressMeasures press_measures(const Surface& surface, const PressOptions& options) {
     const Holder& h = surface.holder();
     const double wx = h.max_mm.x - h.min_mm.x, wy = h.max_mm.y - h.min_mm.y;
     const double step = std::max(wx, wy) / kPressGridIntervals;
     return press_measures(surface, std::max(2, int(std::ceil(wx / step - 1e-9)) + 1),
-                          std::max(2, int(std::ceil(wy / step - 1e-9)) + 1), with_maps);
+                          std::max(2, int(std::ceil(wy / step - 1e-9)) + 1), options);
 }
 
-PressMeasures press_measures(const Surface& surface, int nx, int ny, bool with_maps) {
+PressMeasures press_measures(const Surface& surface, int nx, int ny, const PressOptions& options) {
     const Holder& h = surface.holder();
     PressMeasures m;
     m.nx = nx;
@@ -143,19 +155,24 @@ PressMeasures press_measures(const Surface& surface, int nx, int ny, bool with_m
     m.dy_mm = (h.max_mm.y - h.min_mm.y) / (ny - 1);
     const double e = 0.01 * std::min(m.dx_mm, m.dy_mm);
     const bool faceted = std::holds_alternative<MeshFn>(surface.function());
-    const std::size_t count = std::size_t(nx) * std::size_t(ny);
+    // The samples measured: every stride-th of the grid and its last (a subset of the
+    // full grid's samples, each measured as there).
+    const std::vector<int> is = strided(nx, options.stride), js = strided(ny, options.stride);
+    const int cx = int(is.size()), cy = int(js.size());
+    const std::size_t count = std::size_t(cx) * std::size_t(cy);
     // Per sample: slope and curvature (NaN where clamped), kept to bound the sampling error.
     std::vector<double> slope(count, std::nan("")), curvature(count, std::nan(""));
     double lowest = HUGE_VAL, highest = -HUGE_VAL, max_curvature = -1.0, max_slope = -1.0;
-    for (int j = 0; j < ny; ++j)
-        for (int i = 0; i < nx; ++i) {
+    for (int b = 0; b < cy; ++b)
+        for (int a = 0; a < cx; ++a) {
+            const int i = is[std::size_t(a)], j = js[std::size_t(b)];
             const double x = h.min_mm.x + i * m.dx_mm, y = h.min_mm.y + j * m.dy_mm;
-            const std::size_t k = std::size_t(j) * nx + i;
+            const std::size_t k = std::size_t(b) * cx + a;
             const double raw = surface.raw(x, y);
             const double z = std::clamp(raw, h.min_mm.z, h.max_mm.z);
             lowest = std::min(lowest, z);
             highest = std::max(highest, z);
-            const double weight = trapezoid(i, nx) * trapezoid(j, ny) * m.dx_mm * m.dy_mm;
+            const double weight = cell_share(is, a) * cell_share(js, b) * m.dx_mm * m.dy_mm;
             // Where the family is outside the holder's z range the clamp holds it flat.
             if (raw < h.min_mm.z || raw > h.max_mm.z) {
                 m.area_mm2 += weight; // a flat of the clamp
@@ -171,7 +188,7 @@ PressMeasures press_measures(const Surface& surface, int nx, int ny, bool with_m
                 max_slope = slope[k];
                 m.max_slope_at_mm = {x, y};
             }
-            if (faceted) continue;
+            if (faceted || !options.curvature) continue;
             const Hessian hs = hessian(surface, x, y, e);
             curvature[k] = largest_curvature(g.x, g.y, hs.r, hs.s, hs.t);
             // Below the differences' rounding (a few ulps of the gradient over the step) a
@@ -185,7 +202,7 @@ PressMeasures press_measures(const Surface& surface, int nx, int ny, bool with_m
         }
     m.depth_mm = highest - lowest;
     m.max_slope_deg = std::max(max_slope, 0.0);
-    if (faceted)
+    if (faceted || !options.curvature)
         m.min_radius_mm = std::nan("");
     else if (max_curvature * e > kKinkTurn) {
         // The gradient turns by more over the difference step than any curvature it can
@@ -194,17 +211,17 @@ PressMeasures press_measures(const Surface& surface, int nx, int ny, bool with_m
         m.min_radius_mm = 0.0;
     } else if (max_curvature > 0.0)
         m.min_radius_mm = 1.0 / max_curvature;
-    m.slope_error_deg = missed_by_cells(slope, nx, ny, m.max_slope_deg);
+    m.slope_error_deg = missed_by_cells(slope, cx, cy, m.max_slope_deg);
     if (!m.kink && max_curvature > 0.0)
-        m.curvature_error_per_mm = missed_by_cells(curvature, nx, ny, max_curvature);
+        m.curvature_error_per_mm = missed_by_cells(curvature, cx, cy, max_curvature);
     const glm::dvec2 lo{h.min_mm.x, h.min_mm.y}, hi{h.max_mm.x, h.max_mm.y};
     for (const RimSide& side :
          {RimSide{"y_min", lo, {hi.x, lo.y}, nx}, RimSide{"x_max", {hi.x, lo.y}, hi, ny},
           RimSide{"y_max", {lo.x, hi.y}, hi, nx}, RimSide{"x_min", lo, {lo.x, hi.y}, ny}})
         find_walls(surface, side, m.rim_walls);
-    if (with_maps) {
-        m.maps.nx = nx;
-        m.maps.ny = ny;
+    if (options.maps) {
+        m.maps.nx = cx;
+        m.maps.ny = cy;
         m.maps.slope_deg.assign(slope.begin(), slope.end());
         m.maps.curvature_per_mm.assign(curvature.begin(), curvature.end());
     }
@@ -230,6 +247,15 @@ std::vector<ConstraintCheck> check_constraints(const PressMeasures& m, const Con
     }
     if (c.max_depth_mm) at_most("max_depth_mm", m.depth_mm, *c.max_depth_mm);
     return out;
+}
+
+std::vector<ConstraintCheck> constraint_checks(const Surface& surface, const ConstraintsDesc& c) {
+    PressOptions options{.curvature = c.min_radius_mm.has_value(), .stride = 8};
+    std::vector<ConstraintCheck> coarse = check_constraints(press_measures(surface, options), c);
+    if (std::any_of(coarse.begin(), coarse.end(), [](const ConstraintCheck& k) { return !k.met; }))
+        return coarse;
+    options.stride = 1;
+    return check_constraints(press_measures(surface, options), c);
 }
 
 } // namespace fird

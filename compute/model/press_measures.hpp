@@ -64,10 +64,21 @@ struct PressMeasures {
 // Samples along the holder's longer side; the shorter gets the same step.
 constexpr int kPressGridIntervals = 512;
 
+struct PressOptions {
+    bool curvature = true; // false: no Hessian (a third of the work; min_radius_mm NaN)
+    bool maps = false;     // fill PressMeasures::maps
+    // Measure every stride-th sample of the grid (and its last) only: a subset of the full
+    // grid's samples, each measured exactly as there, so an extreme that breaks a limit
+    // here breaks it on the full grid too (the search's quick refusal). Area and the
+    // sampling errors are then the coarse grid's.
+    int stride = 1;
+};
+
 // The surface measured on a grid of kPressGridIntervals along the holder's longer side.
-PressMeasures press_measures(const Surface& surface, bool with_maps = false);
+PressMeasures press_measures(const Surface& surface, const PressOptions& options = {});
 // The same on a grid of `nx` x `ny` samples (tests use coarser and finer grids).
-PressMeasures press_measures(const Surface& surface, int nx, int ny, bool with_maps = false);
+PressMeasures press_measures(const Surface& surface, int nx, int ny,
+                             const PressOptions& options = {});
 
 // One constraint of [reflector.constraints] against its measure.
 struct ConstraintCheck {
@@ -80,5 +91,11 @@ struct ConstraintCheck {
 };
 // Every constraint given, in the scene keys' order above.
 std::vector<ConstraintCheck> check_constraints(const PressMeasures& m, const ConstraintsDesc& c);
+
+// The constraints on the surface as a search needs them: curvature only where a radius is
+// limited, and first on every 8th sample, where a broken limit is broken on the full grid
+// too (the checks then are those of the coarse grid: the same verdict, its own values);
+// else on the full grid. An infeasible candidate costs a sixty-fourth of a feasible one.
+std::vector<ConstraintCheck> constraint_checks(const Surface& surface, const ConstraintsDesc& c);
 
 } // namespace fird

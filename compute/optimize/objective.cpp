@@ -76,7 +76,9 @@ double Objective::trace(const std::vector<double>& x) {
     const auto t0 = std::chrono::steady_clock::now();
     Candidate c{.index = history_.size(), .stage = std::uint32_t(stages_.size() - 1), .x = x};
     const ReflectorDesc reflector = space_.reflector(scene_.reflector, x);
-    const Feasibility f = candidate_feasibility(scene_, reflector);
+    // A point traced ahead was found feasible then (its press measures are not taken twice).
+    const Feasibility f =
+        prefetched_.contains(x) ? Feasibility{} : candidate_feasibility(scene_, reflector);
     c.feasible = f.feasible;
     c.l2_lm = std::numeric_limits<double>::quiet_NaN();
     if (c.index < replay_.size()) {

@@ -155,8 +155,7 @@ Feasibility candidate_feasibility(const Scene& scene, const ReflectorDesc& refle
     std::optional<Surface> surface;
     Feasibility f = traceable(scene, reflector, surface);
     if (!f.feasible || !reflector.constraints.any()) return f;
-    for (const ConstraintCheck& c :
-         check_constraints(press_measures(*surface), reflector.constraints)) {
+    for (const ConstraintCheck& c : constraint_checks(*surface, reflector.constraints)) {
         if (c.met) continue;
         f.feasible = false;
         f.constraint = c.name;

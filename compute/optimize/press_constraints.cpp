@@ -20,7 +20,7 @@ std::vector<ConstraintCheck> checks_at(const Scene& scene, const ParameterSpace&
                                        const std::vector<double>& x) {
     try {
         const ReflectorDesc r = space.reflector(scene.reflector, x);
-        return check_constraints(press_measures(Surface::make(r, scene.holder)), r.constraints);
+        return constraint_checks(Surface::make(r, scene.holder), r.constraints);
     } catch (const std::invalid_argument&) {
         return {};
     }

@@ -146,7 +146,7 @@ void write_manufacturability_png(const std::string& path, const PressMeasures& m
 
 nlohmann::json write_manufacturability(const std::string& directory, const Surface& surface,
                                        const ConstraintsDesc& constraints) {
-    const PressMeasures m = press_measures(surface, true);
+    const PressMeasures m = press_measures(surface, {.maps = true});
     const nlohmann::json j = manufacturability_json(m, constraints);
     const std::filesystem::path dir(directory);
     write_text_file((dir / "manufacturability.json").string(), j.dump(2) + "\n");

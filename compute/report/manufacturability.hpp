@@ -17,7 +17,7 @@ namespace fird {
 
 nlohmann::json manufacturability_json(const PressMeasures& m, const ConstraintsDesc& c);
 
-// Needs the measures with their maps (press_measures(surface, true)).
+// Needs the measures with their maps (PressOptions::maps).
 void write_manufacturability_png(const std::string& path, const PressMeasures& m,
                                  const Holder& holder);
 

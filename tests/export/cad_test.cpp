@@ -268,7 +268,7 @@ TEST(CadSurface, ThePressCurvatureIsOpenCascadesOnTheExactSpline) {
     const Surface f = surface_of(source("scenes/test/bspline_dish.toml"));
     const CadSurface cad = make_cad_surface(f, 0.01);
     ASSERT_TRUE(cad.exact);
-    const PressMeasures m = press_measures(f, 94, 94, true);
+    const PressMeasures m = press_measures(f, 94, 94, {.maps = true});
     GeomLProp_SLProps props(cad.surface, 2, 1e-9);
     double largest = 0.0;
     for (int j = 0; j < m.ny; ++j)

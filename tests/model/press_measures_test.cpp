@@ -39,7 +39,7 @@ TEST(PressMeasures, AParaboloidsSlopeAndRadiusAtItsApexAndRimAreTheClosedForms) 
     const Holder h{{-10.0, -10.0, -20.0}, {10.0, 10.0, 0.0}};
     const Surface s = surface(Family::Paraboloid,
                               {{"fx", f}, {"fy", f}, {"z0", -10.0}, {"cx", 0.0}, {"cy", 0.0}}, h);
-    const PressMeasures m = press_measures(s, 201, 201, true);
+    const PressMeasures m = press_measures(s, 201, 201, {.maps = true});
     ASSERT_TRUE(m.any_unclamped);
     // The steepest point is a corner (r = 10 sqrt 2), a sample: the slope there is exact to
     // the rounding of atan (the gradient is the family's analytic one).
@@ -118,7 +118,7 @@ TEST(PressMeasures, TheCurvatureByDifferencesOfTheGradientIsTheClosedForm) {
     const Surface s = surface(
         Family::Cup,
         {{"a", a}, {"b", a}, {"p", 4.0}, {"h", hh}, {"z0", 0.0}, {"cx", 0.0}, {"cy", 0.0}}, h);
-    const PressMeasures m = press_measures(s, 161, 161, true);
+    const PressMeasures m = press_measures(s, 161, 161, {.maps = true});
     const double e = 0.01 * 0.05;
     const double truncation = 2.0 * e * e / 3.0 * (24.0 * hh / std::pow(a, 4));
     for (int i = 0; i < 161; i += 8) {
@@ -167,6 +167,31 @@ TEST(PressMeasures, ModelAsRimWallsAreWhereTheParaboloidStaysBelowTheTop) {
     // Its apex: the smallest radius, 2 min(fx, fy) = 20 mm (the gradient linear: exact).
     EXPECT_NEAR(m.min_radius_mm, 20.0, 1e-9);
     EXPECT_NEAR(m.depth_mm, 12.0, 1e-12);
+}
+
+// Every 8th sample is a subset of the full grid measured as there: its extremes never
+// exceed the full grid's, so a limit they break the full grid breaks; and the search's
+// checks give the full grid's verdict either way (a limit between the two grids' values
+// is met on the coarse grid and decided on the full one).
+TEST(PressMeasures, TheStridedGridIsASubsetAndTheSearchsChecksAreTheFullGrids) {
+    const Surface s = model_b_cup(-6.0);
+    const PressMeasures full = press_measures(s);
+    const PressMeasures coarse = press_measures(s, {.stride = 8});
+    EXPECT_LE(coarse.max_slope_deg, full.max_slope_deg);
+    EXPECT_GE(coarse.min_radius_mm, full.min_radius_mm);
+    EXPECT_LE(coarse.depth_mm, full.depth_mm);
+    const PressMeasures no_curvature = press_measures(s, {.curvature = false});
+    EXPECT_EQ(no_curvature.max_slope_deg, full.max_slope_deg);
+    EXPECT_TRUE(std::isnan(no_curvature.min_radius_mm));
+    for (const double limit : {coarse.max_slope_deg - 0.01,
+                               0.5 * (coarse.max_slope_deg + full.max_slope_deg),
+                               full.max_slope_deg + 0.01}) {
+        const ConstraintsDesc c{.max_slope_deg = limit};
+        const auto checks = constraint_checks(s, c);
+        ASSERT_EQ(checks.size(), 1u);
+        EXPECT_EQ(checks[0].met, full.max_slope_deg <= limit) << limit;
+    }
+    ASSERT_LT(coarse.max_slope_deg, full.max_slope_deg); // the middle limit is between them
 }
 
 TEST(PressMeasures, EachConstraintIsMetOrBrokenByItsMeasure) {
