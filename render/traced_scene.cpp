@@ -43,6 +43,9 @@ TracedScene trace_for_views(const vk::Context& ctx, const Scene& input, const Tr
         t.farfield.l2_lm = t.evaluator->compare();
         t.farfield.desired = std::move(desired);
     }
+    if (s.reflector.constraints.any())
+        t.constraints =
+            constraint_checks(Surface::make(s.reflector, s.holder), s.reflector.constraints);
     ViewportContent& v = t.viewport;
     v.holder = s.holder;
     v.source = s.source;

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <numbers>
 
 #include <glm/geometric.hpp>
 
@@ -138,6 +139,28 @@ TEST_F(Views, PickedRaysWalkVisitsNodesAlongItsPathAndEndsAtTheReferenceHit) {
 // selection the panel offers (all maps in one column or three, or one alone), at a panel's
 // small size (the compact picture), a narrow and a wide (polar curves beside) size, with the
 // whole sphere and a zoomed band shown.
+using TracedConstraints = VulkanTest;
+
+// A reflector that breaks a press's constraint is still traced for the views (only a
+// search refuses it), and carries each constraint met or broken for the scene panel: the
+// mirror's slope is atan(hypot(sx, sy)) everywhere, its depth its rise across the holder.
+TEST_F(TracedConstraints, ATracedReflectorCarriesItsConstraintsMetOrBroken) {
+    Scene s = load_scene(std::string(FIRD_SOURCE_DIR) + "/scenes/test/mirror_search.toml");
+    s.reflector.constraints.max_slope_deg = 8.0;
+    s.reflector.constraints.max_depth_mm = 100.0;
+    const render::TracedScene t = render::trace_for_views(
+        ctx(), s, {.parameters = {{"sx", 0.15}, {"sy", -0.1}}, .rays = 2000, .paths = 0});
+    ASSERT_EQ(t.constraints.size(), 2u);
+    EXPECT_EQ(t.constraints[0].name, "max_slope_deg");
+    EXPECT_NEAR(t.constraints[0].value, std::atan(std::hypot(0.15, 0.1)) * 180.0 / std::numbers::pi,
+                1e-9);
+    EXPECT_FALSE(t.constraints[0].met);
+    EXPECT_EQ(t.constraints[1].name, "max_depth_mm");
+    EXPECT_TRUE(t.constraints[1].met);
+    s.reflector.constraints = {};
+    EXPECT_TRUE(render::trace_for_views(ctx(), s, {.rays = 2000, .paths = 0}).constraints.empty());
+}
+
 TEST(FarFieldReadout, TheCellUnderAPixelIsTheCellDrawnThere) {
     const std::uint32_t W = 36, H = 18;
     const auto direction = [](double az_deg, double alt_deg) {
