@@ -183,9 +183,9 @@ TEST(PressMeasures, TheStridedGridIsASubsetAndTheSearchsChecksAreTheFullGrids) {
     const PressMeasures no_curvature = press_measures(s, {.curvature = false});
     EXPECT_EQ(no_curvature.max_slope_deg, full.max_slope_deg);
     EXPECT_TRUE(std::isnan(no_curvature.min_radius_mm));
-    for (const double limit : {coarse.max_slope_deg - 0.01,
-                               0.5 * (coarse.max_slope_deg + full.max_slope_deg),
-                               full.max_slope_deg + 0.01}) {
+    for (const double limit :
+         {coarse.max_slope_deg - 0.01, 0.5 * (coarse.max_slope_deg + full.max_slope_deg),
+          full.max_slope_deg + 0.01}) {
         const ConstraintsDesc c{.max_slope_deg = limit};
         const auto checks = constraint_checks(s, c);
         ASSERT_EQ(checks.size(), 1u);
