@@ -80,13 +80,15 @@ void print_manufacturability(const std::string& dir, const nlohmann::json& j) {
                    : fmt::format("({:.2f}, {:.2f}) mm", p[0].get<double>(), p[1].get<double>());
     };
     std::string text = fmt::format(
-        "press: steepest slope {:.2f} deg at {}; smallest radius {} at {}; depth {:.3f} mm; "
+        "press: steepest slope {:.2f} deg at {}; smallest radius {}; depth {:.3f} mm; "
         "area {:.1f} mm2; {} rim wall(s)\n",
         j["max_slope_deg"].get<double>(), at(j["max_slope_at_mm"]),
-        j["min_radius_mm"].is_null() ? std::string("none (no curvature)")
-                                     : fmt::format("{:.4g} mm", j["min_radius_mm"].get<double>()),
-        at(j["min_radius_at_mm"]), j["depth_mm"].get<double>(), j["area_mm2"].get<double>(),
-        j["rim_walls"].size());
+        j["min_radius_mm"].is_null()
+            ? std::string("none (no curvature)")
+            : fmt::format("{:.4g} mm at {}{}", j["min_radius_mm"].get<double>(),
+                          at(j["min_radius_at_mm"]),
+                          j["min_radius_is_kink"].get<bool>() ? " (a kink)" : ""),
+        j["depth_mm"].get<double>(), j["area_mm2"].get<double>(), j["rim_walls"].size());
     for (const auto& [name, c] : j["constraints"].items())
         text += fmt::format("constraint {}: {} (limit {:g})\n", name,
                             c["met"].get<bool>() ? "met" : "BROKEN", c["limit"].get<double>());
