@@ -17,6 +17,7 @@ void register_commands(CLI::App& app, const GlobalOptions& global, std::function
     register_export(app, global, run);
     register_screenshot(app, global, run);
     register_stress(app, global, run);
+    register_tolerance(app, global, run);
     register_bench(app, global, run);
     register_photometry(app, global, run);
     register_gui(app, global, run);

@@ -26,6 +26,7 @@ void register_commands(CLI::App& app, const GlobalOptions& global, std::function
 void register_info(CLI::App& app, const GlobalOptions& global, std::function<int()>& run);
 void register_gui(CLI::App& app, const GlobalOptions& global, std::function<int()>& run);
 void register_trace(CLI::App& app, const GlobalOptions& global, std::function<int()>& run);
+void register_tolerance(CLI::App& app, const GlobalOptions& global, std::function<int()>& run);
 void register_photometry(CLI::App& app, const GlobalOptions& global, std::function<int()>& run);
 void register_optimize(CLI::App& app, const GlobalOptions& global, std::function<int()>& run);
 void register_calibrate(CLI::App& app, const GlobalOptions& global, std::function<int()>& run);

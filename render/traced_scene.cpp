@@ -7,6 +7,7 @@
 
 #include "evaluation/desired_farfield.hpp"
 #include "fastpath/picked_ray.hpp"
+#include "model/design_parameters.hpp"
 #include "model/source.hpp"
 #include "optimize/parameter_space.hpp"
 
@@ -18,13 +19,20 @@ TracedScene trace_for_views(const vk::Context& ctx, const Scene& input, const Tr
     if (o.rays) t.scene.trace.rays = *o.rays;
     const auto names = family_parameters(t.scene.reflector.family);
     for (const auto& [k, v] : o.parameters) {
-        if (std::find(names.begin(), names.end(), k) == names.end() &&
-            !t.scene.reflector.bspline.groups.count(k))
+        if (is_source_parameter(k)) {
+            try {
+                (void)moved_source(t.scene.source, {{k.substr(7), v}});
+            } catch (const std::invalid_argument& e) {
+                throw std::invalid_argument("--parameters " + k + ": " + e.what());
+            }
+        } else if (std::find(names.begin(), names.end(), k) == names.end() &&
+                   !t.scene.reflector.bspline.groups.count(k))
             throw std::invalid_argument(fmt::format("--parameters {}: not a parameter of the {} "
                                                     "family",
                                                     k, family_name(t.scene.reflector.family)));
-        t.scene.reflector.parameters[k] = v;
     }
+    // Reflector values into the reflector, the source's ([source.optimize]) into the source.
+    apply_design_parameters(t.scene, o.parameters);
     const Feasibility f = traceable(t.scene, t.scene.reflector);
     if (!f.feasible) throw std::invalid_argument("--parameters: " + f.reason);
     const Scene& s = t.scene;

@@ -40,8 +40,9 @@ void help_panel(Frame& f) {
                            "Far field: the wheel zooms, a double click shows it whole.\n"
                            "Drag the gaps between panels to resize them;\n"
                            "View > Reset layout restores the default.\n"
-                           "Drop a scene (.toml) on the window to open it, or an IES / LDT\n"
-                           "file to make it the scene's desired far field.");
+                           "Drop a scene (.toml) on the window to open it, an IES / LDT\n"
+                           "file to make it the scene's desired far field, or a ray file\n"
+                           "(.tm25ray, .npy, .csv) to make it the scene's source.");
     ImGui::End();
 }
 

@@ -10,6 +10,7 @@
 #include <imgui_stdlib.h>
 
 #include "chart_widget.hpp"
+#include "model/design_parameters.hpp"
 #include "optimize/search_report.hpp"
 #include "panels.hpp"
 #include "run_directory.hpp"
@@ -57,9 +58,15 @@ std::map<std::string, double> best_parameters(const SearchProgress& p) {
 
 // Parameters onto the sliders, traced (a preview, then the scene's rays).
 void put_on_sliders(WorkbenchState& s, const std::map<std::string, double>& values) {
-    for (const auto& [name, value] : values)
-        if (auto it = s.editor.parameters.find(name); it != s.editor.parameters.end())
+    std::map<std::string, double> source; // [source.optimize]'s: the source editor's
+    for (const auto& [name, value] : values) {
+        if (is_source_parameter(name))
+            source[name.substr(std::string(kSourceParameterPrefix).size())] = value;
+        else if (auto it = s.editor.parameters.find(name); it != s.editor.parameters.end())
             it->second = value;
+    }
+    if (!source.empty() && s.editor.scene)
+        (void)set_source(s, moved_source(s.editor.scene->source, source));
     s.editor.dirty = true;
 }
 

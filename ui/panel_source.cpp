@@ -3,6 +3,7 @@
 // scene file would be checked.
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <filesystem>
 #include <sstream>
 
@@ -10,6 +11,7 @@
 #include <imgui.h>
 #include <imgui_stdlib.h>
 
+#include "model/ray_file_source.hpp"
 #include "panels.hpp"
 #include "photometry/candela_table.hpp"
 #include "photometry/photometry_file.hpp"
@@ -19,8 +21,8 @@ namespace fird::ui {
 namespace {
 
 // The source types in SourceKind's order, named as in a scene file.
-std::array<const char*, 6> type_names() {
-    std::array<const char*, 6> names{};
+std::array<const char*, 7> type_names() {
+    std::array<const char*, 7> names{};
     for (std::size_t k = 0; k < names.size(); ++k)
         names[k] = source_type_name(SourceKind(k));
     return names;
@@ -46,6 +48,17 @@ bool input_mm(const char* label, double& v) {
 // that file's flux.
 void change_type(SourceDesc& s, SourceKind kind, const std::string& file) {
     s.kind = kind;
+    if (kind == SourceKind::RayFile) {
+        s.file = file.empty() ? "" : std::filesystem::absolute(file).lexically_normal().string();
+        // The file's own flux where it gives one; an unreadable file is left for
+        // set_source to refuse, naming it.
+        try {
+            const double flux_lm = index_ray_file(s.file)->file_flux_lm;
+            if (std::isfinite(flux_lm)) s.flux_lm = flux_lm;
+        } catch (const std::exception&) {
+        }
+        return;
+    }
     if (kind == SourceKind::Photometric) {
         s.file = file.empty() ? "" : std::filesystem::absolute(file).lexically_normal().string();
         s.radius_mm = 0.0;
@@ -83,10 +96,10 @@ void source_section(WorkbenchState& s) {
         change_type(edit, SourceKind(type), s.editor.emitter_file);
         changed = true;
     }
-    // Enter on a file makes the source that file's distribution.
-    if (ImGui::InputTextWithHint("emitter file", "an IES / LDT file to emit (Enter)",
+    // Enter on a file makes the source that file's distribution, or its rays.
+    if (ImGui::InputTextWithHint("emitter file", "an IES / LDT or ray file to emit (Enter)",
                                  &s.editor.emitter_file, ImGuiInputTextFlags_EnterReturnsTrue)) {
-        change_type(edit, SourceKind::Photometric, s.editor.emitter_file);
+        change_type(edit, file_source_kind(s.editor.emitter_file), s.editor.emitter_file);
         changed = true;
     }
     changed |= input_vec3("center mm", edit.center_mm);
@@ -113,6 +126,11 @@ void source_section(WorkbenchState& s) {
         changed |= input_vec3("normal", edit.axis);
         changed |= input_vec3("x axis", edit.x_axis);
         changed |= input_mm("disk radius mm", edit.radius_mm);
+        break;
+    case SourceKind::RayFile:
+        ImGui::TextWrapped("%s", edit.file.c_str());
+        changed |= input_vec3("normal", edit.axis);
+        changed |= input_vec3("x axis", edit.x_axis);
         break;
     case SourceKind::Disk:
     case SourceKind::Rectangle:
@@ -145,13 +163,13 @@ std::string set_source_field(WorkbenchState& s, const std::string& key, const st
                 std::find_if(names.begin(), names.end(), [&](const char* n) { return value == n; });
             if (it == names.end())
                 return "type must be one of: cylinder, sphere, point, disk, rectangle, "
-                       "photometric";
-            if (value == "photometric" && s.editor.emitter_file.empty())
-                return "type photometric: give its file first (source file PATH)";
+                       "photometric, rayfile";
+            if ((value == "photometric" || value == "rayfile") && s.editor.emitter_file.empty())
+                return fmt::format("type {}: give its file first (source file PATH)", value);
             change_type(edit, SourceKind(it - names.begin()), s.editor.emitter_file);
         } else if (key == "file") {
             s.editor.emitter_file = value;
-            change_type(edit, SourceKind::Photometric, value);
+            change_type(edit, file_source_kind(value), value);
         } else if (key == "center_mm") {
             vec(edit.center_mm);
         } else if (key == "normal" || key == "axis") {

@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include "io/scene_file.hpp"
+#include "panels.hpp"
 #include "photometry/photometry_file.hpp"
 #include "run_directory.hpp"
 
@@ -67,6 +68,29 @@ bool set_source(WorkbenchState& s, const SourceDesc& source) {
         s.editor.error = key == std::string::npos ? what : what.substr(key);
         return false;
     }
+}
+
+SourceKind file_source_kind(const std::string& path) {
+    std::string ext = std::filesystem::path(path).extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(),
+                   [](unsigned char c) { return char(std::tolower(c)); });
+    return ext == ".tm25ray" || ext == ".ray" || ext == ".npy" || ext == ".csv"
+               ? SourceKind::RayFile
+               : SourceKind::Photometric;
+}
+
+bool set_ray_file_source(WorkbenchState& s, const std::string& path) {
+    if (!s.editor.scene) {
+        add_log(s, "error: " + path + ": open a scene first, then drop a ray file on it");
+        return false;
+    }
+    s.editor.emitter_file = path;
+    // Through the Source panel's own edit (its file's flux, checked as a scene file is).
+    if (const std::string error = set_source_field(s, "file", path); !error.empty()) {
+        add_log(s, "error: " + error);
+        return false;
+    }
+    return true;
 }
 
 bool set_finish(WorkbenchState& s, const MaterialDesc& material, DirectLight direct) {
@@ -136,6 +160,7 @@ bool open_file(WorkbenchState& s, const std::string& path) {
     std::transform(ext.begin(), ext.end(), ext.begin(),
                    [](unsigned char c) { return char(std::tolower(c)); });
     if (ext == ".ies" || ext == ".ldt") return set_photometric_target(s, path);
+    if (file_source_kind(path) == SourceKind::RayFile) return set_ray_file_source(s, path);
     return open_scene(s, path);
 }
 

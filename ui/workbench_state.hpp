@@ -138,8 +138,14 @@ void add_log(WorkbenchState& state, std::string line);
 bool open_scene(WorkbenchState& state, const std::string& path);
 // A dropped IES / LDT file becomes the open scene's photometric target.
 bool set_photometric_target(WorkbenchState& state, const std::string& path);
+// Which source a file makes: a ray file (.tm25ray, .ray, .npy, .csv) its rays, any other
+// (an IES / LDT file) its distribution.
+SourceKind file_source_kind(const std::string& path);
+// A ray file becomes the open scene's source (a drop): false, logged, where it is refused.
+bool set_ray_file_source(WorkbenchState& state, const std::string& path);
 // Any route (path field, recent list, drop, command line): an IES / LDT file becomes the
-// target, anything else is opened as a scene.
+// target, a ray file (.tm25ray, .ray, .npy, .csv) the source, anything else is opened as a
+// scene.
 bool open_file(WorkbenchState& state, const std::string& path);
 // What the open scene's desired far field is, in words ("none" without a target).
 std::string target_description(const Scene& scene);

@@ -184,7 +184,9 @@ void write_evaluation_outputs(const std::string& dir, const Scene& scene, const 
         const PhotometryLabels labels{
             .luminaire = scene.name,
             .test = fmt::format("{}, {} backend, {} rays", producer, e.backend, e.tally.emitted),
-            .other = scene.path};
+            .other = scene.path,
+            .lamp_flux_lm = scene.source.flux_lm,
+            .simulated = true};
         write_photometry(path("farfield.ies"), table, labels);
         write_photometry(path("farfield.ldt"), table, labels);
     }

@@ -164,6 +164,12 @@ void Evaluator::set_seed(std::uint64_t seed) {
     if (tracer_) tracer_->set_seed(seed);
 }
 
+void Evaluator::set_source(const SourceDesc& source) {
+    if (source == scene_.source) return;
+    scene_.source = source;
+    if (tracer_) tracer_->set_source(source);
+}
+
 double Evaluator::compare(double* compare_ms) const {
     if (!traced_ || !has_desired())
         throw std::logic_error("Evaluator::compare: needs a trace and a desired far field");

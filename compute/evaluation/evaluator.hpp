@@ -70,6 +70,9 @@ class Evaluator {
     std::vector<CandidateResult> evaluate_batch(std::span<const ReflectorDesc> reflectors);
     // Fresh rays from `seed` for the next evaluations (nothing else is rebuilt).
     void set_seed(std::uint64_t seed);
+    // The source moved or turned ([source.optimize]: the same kind and size): the next
+    // evaluations trace its rays (the rayset is made again; the height field is kept).
+    void set_source(const SourceDesc& source);
 
     // l2 of the last traced far field to the desired one (needs both).
     double compare(double* compare_ms = nullptr) const;

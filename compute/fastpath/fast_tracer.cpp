@@ -71,6 +71,10 @@ FastTracer::FastTracer(const vk::Context& ctx, const Scene& scene, std::uint64_t
         std::min<std::uint64_t>({limits.max_storage_buffer_range / kRayBytes, 1ull << 23,
                                  dispatch_rays, max_batch_rays ? max_batch_rays : ~0ull,
                                  ctx.max_batch_rays() ? ctx.max_batch_rays() : ~0ull});
+    // A ray file's batch is read on the host into a buffer of its own: batches of at most
+    // kRayFileBatchRays keep that buffer (24 MiB) and the host's share bounded.
+    if (scene.source.kind == SourceKind::RayFile)
+        submission_rays_ = std::min(submission_rays_, kRayFileBatchRays);
     batch_capacity_ = std::min(scene.trace.rays, submission_rays_);
     const std::uint64_t cells_max =
         std::uint64_t(limits.max_workgroup_count[0]) * FIRD_REDUCE_WORKGROUP_SIZE;
@@ -125,13 +129,19 @@ FastTracer::FastTracer(const vk::Context& ctx, const Scene& scene, std::uint64_t
     current_ = make_reflector_state(ctx, params_, "fird");
     order_buckets_ = vk::Buffer(ctx, gpu::kRaysetOrderBuckets * 4, storage, vk::MemoryUse::Device,
                                 "fird.rayset.order_buckets");
-    // A photometric source's distribution (emitter.h); one unused float for the others.
-    const std::vector<float> no_table(1, 0.0f);
-    const std::vector<float>& table =
-        scene.source.table.floats ? *scene.source.table.floats : no_table;
-    emitter_table_ = vk::Buffer(ctx, table.size() * sizeof(float), storage, vk::MemoryUse::Device,
-                                "fird.rayset.emitter_table");
-    emitter_table_.upload(ctx, std::span<const float>(table));
+    // A photometric source's distribution (emitter.h), a ray file's batch of rays (written
+    // by the host before each rayset pass); one unused float for the others.
+    if (scene.source.kind == SourceKind::RayFile) {
+        emitter_table_ = vk::Buffer(ctx, batch_capacity_ * gpu::kRayFileFloats * sizeof(float),
+                                    storage, vk::MemoryUse::Upload, "fird.rayset.ray_file");
+    } else {
+        const std::vector<float> no_table(1, 0.0f);
+        const std::vector<float>& table =
+            scene.source.table.floats ? *scene.source.table.floats : no_table;
+        emitter_table_ = vk::Buffer(ctx, table.size() * sizeof(float), storage,
+                                    vk::MemoryUse::Device, "fird.rayset.emitter_table");
+        emitter_table_.upload(ctx, std::span<const float>(table));
+    }
     loop_ = vk::Buffer(ctx, gpu::kLoopWords * 4, storage | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT,
                        vk::MemoryUse::Device, "fird.bounce_loop");
     loop_readback_ = vk::Buffer(ctx, gpu::kLoopWords * 4 * kMaxBatchCandidates, storage,
@@ -175,6 +185,14 @@ void FastTracer::set_reflector(const ReflectorDesc& reflector) {
 void FastTracer::set_rayset_kept(bool kept) {
     cache_rayset_ = kept && rayset_fits_;
     if (!cache_rayset_) rayset_chunks_.clear();
+}
+
+void FastTracer::set_source(const SourceDesc& source) {
+    if (source.kind != scene_.source.kind || !(source.table == scene_.source.table))
+        throw std::invalid_argument("FastTracer::set_source: another kind of source needs "
+                                    "another tracer");
+    scene_.source = source;
+    set_seed(std::uint64_t(params_.seed_lo) | (std::uint64_t(params_.seed_hi) << 32));
 }
 
 void FastTracer::set_seed(std::uint64_t seed) {
@@ -275,6 +293,7 @@ FastRun FastTracer::run(const std::function<void(VkCommandBuffer)>& then) {
         };
         const vk::Buffer* rays = nullptr;
         bool generated = false; // the rayset pass ran in a submission of its own
+        if (!reuse && scene_.source.kind == SourceKind::RayFile) read_ray_file_batch(first, n, run);
         if (reuse) {
             run.rayset_reused = true;
             rays = &rayset_chunks_[batch].rays;

@@ -79,6 +79,9 @@ class FastTracer {
 
     // Draws a fresh rayset from `seed` at the next run (the pipelines, buffers and the
     // height field stay): independent runs of one reflector, as calibration makes them.
+    // The source moved or turned (the same kind, size and table): its rays are made again
+    // in the next run; the reflectors' height fields are kept.
+    void set_source(const SourceDesc& source);
     void set_seed(std::uint64_t seed);
 
     // Whether run() keeps the rayset for the next run (the default, when it fits the
@@ -188,6 +191,9 @@ class FastTracer {
     // (and counts them per direction bucket unless they come ordered).
     void record_rayset(VkCommandBuffer cb, std::uint64_t first, std::uint64_t n,
                        const vk::Buffer& rays, FastRun& run);
+    // A ray file source: reads emissions [first, first + n) into emitter_table_, placed in
+    // the fast path's frame (the host's share of the rayset pass, timed with it).
+    void read_ray_file_batch(std::uint64_t first, std::uint64_t n, FastRun& run);
     // Moves the rayset's effective rays from `from` to `to` ordered by direction.
     void record_rayset_order(VkCommandBuffer cb, const vk::Buffer& from, const vk::Buffer& to,
                              FastRun& run);
@@ -264,7 +270,8 @@ class FastTracer {
     std::optional<vk::ComputePipeline> trace_diagnostics_pipeline_;
     vk::Buffer profile_;
     vk::Buffer order_buckets_;
-    vk::Buffer emitter_table_; // a photometric source's table (fird_shared.h)
+    // A photometric source's table, or a ray file's rays for the batch (fird_shared.h).
+    vk::Buffer emitter_table_;
     // The bounce loop's state on the device (fird_shared.h, kLoop*: counts and indirect
     // dispatch sizes) and its per-bounce counts as read back.
     vk::Buffer loop_, loop_readback_;

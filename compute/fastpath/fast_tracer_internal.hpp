@@ -19,6 +19,8 @@ inline constexpr std::uint64_t kCountersBytes =
     std::uint64_t(gpu::kTallyCopies) * gpu::kCounterCount * 4;
 // The most device memory a kept rayset may take (1e7 emitted rays take at most 320 MB).
 inline constexpr std::uint64_t kRaysetCacheBytes = 1ull << 30;
+// Rays per batch of a ray file source (fast_tracer.cpp).
+inline constexpr std::uint64_t kRayFileBatchRays = 1ull << 20;
 
 inline std::uint32_t groups(std::uint64_t n, std::uint32_t size) {
     return std::uint32_t((n + size - 1) / size);

@@ -2,12 +2,17 @@
 // rays by direction (bucket counts, scan, scatter) that the rayset and each bounce use.
 #include "fast_tracer.hpp"
 
+#include <algorithm>
 #include <chrono>
+#include <exception>
+#include <mutex>
 #include <stdexcept>
+#include <thread>
 
 #include "fastpath/fast_tracer_internal.hpp"
 #include "fastpath/reflector_state.hpp"
 #include "fastpath/scene_params.hpp"
+#include "model/ray_file_source.hpp"
 #include "vk/check.hpp"
 
 namespace fird {
@@ -34,6 +39,54 @@ void FastTracer::record_rayset(VkCommandBuffer cb, std::uint64_t first, std::uin
         rayset_pipeline_.dispatch(cb, b, &push, groups(n, FIRD_RAYSET_WORKGROUP_SIZE));
     });
     vk::barrier_all(cb);
+}
+
+void FastTracer::read_ray_file_batch(std::uint64_t first, std::uint64_t n, FastRun& run) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const std::uint64_t seed =
+        std::uint64_t(params_.seed_lo) | (std::uint64_t(params_.seed_hi) << 32);
+    auto* const table = static_cast<float*>(emitter_table_.data());
+    // Emissions [from, to), placed in double, then made relative to the frame's origin and
+    // rounded to float, into their slots of the batch.
+    const auto read = [&](std::uint64_t from, std::uint64_t to) {
+        float* out = table + (from - first) * gpu::kRayFileFloats;
+        emit_ray_file_rays(scene_.source, seed, from, to - from, scene_.trace.rays,
+                           [&](const Ray& r) {
+                               const glm::dvec3 o = r.origin - origin_;
+                               *out++ = float(o.x);
+                               *out++ = float(o.y);
+                               *out++ = float(o.z);
+                               *out++ = float(r.direction.x);
+                               *out++ = float(r.direction.y);
+                               *out++ = float(r.direction.z);
+                           });
+    };
+    // The device waits while the host reads: the batch is read in parts at once (up to 8),
+    // a thread and a reader each (the emissions do not depend on how they are split).
+    const std::uint64_t parts = std::clamp<std::uint64_t>(
+        std::min<std::uint64_t>(std::thread::hardware_concurrency(), 8), 1, n / 65536 + 1);
+    std::vector<std::thread> helpers;
+    std::exception_ptr failure;
+    std::mutex failure_mutex;
+    for (std::uint64_t k = 1; k < parts; ++k)
+        helpers.emplace_back([&, k] {
+            try {
+                read(first + n * k / parts, first + n * (k + 1) / parts);
+            } catch (...) {
+                const std::lock_guard lock(failure_mutex);
+                failure = std::current_exception();
+            }
+        });
+    try {
+        read(first, first + n / parts);
+    } catch (...) {
+        const std::lock_guard lock(failure_mutex);
+        failure = std::current_exception();
+    }
+    for (std::thread& t : helpers)
+        t.join();
+    if (failure) std::rethrow_exception(failure);
+    run.timings.rayset_ms += ms_since(t0);
 }
 
 void FastTracer::record_bounce_args(VkCommandBuffer cb, std::uint32_t stage, std::uint32_t bounce) {

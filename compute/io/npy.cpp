@@ -37,30 +37,55 @@ void write_npy_f32(const std::string& path, const std::vector<double>& values, s
     });
 }
 
+NpyHeader read_npy_header(std::istream& in, const std::string& path) {
+    char magic[10];
+    in.read(magic, 10);
+    if (!in || std::memcmp(magic, "\x93NUMPY", 6) != 0 || (magic[6] != 1 && magic[6] != 2))
+        throw std::runtime_error(fmt::format("{}: byte 0: not a version 1 or 2 .npy file", path));
+    // Version 1 gives the header's length in 2 bytes, version 2 in 4.
+    std::size_t length = std::uint8_t(magic[8]) | (std::size_t(std::uint8_t(magic[9])) << 8);
+    std::uint64_t at = 10;
+    if (magic[6] == 2) {
+        char more[2];
+        in.read(more, 2);
+        if (!in) throw std::runtime_error(fmt::format("{}: byte 10: short file", path));
+        length |=
+            (std::size_t(std::uint8_t(more[0])) << 16) | (std::size_t(std::uint8_t(more[1])) << 24);
+        at = 12;
+    }
+    if (length > (1u << 20))
+        throw std::runtime_error(fmt::format("{}: byte 8: a header of {} bytes", path, length));
+    std::string header(length, '\0');
+    in.read(header.data(), std::streamsize(length));
+    if (!in) throw std::runtime_error(fmt::format("{}: byte {}: short file", path, at));
+    NpyHeader h;
+    h.data_offset = at + length;
+    const bool f4 = header.find("'<f4'") != std::string::npos;
+    const bool f8 = header.find("'<f8'") != std::string::npos;
+    if ((!f4 && !f8) || header.find("False") == std::string::npos)
+        throw std::runtime_error(fmt::format(
+            "{}: byte {}: not a little-endian float32 or float64 C-order array", path, at));
+    h.float64 = f8;
+    std::smatch m;
+    if (!std::regex_search(header, m, std::regex(R"(\(([0-9, ]*)\))")))
+        throw std::runtime_error(fmt::format("{}: byte {}: no shape in the header", path, at));
+    const std::string dims = m[1];
+    const std::regex number("[0-9]+");
+    for (std::sregex_iterator it(dims.begin(), dims.end(), number), end; it != end; ++it)
+        h.shape.push_back(std::stoull(it->str()));
+    return h;
+}
+
 NpyArray read_npy_f32(const std::string& path) {
     std::ifstream in(path, std::ios::binary);
     if (!in) throw std::runtime_error(fmt::format("{}: cannot open", path));
-    char magic[10];
-    in.read(magic, 10);
-    if (!in || std::memcmp(magic, "\x93NUMPY", 6) != 0 || magic[6] != 1)
-        throw std::runtime_error(fmt::format("{}: not a version 1 .npy file", path));
-    const std::size_t length = std::uint8_t(magic[8]) | (std::size_t(std::uint8_t(magic[9])) << 8);
-    std::string header(length, '\0');
-    in.read(header.data(), std::streamsize(length));
-    if (header.find("'<f4'") == std::string::npos || header.find("False") == std::string::npos)
-        throw std::runtime_error(
-            fmt::format("{}: not a little-endian float32 C-order array", path));
-    std::smatch m;
-    if (!std::regex_search(header, m, std::regex(R"(\(([0-9, ]*)\))")))
-        throw std::runtime_error(fmt::format("{}: no shape in the header", path));
+    const NpyHeader h = read_npy_header(in, path);
+    if (h.float64) throw std::runtime_error(fmt::format("{}: not a float32 array", path));
     NpyArray a;
+    a.shape = h.shape;
     std::size_t count = 1;
-    const std::string dims = m[1];
-    const std::regex number("[0-9]+");
-    for (std::sregex_iterator it(dims.begin(), dims.end(), number), end; it != end; ++it) {
-        a.shape.push_back(std::stoull(it->str()));
-        count *= a.shape.back();
-    }
+    for (const std::uint64_t d : h.shape)
+        count *= d;
     a.values.resize(count);
     in.read(reinterpret_cast<char*>(a.values.data()), std::streamsize(count * sizeof(float)));
     if (!in) throw std::runtime_error(fmt::format("{}: truncated data", path));

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <set>
 #include <sstream>
 
@@ -13,6 +14,7 @@
 #include <glm/geometric.hpp>
 
 #include "model/emission_table.hpp"
+#include "model/ray_file_source.hpp"
 #include "model/source.hpp"
 #include "model/source_clearance.hpp"
 #include "model/surface.hpp"
@@ -188,15 +190,53 @@ void read_emitter_frame(const TableReader& t, SourceDesc& s) {
     s.x_axis = made_unit(across);
 }
 
-SourceDesc read_source(const TableReader& t, const std::string& scene_path) {
+// A ray file source: its file indexed (read through once), its frame, its flux (the file's
+// unless flux_lm rescales it) and `subsample`, returned: the fraction of the file's rays
+// emitted where [trace] sets no rays.
+void read_ray_file_source(const TableReader& t, const std::string& scene_path, SourceDesc& s,
+                          std::optional<double>& subsample) {
+    t.allow_only(
+        {"optimize", "type", "center_mm", "normal", "x_axis", "file", "subsample", "flux_lm"});
+    s.kind = SourceKind::RayFile;
+    read_emitter_frame(t, s);
+    if (t.has("subsample")) {
+        subsample = t.number("subsample");
+        if (!(*subsample > 0.0 && *subsample <= 1.0))
+            t.fail(t.find("subsample"), "subsample", "must be > 0 and <= 1");
+    }
+    s.file = t.text("file");
+    s.resolved_path = resolve_beside(scene_path, s.file);
+    try {
+        s.ray_file.index = index_ray_file(s.resolved_path);
+    } catch (const std::exception& e) {
+        t.fail(t.find("file"), "file", e.what());
+    }
+    if (t.has("flux_lm")) {
+        s.flux_lm = t.positive("flux_lm");
+    } else if (std::isfinite(s.ray_file.index->file_flux_lm)) {
+        s.flux_lm = s.ray_file.index->file_flux_lm;
+    } else {
+        t.fail(t.find("file"), "flux_lm",
+               "the ray file gives no luminous flux (no lumens per ray, none in a header): "
+               "give flux_lm");
+    }
+}
+
+SourceDesc read_source(const TableReader& t, const std::string& scene_path,
+                       std::optional<double>& subsample) {
     SourceDesc s;
-    const std::string type =
-        t.choice("type", {"cylinder", "sphere", "point", "disk", "rectangle", "photometric"}, "");
+    const std::string type = t.choice(
+        "type", {"cylinder", "sphere", "point", "disk", "rectangle", "photometric", "rayfile"}, "");
     if (type.empty()) t.need("type");
     s.center_mm = t.vec3("center_mm");
+    if (type == "rayfile") {
+        read_ray_file_source(t, scene_path, s, subsample);
+        return s;
+    }
     if (type == "photometric") {
         // The file's own flux unless flux_lm rescales it (its distribution is kept).
-        t.allow_only({"type", "center_mm", "normal", "x_axis", "radius_mm", "file", "flux_lm"});
+        t.allow_only(
+            {"optimize", "type", "center_mm", "normal", "x_axis", "radius_mm", "file", "flux_lm"});
         s.kind = SourceKind::Photometric;
         read_emitter_frame(t, s);
         s.radius_mm = t.number_or("radius_mm", 0.0);
@@ -216,27 +256,28 @@ SourceDesc read_source(const TableReader& t, const std::string& scene_path) {
     }
     s.flux_lm = t.positive("flux_lm");
     if (type == "cylinder") {
-        t.allow_only(
-            {"type", "center_mm", "axis", "length_mm", "radius_mm", "emittance", "flux_lm"});
+        t.allow_only({"optimize", "type", "center_mm", "axis", "length_mm", "radius_mm",
+                      "emittance", "flux_lm"});
         s.kind = SourceKind::Cylinder;
         s.axis = t.vec3("axis");
         s.length_mm = t.positive("length_mm");
         s.radius_mm = t.positive("radius_mm");
         t.choice("emittance", {"cosine"}, "cosine");
     } else if (type == "sphere") {
-        t.allow_only({"type", "center_mm", "radius_mm", "emittance", "flux_lm"});
+        t.allow_only({"optimize", "type", "center_mm", "radius_mm", "emittance", "flux_lm"});
         s.kind = SourceKind::Sphere;
         s.radius_mm = t.positive("radius_mm");
         t.choice("emittance", {"cosine"}, "cosine");
     } else if (type == "disk") {
-        t.allow_only(
-            {"type", "center_mm", "normal", "x_axis", "radius_mm", "emittance", "flux_lm"});
+        t.allow_only({"optimize", "type", "center_mm", "normal", "x_axis", "radius_mm", "emittance",
+                      "flux_lm"});
         s.kind = SourceKind::Disk;
         read_emitter_frame(t, s);
         s.radius_mm = t.positive("radius_mm");
         t.choice("emittance", {"cosine"}, "cosine");
     } else if (type == "rectangle") {
-        t.allow_only({"type", "center_mm", "normal", "x_axis", "size_mm", "emittance", "flux_lm"});
+        t.allow_only({"optimize", "type", "center_mm", "normal", "x_axis", "size_mm", "emittance",
+                      "flux_lm"});
         s.kind = SourceKind::Rectangle;
         read_emitter_frame(t, s);
         const std::vector<double> size = t.numbers("size_mm", 2);
@@ -246,7 +287,7 @@ SourceDesc read_source(const TableReader& t, const std::string& scene_path) {
         s.height_mm = size[1];
         t.choice("emittance", {"cosine"}, "cosine");
     } else {
-        t.allow_only({"type", "center_mm", "axis", "emittance", "flux_lm"});
+        t.allow_only({"optimize", "type", "center_mm", "axis", "emittance", "flux_lm"});
         s.kind = SourceKind::Point;
         s.emittance = t.choice("emittance", {"cosine", "isotropic"}, "isotropic") == "cosine"
                           ? Emittance::Cosine
@@ -270,6 +311,32 @@ Holder read_holder(const TableReader& t) {
                                "min_mm[{}] = {}",
                                k, h.max_mm[k], k, h.min_mm[k]));
     return h;
+}
+
+ParameterRange read_range(const TableReader& opt, const std::string& name);
+
+// [source.optimize]: the centre's coordinates and, for a source with an axis, its tilts.
+std::map<std::string, ParameterRange> read_source_optimize(const TableReader& opt,
+                                                           const SourceDesc& source) {
+    std::map<std::string, ParameterRange> out;
+    const bool has_axis =
+        source.kind != SourceKind::Sphere &&
+        !(source.kind == SourceKind::Point && source.emittance == Emittance::Isotropic);
+    for (const auto& [k, v] : opt.table()) {
+        const std::string name(k.str());
+        const bool tilt = name == "tilt_x_deg" || name == "tilt_y_deg";
+        if (!(name == "x_mm" || name == "y_mm" || name == "z_mm" || tilt))
+            opt.fail(&v, name,
+                     "is not a source parameter (x_mm, y_mm, z_mm, tilt_x_deg, "
+                     "tilt_y_deg)");
+        if (tilt && !has_axis)
+            opt.fail(&v, name,
+                     fmt::format("a {} source has no axis to tilt", source_type_name(source.kind)));
+        out[name] = read_range(opt, name);
+        if (tilt && (out[name].min < -90.0 || out[name].max > 90.0))
+            opt.fail(&v, name, "must stay within -90 and 90 degrees");
+    }
+    return out;
 }
 
 ParameterRange read_range(const TableReader& opt, const std::string& name) {
@@ -424,11 +491,56 @@ ReflectorDesc read_reflector(const TableReader& t, const std::string& scene_path
     return r;
 }
 
-TraceSettings read_trace(const TableReader& t) {
+// [tolerance]: fird tolerance's defaults (its options override them).
+ToleranceDesc read_tolerance(const TableReader& t, const SourceDesc& source) {
+    t.allow_only({"realisations", "source_shift_mm", "source_tilt_deg", "surface_rms_mm",
+                  "surface_correlation_mm", "reflectance_sd"});
+    ToleranceDesc d;
+    if (t.has("realisations"))
+        d.realisations = std::uint64_t(t.integer("realisations", 1, 1000000));
+    if (const toml::node* n = t.find("source_shift_mm"); n && n->is_array())
+        d.source_shift_mm = t.vec3("source_shift_mm");
+    else if (n)
+        d.source_shift_mm = glm::dvec3(t.number("source_shift_mm"));
+    for (int k = 0; k < 3; ++k)
+        if (d.source_shift_mm[k] < 0.0)
+            t.fail(t.find("source_shift_mm"), "source_shift_mm", "must be >= 0");
+    const auto non_negative = [&](const char* key) {
+        const double v = t.number_or(key, 0.0);
+        if (v < 0.0) t.fail(t.find(key), key, "must be >= 0");
+        return v;
+    };
+    d.source_tilt_deg = non_negative("source_tilt_deg");
+    d.surface_rms_mm = non_negative("surface_rms_mm");
+    d.surface_correlation_mm = non_negative("surface_correlation_mm");
+    d.reflectance_sd = non_negative("reflectance_sd");
+    if (d.surface_rms_mm > 0.0 && !(d.surface_correlation_mm > 0.0))
+        t.fail(t.find("surface_rms_mm"), "surface_correlation_mm",
+               "must be > 0 where surface_rms_mm is (the error's correlation length)");
+    const bool has_axis =
+        source.kind != SourceKind::Sphere &&
+        !(source.kind == SourceKind::Point && source.emittance == Emittance::Isotropic);
+    if (d.source_tilt_deg > 0.0 && !has_axis)
+        t.fail(t.find("source_tilt_deg"), "source_tilt_deg",
+               fmt::format("a {} source has no axis to tilt", source_type_name(source.kind)));
+    return d;
+}
+
+// `file_rays`: a ray file source's emission count where `rays` is not given (its rays
+// times its subsample); `subsample_given`: the source set subsample, so rays may not.
+TraceSettings read_trace(const TableReader& t, std::optional<std::uint64_t> file_rays,
+                         bool subsample_given) {
     t.allow_only({"rays", "seed", "max_bounces", "bounce_policy", "sampler", "hit_mode", "direct",
                   "heightfield", "farfield"});
     TraceSettings s;
-    s.rays = std::uint64_t(t.integer("rays", 1, 10'000'000'000));
+    if (file_rays && !t.has("rays"))
+        s.rays = *file_rays;
+    else
+        s.rays = std::uint64_t(t.integer("rays", 1, 10'000'000'000));
+    if (subsample_given && t.has("rays"))
+        t.fail(t.find("rays"), "rays",
+               "a ray file source with subsample emits that share of its rays: give rays or "
+               "[source] subsample, not both");
     s.seed = std::uint64_t(t.has("seed") ? t.integer("seed", 0, INT64_MAX) : 1);
     s.max_bounces = std::uint32_t(t.integer("max_bounces", 1, 64));
     s.bounce_policy = t.choice("bounce_policy", {"paper", "strict"}, "paper") == "strict"
@@ -531,16 +643,24 @@ Scene parse_scene(const std::string& text, const std::string& path) {
         throw SceneError(fmt::format("{}:{}: {}", path, e.source().begin.line, e.description()));
     }
     const TableReader top(path, root, "");
-    top.allow_only({"name", "source", "holder", "reflector", "trace", "target", "optimize"});
+    top.allow_only(
+        {"name", "source", "holder", "reflector", "trace", "target", "optimize", "tolerance"});
     Scene s;
     s.path = path;
     s.name = top.has("name") ? top.text("name") : std::filesystem::path(path).stem().string();
-    s.source = read_source(top.sub("source"), path);
+    std::optional<double> subsample;
+    s.source = read_source(top.sub("source"), path, subsample);
+    if (top.sub("source").has("optimize"))
+        s.source_optimize = read_source_optimize(top.sub("source").sub("optimize"), s.source);
     s.holder = read_holder(top.sub("holder"));
     s.reflector = read_reflector(top.sub("reflector"), path);
-    s.trace = read_trace(top.sub("trace"));
+    std::optional<std::uint64_t> file_rays;
+    if (s.source.kind == SourceKind::RayFile)
+        file_rays = subsampled_rays(*s.source.ray_file.index, subsample.value_or(1.0));
+    s.trace = read_trace(top.sub("trace"), file_rays, subsample.has_value());
     if (top.has("target")) s.target = read_target(top.sub("target"), s.reflector, s.trace, path);
     if (top.has("optimize")) s.optimize = read_optimize(top.sub("optimize"));
+    if (top.has("tolerance")) s.tolerance = read_tolerance(top.sub("tolerance"), s.source);
     validate_scene(s);
     return s;
 }
@@ -581,11 +701,13 @@ std::string scene_to_toml(const Scene& s) {
         source.insert("length_mm", s.source.length_mm);
     }
     if (s.source.kind == SourceKind::Disk || s.source.kind == SourceKind::Rectangle ||
-        s.source.kind == SourceKind::Photometric) {
+        s.source.kind == SourceKind::Photometric || s.source.kind == SourceKind::RayFile) {
         source.insert("normal", vec(s.source.axis));
         source.insert("x_axis", vec(s.source.x_axis));
     }
-    if (s.source.kind == SourceKind::Photometric) {
+    if (s.source.kind == SourceKind::RayFile) {
+        source.insert("file", s.source.file); // [trace] rays says how many it emits
+    } else if (s.source.kind == SourceKind::Photometric) {
         source.insert("file", s.source.file);
         if (s.source.radius_mm > 0.0) source.insert("radius_mm", s.source.radius_mm);
     } else if (s.source.kind == SourceKind::Rectangle)
@@ -596,6 +718,12 @@ std::string scene_to_toml(const Scene& s) {
         source.insert("emittance",
                       s.source.emittance == Emittance::Cosine ? "cosine" : "isotropic");
         if (s.source.emittance == Emittance::Cosine) source.insert("axis", vec(s.source.axis));
+    }
+    if (!s.source_optimize.empty()) {
+        toml::table opt;
+        for (const auto& [k, r] : s.source_optimize)
+            opt.insert(k, toml::table{{"min", r.min}, {"max", r.max}, {"step", r.step}});
+        source.insert("optimize", opt);
     }
     toml::table reflector{{"family", family_name(s.reflector.family)}};
     for (const auto& [k, v] : s.reflector.parameters)
@@ -684,6 +812,15 @@ std::string scene_to_toml(const Scene& s) {
             opt.insert("rays", rays);
         }
         root.insert("optimize", opt);
+    }
+    if (s.tolerance != ToleranceDesc{}) {
+        const ToleranceDesc& d = s.tolerance;
+        root.insert("tolerance", toml::table{{"realisations", std::int64_t(d.realisations)},
+                                             {"source_shift_mm", vec(d.source_shift_mm)},
+                                             {"source_tilt_deg", d.source_tilt_deg},
+                                             {"surface_rms_mm", d.surface_rms_mm},
+                                             {"surface_correlation_mm", d.surface_correlation_mm},
+                                             {"reflectance_sd", d.reflectance_sd}});
     }
     std::ostringstream out;
     out << root << "\n";

@@ -77,6 +77,8 @@ const char* source_type_name(SourceKind kind) {
         return "rectangle";
     case SourceKind::Photometric:
         return "photometric";
+    case SourceKind::RayFile:
+        return "rayfile";
     }
     return "point";
 }

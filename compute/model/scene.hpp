@@ -12,7 +12,7 @@
 
 namespace fird {
 
-enum class SourceKind { Cylinder, Sphere, Point, Disk, Rectangle, Photometric };
+enum class SourceKind { Cylinder, Sphere, Point, Disk, Rectangle, Photometric, RayFile };
 
 // A photometric emitter's sampling table (model/emission_table.hpp, read by
 // shaders/emitter.h), shared by the copies of a scene; equal where the tables are.
@@ -26,6 +26,16 @@ struct EmissionTable {
     }
 };
 enum class Emittance { Cosine, Isotropic };
+
+// A ray file's index (model/ray_file_source.hpp: its layout, weights and extent), built
+// once when the scene is read and shared by the copies of a scene. The file it indexes is
+// SourceDesc::resolved_path, which the scenes' comparison covers; so two reads of one file
+// compare equal.
+struct RayFileIndex;
+struct RayFileHandle {
+    std::shared_ptr<const RayFileIndex> index;
+    bool operator==(const RayFileHandle& o) const { return !index == !o.index; }
+};
 
 struct SourceDesc {
     SourceKind kind = SourceKind::Point;
@@ -43,9 +53,10 @@ struct SourceDesc {
     double height_mm = 0.0; // rectangle, along axis x x_axis
     Emittance emittance = Emittance::Cosine;
     double flux_lm = 1100.0;
-    std::string file;          // photometric: the IES / LDT file as written in the scene
+    std::string file;          // photometric, ray file: the file as written in the scene
     std::string resolved_path; // ... and found beside the scene
-    EmissionTable table;       // ... its distribution, to sample
+    EmissionTable table;       // photometric: its distribution, to sample
+    RayFileHandle ray_file;    // ray file: its index (the rays are read as they are traced)
     bool operator==(const SourceDesc&) const = default;
 };
 
@@ -171,6 +182,18 @@ struct OptimizeSettings {
     bool operator==(const OptimizeSettings&) const = default;
 };
 
+// The tolerances a made luminaire has ([tolerance]; fird tolerance): each a standard
+// deviation of a normal error, drawn per realisation (compute/tolerance).
+struct ToleranceDesc {
+    std::uint64_t realisations = 32;
+    glm::dvec3 source_shift_mm{0.0};     // the source's centre, per axis
+    double source_tilt_deg = 0.0;        // its axis, about the scene's x and y axes each
+    double surface_rms_mm = 0.0;         // a smooth random surface error's RMS ...
+    double surface_correlation_mm = 0.0; // ... and its correlation length
+    double reflectance_sd = 0.0;
+    bool operator==(const ToleranceDesc&) const = default;
+};
+
 struct Scene {
     std::string path; // the file it came from (for messages)
     std::string name;
@@ -180,10 +203,16 @@ struct Scene {
     TraceSettings trace;
     TargetDesc target;
     OptimizeSettings optimize;
+    // [source.optimize]: the source's place as search parameters (design_parameters.hpp):
+    // x_mm, y_mm, z_mm (its centre) and tilt_x_deg, tilt_y_deg (its axis turned about the
+    // scene's x and y axes), each with its bounds and step.
+    std::map<std::string, ParameterRange> source_optimize;
+    ToleranceDesc tolerance;
     bool operator==(const Scene& o) const {
         return name == o.name && source == o.source && holder == o.holder &&
                reflector == o.reflector && trace == o.trace && target == o.target &&
-               optimize == o.optimize;
+               optimize == o.optimize && source_optimize == o.source_optimize &&
+               tolerance == o.tolerance;
     }
 };
 

@@ -10,6 +10,7 @@
 
 #include <glm/geometric.hpp>
 
+#include "model/ray_file_source.hpp"
 #include "sampling/philox.hpp"
 #include "sampling/sobol.hpp"
 #include "sampling/strata.hpp"
@@ -56,6 +57,9 @@ gpu::emission::Emitter emitter_of(const SourceDesc& s, const glm::dvec3& origin)
         e.table_c = s.table.c_angles;
         e.table_g = s.table.gamma_angles;
         break;
+    case SourceKind::RayFile:
+        e.kind = gpu::kSourceRayFile; // its rays are read, not sampled (ray_file_source.hpp)
+        break;
     }
     e.center = s.center_mm - origin;
     e.axis = glm::normalize(s.axis);
@@ -71,10 +75,21 @@ gpu::emission::Emitter emitter_of(const SourceDesc& s, const glm::dvec3& origin)
 }
 
 Ray sample_source(const SourceDesc& s, const std::array<double, 4>& u) {
+    if (s.kind == SourceKind::RayFile)
+        throw std::invalid_argument("a ray file's rays are read (emit_ray), not sampled");
     const gpu::emission::Emission m =
         gpu::emission::sample_emitter(emitter_of(s), glm::dvec4(u[0], u[1], u[2], u[3]),
                                       s.table.floats ? s.table.floats->data() : nullptr);
     return {m.origin, m.direction};
+}
+
+Ray emit_ray(const SourceDesc& source, SamplerKind sampler, std::uint64_t seed, std::uint64_t index,
+             std::uint64_t rays) {
+    if (source.kind != SourceKind::RayFile)
+        return sample_source(source, ray_uniforms(sampler, seed, index, rays));
+    Ray ray{};
+    emit_ray_file_rays(source, seed, index, 1, rays, [&](const Ray& r) { ray = r; });
+    return ray;
 }
 
 std::array<double, 4> ray_uniforms(SamplerKind sampler, std::uint64_t seed, std::uint64_t index,

@@ -35,10 +35,10 @@ Ray sample_source(const SourceDesc& source, const std::array<double, 4>& u);
 std::array<double, 4> ray_uniforms(SamplerKind sampler, std::uint64_t seed, std::uint64_t index,
                                    std::uint64_t rays);
 
-inline Ray emit_ray(const SourceDesc& source, SamplerKind sampler, std::uint64_t seed,
-                    std::uint64_t index, std::uint64_t rays) {
-    return sample_source(source, ray_uniforms(sampler, seed, index, rays));
-}
+// Ray `index` of the `rays` emitted under `seed`: sampled from the uniforms, or for a ray
+// file read from the file (model/ray_file_source.hpp; the sampler does not apply).
+Ray emit_ray(const SourceDesc& source, SamplerKind sampler, std::uint64_t seed, std::uint64_t index,
+             std::uint64_t rays);
 
 // K of the scene's effective rays, spread evenly over its emission order: rays the fast
 // path's rayset holds too (the same counter-based stream), for paths shown or exported.

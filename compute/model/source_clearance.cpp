@@ -8,11 +8,35 @@
 #include <fmt/format.h>
 #include <glm/geometric.hpp>
 
+#include "model/ray_file_source.hpp"
 #include "model/source.hpp"
 
 namespace fird {
 
+namespace {
+// A ray file's rays start in its origins' box (its file frame): the box of that box's
+// corners, placed in the scene.
+SourceBox ray_file_box(const SourceDesc& s) {
+    if (!s.ray_file.index) throw std::invalid_argument("a ray file source without its index");
+    const RayFileIndex& index = *s.ray_file.index;
+    const gpu::emission::Emitter e = emitter_of(s);
+    const glm::dvec3 y_axis = glm::cross(e.axis, e.x_axis);
+    SourceBox box{glm::dvec3(std::numeric_limits<double>::infinity()),
+                  glm::dvec3(-std::numeric_limits<double>::infinity())};
+    for (int corner = 0; corner < 8; ++corner) {
+        const glm::dvec3 p((corner & 1 ? index.origin_max_mm : index.origin_min_mm).x,
+                           (corner & 2 ? index.origin_max_mm : index.origin_min_mm).y,
+                           (corner & 4 ? index.origin_max_mm : index.origin_min_mm).z);
+        const glm::dvec3 q = e.center + p.x * e.x_axis + p.y * y_axis + p.z * e.axis;
+        box.lo = glm::min(box.lo, q);
+        box.hi = glm::max(box.hi, q);
+    }
+    return box;
+}
+} // namespace
+
 SourceBox source_box(const SourceDesc& s) {
+    if (s.kind == SourceKind::RayFile) return ray_file_box(s);
     // Half extents along axis k: a cylinder of axis a reaches L/2 |a_k| + r sqrt(1 - a_k^2);
     // a disk of normal n r sqrt(1 - n_k^2); a rectangle w/2 |x_k| + h/2 |y_k| with x, y its
     // sides' directions; a sphere r; a point 0.
@@ -37,6 +61,7 @@ SourceBox source_box(const SourceDesc& s) {
             half[k] = s.radius_mm;
             break;
         case SourceKind::Point:
+        case SourceKind::RayFile: // its origins' box (above)
             break;
         }
     }

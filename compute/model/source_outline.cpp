@@ -7,6 +7,7 @@
 #include <glm/geometric.hpp>
 
 #include "model/source.hpp"
+#include "model/source_clearance.hpp"
 
 namespace fird {
 
@@ -74,6 +75,18 @@ SourceOutline source_outline(const SourceDesc& s, double point_radius_mm, int ar
         }
         for (std::uint32_t k = 0; k < columns; ++k)
             o.triangles.push_back({0, 1 + k, 1 + (k + 1) % columns});
+        break;
+    }
+    case SourceKind::RayFile: {
+        // The box its rays start in (a die's or a package's extent).
+        const SourceBox box = source_box(s);
+        for (int corner = 0; corner < 8; ++corner)
+            o.vertices_mm.push_back({corner & 1 ? box.hi.x : box.lo.x,
+                                     corner & 2 ? box.hi.y : box.lo.y,
+                                     corner & 4 ? box.hi.z : box.lo.z});
+        // Two triangles per face, wound outwards.
+        o.triangles = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
+                       {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
         break;
     }
     case SourceKind::Rectangle: {

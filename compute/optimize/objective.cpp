@@ -55,9 +55,9 @@ double Objective::operator()(const std::vector<double>& x) {
     if (stages_.empty()) throw std::logic_error("Objective: no stage begun");
     if (const auto it = stage_memo_.find(x); it != stage_memo_.end()) {
         const Candidate& c = history_[it->second];
-        return c.feasible
-                   ? c.l2_lm
-                   : penalty(candidate_feasibility(scene_, space_.reflector(scene_.reflector, x)));
+        if (c.feasible) return c.l2_lm;
+        const Scene candidate = space_.candidate(scene_, x);
+        return penalty(candidate_feasibility(candidate, candidate.reflector));
     }
     if (control_) {
         while (control_->pause.load() && !control_->stop.load())
@@ -75,10 +75,11 @@ double Objective::operator()(const std::vector<double>& x) {
 double Objective::trace(const std::vector<double>& x) {
     const auto t0 = std::chrono::steady_clock::now();
     Candidate c{.index = history_.size(), .stage = std::uint32_t(stages_.size() - 1), .x = x};
-    const ReflectorDesc reflector = space_.reflector(scene_.reflector, x);
+    const Scene candidate = space_.candidate(scene_, x);
+    const ReflectorDesc& reflector = candidate.reflector;
     // A point traced ahead was found feasible then (its press measures are not taken twice).
     const Feasibility f =
-        prefetched_.contains(x) ? Feasibility{} : candidate_feasibility(scene_, reflector);
+        prefetched_.contains(x) ? Feasibility{} : candidate_feasibility(candidate, reflector);
     c.feasible = f.feasible;
     c.l2_lm = std::numeric_limits<double>::quiet_NaN();
     if (c.index < replay_.size()) {
@@ -100,6 +101,7 @@ double Objective::trace(const std::vector<double>& x) {
             prefetched_.erase(it);
             batched = true;
         } else {
+            if (space_.moves_source()) stage_evaluator().set_source(candidate.source);
             result = stage_evaluator().evaluate(reflector);
         }
         c.l2_lm = *result.l2_lm;
@@ -133,8 +135,9 @@ void Objective::prefetch(std::span<const std::vector<double>> xs) {
     if (stages_.empty() || (control_ && (control_->stop.load() || control_->pause.load())))
         return; // operator() stops or waits before any trace
     // The reference backend traces a batch one candidate after another: tracing ahead
-    // would only delay a stop or a pause by up to a chunk of seconds-long traces.
-    if (settings_.backend == Backend::Reference) return;
+    // would only delay a stop or a pause by up to a chunk of seconds-long traces. A batch
+    // shares one rayset: candidates that move the source are traced one at a time.
+    if (settings_.backend == Backend::Reference || space_.moves_source()) return;
     // The history index each x will take, as operator() assigns them in turn.
     std::uint64_t index = history_.size();
     std::set<std::vector<double>> seen;
@@ -171,12 +174,13 @@ Evaluator& Objective::stage_evaluator() {
 std::pair<FarField, FarField> Objective::noise_pair(const std::vector<double>& x,
                                                     std::uint64_t seed) {
     if (stages_.empty()) throw std::logic_error("Objective: no stage begun");
-    const ReflectorDesc reflector = space_.reflector(scene_.reflector, x);
-    (void)stage_evaluator().evaluate(reflector);
+    const Scene candidate = space_.candidate(scene_, x);
+    if (space_.moves_source()) stage_evaluator().set_source(candidate.source);
+    (void)stage_evaluator().evaluate(candidate.reflector);
     Fidelity other = stage().fidelity;
     other.seed = seed;
-    Evaluator fresh(*ctx_, scene_, other, settings_.backend);
-    (void)fresh.evaluate(reflector);
+    Evaluator fresh(*ctx_, candidate, other, settings_.backend);
+    (void)fresh.evaluate(candidate.reflector);
     return {evaluator_->farfield(), fresh.farfield()};
 }
 

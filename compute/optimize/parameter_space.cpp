@@ -8,6 +8,7 @@
 
 #include <fmt/format.h>
 
+#include "model/design_parameters.hpp"
 #include "model/press_measures.hpp"
 #include "model/source_clearance.hpp"
 #include "model/surface.hpp"
@@ -99,16 +100,27 @@ ReflectorDesc ParameterSpace::reflector(const ReflectorDesc& base,
                                         const std::vector<double>& x) const {
     ReflectorDesc r = base;
     for (std::size_t k = 0; k < size(); ++k)
-        r.parameters[names[k]] = x[k];
+        if (!is_source_parameter(names[k])) r.parameters[names[k]] = x[k];
     return r;
+}
+
+bool ParameterSpace::moves_source() const {
+    return std::any_of(names.begin(), names.end(), is_source_parameter);
+}
+
+Scene ParameterSpace::candidate(const Scene& base, const std::vector<double>& x) const {
+    Scene s = base;
+    apply_design_parameters(s, named(x));
+    return s;
 }
 
 ParameterSpace parameter_space(const Scene& scene) {
     const ReflectorDesc& r = scene.reflector;
-    if (r.optimize.empty())
+    if (r.optimize.empty() && scene.source_optimize.empty())
         throw std::invalid_argument(fmt::format(
             "{}: [reflector.optimize] is missing: give bounds and a step for each parameter to "
-            "search (e.g. fx = {{ min = 10.0, max = 20.0, step = 0.5 }})",
+            "search (e.g. fx = {{ min = 10.0, max = 20.0, step = 0.5 }}), or the source's in "
+            "[source.optimize]",
             scene.path));
     ParameterSpace s;
     for (const auto& [name, range] : r.optimize) {
@@ -117,6 +129,14 @@ ParameterSpace parameter_space(const Scene& scene) {
         s.hi.push_back(range.max);
         s.step.push_back(range.step);
         s.start.push_back(std::clamp(start_value(r, name), range.min, range.max));
+    }
+    for (const auto& [key, range] : scene.source_optimize) {
+        s.names.push_back(kSourceParameterPrefix + key);
+        s.lo.push_back(range.min);
+        s.hi.push_back(range.max);
+        s.step.push_back(range.step);
+        s.start.push_back(
+            std::clamp(source_parameter_value(scene.source, key), range.min, range.max));
     }
     return s;
 }
@@ -127,6 +147,15 @@ namespace {
 Feasibility traceable(const Scene& scene, const ReflectorDesc& reflector,
                       std::optional<Surface>& surface) {
     Feasibility f;
+    // A moved source stays over the holder's footprint, as a scene's must.
+    const glm::dvec3& c = scene.source.center_mm;
+    if (c.x < scene.holder.min_mm.x || c.x > scene.holder.max_mm.x || c.y < scene.holder.min_mm.y ||
+        c.y > scene.holder.max_mm.y) {
+        f.feasible = false;
+        f.reason = fmt::format("the source at ({:.4g}, {:.4g}) mm is off the holder's footprint",
+                               c.x, c.y);
+        return f;
+    }
     try {
         surface.emplace(Surface::make(reflector, scene.holder));
         f.clearance_mm = source_clearance_mm(*surface, scene.source);

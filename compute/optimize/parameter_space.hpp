@@ -13,7 +13,8 @@
 namespace fird {
 
 struct ParameterSpace {
-    // The optimized parameters in [reflector.optimize]'s order (sorted by name).
+    // The optimized parameters: [reflector.optimize]'s (sorted by name), then
+    // [source.optimize]'s, named "source.<key>" (design_parameters.hpp).
     std::vector<std::string> names;
     std::vector<double> lo, hi, step;
     std::vector<double> start; // the scene's reflector, clamped into the box
@@ -32,11 +33,16 @@ struct ParameterSpace {
     std::map<std::string, double> named(const std::vector<double>& x) const;
     // "name=value ..." in the names' order, for one-line messages.
     std::string text(const std::vector<double>& x) const;
-    // The base reflector with x's values.
+    // The base reflector with x's reflector values.
     ReflectorDesc reflector(const ReflectorDesc& base, const std::vector<double>& x) const;
+    // Whether some parameter moves the source (the candidates then do not share a rayset).
+    bool moves_source() const;
+    // The base scene with all of x's values: its reflector and its source.
+    Scene candidate(const Scene& base, const std::vector<double>& x) const;
 };
 
-// Throws std::invalid_argument naming the scene when it has no [reflector.optimize].
+// Throws std::invalid_argument naming the scene when it has neither [reflector.optimize]
+// nor [source.optimize].
 ParameterSpace parameter_space(const Scene& scene);
 
 struct Feasibility {

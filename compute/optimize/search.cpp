@@ -267,9 +267,11 @@ SearchOutcome run_search(const vk::Context& ctx, const Scene& scene, const Searc
     Fidelity final_fidelity = scene_fidelity(scene);
     final_fidelity.seed = stream_seed(settings.seed, kFinalStream, avoid);
     Evaluator final_eval(ctx, scene, final_fidelity, settings.backend);
-    const ReflectorDesc start = space.reflector(scene.reflector, space.start);
+    const Scene start_scene = space.candidate(scene, space.start);
+    const ReflectorDesc& start = start_scene.reflector;
     // Traced for its flux and l2 even where it breaks a press's constraint.
-    const bool start_feasible = traceable(scene, start).feasible;
+    const bool start_feasible = traceable(start_scene, start).feasible;
+    if (space.moves_source()) final_eval.set_source(start_scene.source);
     const double start_flux = start_feasible ? final_eval.evaluate(start).farfield_lm : 0.0;
     if (!req.desired && scene.target.kind == TargetDesc::Kind::Photometric &&
         !scene.target.absolute && !(start_flux > 0.0))
@@ -354,7 +356,8 @@ SearchOutcome run_search(const vk::Context& ctx, const Scene& scene, const Searc
     if (r.best) {
         const std::vector<double>& x = r.history[*r.best].x;
         r.best_parameters = space.named(x);
-        const ReflectorDesc best = space.reflector(scene.reflector, x);
+        const Scene best_scene = space.candidate(scene, x);
+        const ReflectorDesc& best = best_scene.reflector;
         r.constraints = constraints_at(scene, space, x);
         if (scene.target.kind == TargetDesc::Kind::Reflector)
             r.surface_rms_mm =
@@ -363,11 +366,12 @@ SearchOutcome run_search(const vk::Context& ctx, const Scene& scene, const Searc
         // Fresh rays at the scene's fidelity, and a second independent trace: the l2
         // between those two is what noise alone leaves (skipped when interrupted).
         if (r.stopped != StopReason::Interrupted) {
+            if (space.moves_source()) final_eval.set_source(best_scene.source);
             r.final_l2_lm = *final_eval.evaluate(best).l2_lm;
             out.best_farfield = final_eval.farfield();
             Fidelity noise = final_fidelity;
             noise.seed = stream_seed(settings.seed, kNoiseStream, avoid);
-            Evaluator noise_eval(ctx, scene, noise, settings.backend);
+            Evaluator noise_eval(ctx, best_scene, noise, settings.backend);
             (void)noise_eval.evaluate(best);
             r.noise_floor_l2_lm = final_eval.l2_to(noise_eval);
         }

@@ -9,6 +9,7 @@
 #include "evaluation/evaluation.hpp"
 #include "io/atomic_file.hpp"
 #include "io/scene_file.hpp"
+#include "model/design_parameters.hpp"
 #include "plot/chart.hpp"
 
 namespace fird {
@@ -222,12 +223,14 @@ ProgressCharts progress_charts(const SearchResult& r) {
 std::string best_scene_toml(const Scene& scene, const SearchResult& r) {
     namespace fs = std::filesystem;
     Scene best = scene;
-    for (const auto& [k, v] : r.best_parameters)
-        best.reflector.parameters[k] = v;
+    apply_design_parameters(best, r.best_parameters);
     if (!best.reflector.mesh.file.empty())
         best.reflector.mesh.file = fs::absolute(best.reflector.mesh.resolved_path).string();
     if (!best.target.file.empty())
         best.target.file = fs::absolute(best.target.resolved_path).string();
+    // A photometric source's or a ray file's file, found from the output folder too.
+    if (!best.source.file.empty())
+        best.source.file = fs::absolute(best.source.resolved_path).string();
     std::string text = fmt::format(
         "# {}: the best reflector of fird optimize ({}, l2 {:.6g} lm at evaluation {})\n",
         scene.name, r.method, r.best_l2_lm, r.best ? *r.best : 0);

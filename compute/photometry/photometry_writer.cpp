@@ -1,6 +1,7 @@
 #include "photometry_writer.hpp"
 
 #include <cmath>
+#include <ctime>
 #include <sstream>
 #include <stdexcept>
 
@@ -35,6 +36,16 @@ std::string one_line(std::string s) {
     return s;
 }
 
+std::string issue_date(const PhotometryLabels& labels) {
+    if (!labels.issue_date.empty()) return labels.issue_date;
+    const std::time_t now = std::time(nullptr);
+    std::tm utc{};
+    gmtime_r(&now, &utc);
+    char text[16];
+    std::strftime(text, sizeof text, "%Y-%m-%d", &utc);
+    return text;
+}
+
 double downward_fraction(const CandelaTable& t) {
     CandelaTable lower = t;
     for (std::size_t c = 0; c < t.c_deg.size(); ++c)
@@ -49,11 +60,17 @@ double downward_fraction(const CandelaTable& t) {
 void write_ies(const std::string& path, const CandelaTable& t, const PhotometryLabels& labels) {
     auto out = open(path);
     const char* eol = "\r\n"; // LM-63's line end
-    out << "IESNA:LM-63-2002" << eol;
+    out << "IES:LM-63-2019" << eol;
     out << "[TEST] " << one_line(labels.test) << eol;
     out << "[TESTLAB] FIRD" << eol;
+    out << "[ISSUEDATE] " << issue_date(labels) << eol;
     out << "[MANUFAC] FIRD" << eol;
+    out << "[LUMCAT] " << one_line(labels.luminaire) << eol;
     out << "[LUMINAIRE] " << one_line(labels.luminaire) << eol;
+    if (labels.lamp_flux_lm > 0.0)
+        out << fmt::format("[LAMP] light source of {:.7g} lm", labels.lamp_flux_lm) << eol;
+    if (labels.simulated)
+        out << "[FILEGENINFO] ray traced by FIRD; absolute candela for the source's flux" << eol;
     if (!labels.other.empty()) out << "[OTHER] " << one_line(labels.other) << eol;
     out << "TILT=NONE" << eol;
     // The full C range, closed at 360 (a copy of C0) as LM-63 writes 0-360 tables.
@@ -61,7 +78,8 @@ void write_ies(const std::string& path, const CandelaTable& t, const PhotometryL
     const bool rotational = h.size() == 1;
     if (!rotational) h.push_back(360.0);
     out << fmt::format("1 -1 1 {} {} 1 2 0 0 0", t.gamma_deg.size(), h.size()) << eol;
-    out << "1 1 0" << eol;
+    // Ballast factor, file generation type (1.XYZAB: Y = 1, simulated), input watts.
+    out << (labels.simulated ? "1 1.00010 0" : "1 1.00001 0") << eol;
     write_values(out, t.gamma_deg, eol);
     write_values(out, h, eol);
     for (std::size_t c = 0; c < h.size(); ++c) {
@@ -101,29 +119,31 @@ void write_ldt(const std::string& path, const CandelaTable& t, const PhotometryL
     line(labels.test);               // measurement report
     line(labels.luminaire);          // luminaire name
     line("FIRD");                    // luminaire number
-    line(path.substr(path.find_last_of('/') + 1)); // file name
-    line(labels.other);                            // date / user
-    for (int k = 0; k < 9; ++k)                    // luminaire and luminous-area dimensions (mm)
+    line(path.substr(path.find_last_of('/') + 1));                  // file name
+    line(labels.other.empty() ? issue_date(labels) : labels.other); // date / user
+    for (int k = 0; k < 9; ++k) // luminaire and luminous-area dimensions (mm)
         line("0");
     line(fmt::format("{:.4f}", 100.0 * downward_fraction(t))); // DFF %
-    line("100");                       // LORL %: the lamp flux is the emitted flux
-    line("1");                         // conversion factor for luminous intensities
-    line("0");                         // tilt during measurement
-    line("1");                         // lamp sets
-    line("1");                         // lamps
-    line("FIRD far field");            // lamp type
-    line(fmt::format("{:.7g}", flux)); // total lamp flux (lm)
-    line("0");                         // colour temperature
-    line("0");                         // colour rendering
-    line("0");                         // wattage
-    for (int k = 0; k < 10; ++k)       // direct ratios (utilization): not computed
+    // The lamp is the light source; the luminaire emits the table's flux of it.
+    const double lamp_flux = labels.lamp_flux_lm > 0.0 ? labels.lamp_flux_lm : flux;
+    line(fmt::format("{:.7g}", 100.0 * flux / lamp_flux)); // LORL %
+    line("1");                              // conversion factor for luminous intensities
+    line("0");                              // tilt during measurement
+    line("1");                              // lamp sets
+    line("1");                              // lamps
+    line("FIRD far field");                 // lamp type
+    line(fmt::format("{:.7g}", lamp_flux)); // total lamp flux (lm)
+    line("0");                              // colour temperature
+    line("0");                              // colour rendering
+    line("0");                              // wattage
+    for (int k = 0; k < 10; ++k)            // direct ratios (utilization): not computed
         line("0");
     for (double c : t.c_deg)
         line(fmt::format("{:.7g}", c));
     for (double g : t.gamma_deg)
         line(fmt::format("{:.7g}", g));
     for (double v : t.cd)
-        line(fmt::format("{:.7g}", v * 1000.0 / flux));
+        line(fmt::format("{:.7g}", v * 1000.0 / lamp_flux));
     finish(out, path);
 }
 

@@ -5,6 +5,8 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <exception>
+#include <mutex>
 #include <stdexcept>
 #include <thread>
 
@@ -13,6 +15,7 @@
 #include <glm/trigonometric.hpp>
 
 #include "material.h"
+#include "model/ray_file_source.hpp"
 #include "sampling/philox.hpp"
 #include "surface_hit.hpp"
 
@@ -84,16 +87,35 @@ ReferenceResult trace_reference(const SourceDesc& source, const Surface& surface
     std::vector<Local> locals(threads);
     std::atomic<std::uint64_t> next{0};
     const auto start = std::chrono::steady_clock::now();
+    const bool ray_file = source.kind == SourceKind::RayFile;
+    std::exception_ptr failure;
+    std::mutex failure_mutex;
     const auto work = [&](Local& local) {
         local.weights.assign(cells, 0.0);
         local.tally.by_reflections.assign(o.max_bounces + 1, 0);
         local.tally.lost_by_reflections.assign(o.max_bounces + 1, 0);
+        std::vector<Ray> file_rays;
         for (;;) {
+            file_rays.clear();
             const std::uint64_t begin = next.fetch_add(kBlock);
             if (begin >= o.rays) break;
             const std::uint64_t end = std::min(o.rays, begin + kBlock);
+            // A ray file's block is read in one pass through the file (a read that fails,
+            // a file changed since the scene was read, stops every thread and is rethrown).
+            if (ray_file) {
+                try {
+                    emit_ray_file_rays(source, o.seed, begin, end - begin, o.rays,
+                                       [&](const Ray& r) { file_rays.push_back(r); });
+                } catch (...) {
+                    const std::lock_guard lock(failure_mutex);
+                    if (!failure) failure = std::current_exception();
+                    next = o.rays;
+                    break;
+                }
+            }
             for (std::uint64_t i = begin; i < end; ++i) {
-                const Ray ray = emit_ray(source, o.sampler, o.seed, i, o.rays);
+                const Ray ray = ray_file ? file_rays[i - begin]
+                                         : emit_ray(source, o.sampler, o.seed, i, o.rays);
                 const RayFinish finish{.material = o.material, .seed = o.seed, .index = i};
                 const PathResult path = trace_path(surface, surface.holder(), ray, o.max_bounces,
                                                    o.bounce_policy, nullptr, &finish);
@@ -141,6 +163,7 @@ ReferenceResult trace_reference(const SourceDesc& source, const Surface& surface
     work(locals[0]);
     for (auto& t : pool)
         t.join();
+    if (failure) std::rethrow_exception(failure);
 
     ReferenceResult result;
     result.threads = threads;

@@ -71,6 +71,10 @@ FIRD_CONSTANT(uint, kSourcePointCosine, 3u);
 FIRD_CONSTANT(uint, kSourceDisk, 4u);        // one-sided Lambertian disk (an LED die)
 FIRD_CONSTANT(uint, kSourceRectangle, 5u);   // one-sided Lambertian rectangle (a COB)
 FIRD_CONSTANT(uint, kSourcePhotometric, 6u); // an IES / LDT distribution (emitter.h's table)
+// A measured ray file: the host reads the batch's rays into the emitter table buffer (six
+// floats each: origin, direction, in the scene's frame) and rayset.comp takes ray i of it.
+FIRD_CONSTANT(uint, kSourceRayFile, 7u);
+FIRD_CONSTANT(uint, kRayFileFloats, 6u);
 
 FIRD_CONSTANT(uint, kSamplerRandom, 0u); // independent Philox rays
 FIRD_CONSTANT(uint, kSamplerSobol, 1u);
@@ -87,11 +91,12 @@ FIRD_CONSTANT(uint, kStratumOffsetBits, 23u - kStratumBits);
 // A sphere's or a point's direction is a function of the first two uniforms alone, so with
 // the stratified sampler its rayset is emitted already ordered by direction: rayset.comp
 // writes it in place and no sort follows. A cylinder's direction also depends on the last
-// two, a photometric source's cells come in C-major order (a turn of gamma per C), and the
-// other samplers' rays come in no order: those raysets are sorted.
+// two, a photometric source's cells come in C-major order (a turn of gamma per C), a ray
+// file's rays come in the file's order, and the other samplers' rays come in no order:
+// those raysets are sorted.
 FIRD_FUNCTION bool rayset_ordered_at_birth(uint sampler_kind, uint source_kind) {
     return sampler_kind == kSamplerStratified && source_kind != kSourceCylinder &&
-           source_kind != kSourcePhotometric;
+           source_kind != kSourcePhotometric && source_kind != kSourceRayFile;
 }
 
 FIRD_CONSTANT(uint, kHitModePaper, 0u);
@@ -114,8 +119,9 @@ FIRD_CONSTANT(uint, kHitModeRefined, 1u);
 FIRD_CONSTANT(uint, kBindParams, 0u);
 FIRD_CONSTANT(uint, kRaysetBindRays, 1u);
 FIRD_CONSTANT(uint, kRaysetBindCounters, 2u);
-FIRD_CONSTANT(uint, kRaysetBindBuckets, 3u);      // rays per direction bucket (rayset_order.comp)
-FIRD_CONSTANT(uint, kRaysetBindEmitterTable, 4u); // float[]: a photometric emitter's table
+FIRD_CONSTANT(uint, kRaysetBindBuckets, 3u); // rays per direction bucket (rayset_order.comp)
+// float[]: a photometric emitter's table, or a ray file's rays for the batch (kRayFileFloats each)
+FIRD_CONSTANT(uint, kRaysetBindEmitterTable, 4u);
 FIRD_CONSTANT(uint, kHeightfieldBindHeights, 1u);
 FIRD_CONSTANT(uint, kHeightfieldBindGradients, 2u);
 FIRD_CONSTANT(uint, kHeightfieldBindControl, 3u);

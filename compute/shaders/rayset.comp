@@ -23,7 +23,9 @@ void main() {
     const bool emitted = i < pc.count;
     const uint lo = pc.first_lo + i;
     const uint hi = pc.first_hi + (lo < pc.first_lo ? 1u : 0u);
-    Ray r = sample_source(ray_uniforms(lo, hi));
+    // A ray file's rays were read by the host (emitted ones only: i < count).
+    Ray r = kSourceKind == kSourceRayFile ? ray_file_ray(emitted ? i : 0u)
+                                          : sample_source(ray_uniforms(lo, hi));
     // The ray carries its emission index's low word through every bounce (the high word
     // follows from the batch's first index): the finish's draws are keyed on it.
     r.origin.w = uintBitsToFloat(lo);

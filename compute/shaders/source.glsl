@@ -31,4 +31,13 @@ Ray sample_source(vec4 u) {
     return r;
 }
 
+// Ray i of the batch of a ray file (kSourceRayFile): the host read and placed it.
+Ray ray_file_ray(uint i) {
+    const uint at = kRayFileFloats * i;
+    Ray r;
+    r.origin = vec4(emitter_table[at], emitter_table[at + 1u], emitter_table[at + 2u], 0.0);
+    r.direction = vec4(emitter_table[at + 3u], emitter_table[at + 4u], emitter_table[at + 5u], 0.0);
+    return r;
+}
+
 #endif

@@ -12,6 +12,9 @@
 
 #include <gtest/gtest.h>
 
+#include <fmt/format.h>
+
+#include "io/ray_files_fixture.hpp"
 #include "run_fird.hpp"
 
 namespace {
@@ -119,6 +122,12 @@ TEST(BadInput, OptionValuesOfEveryCommand) {
              "/tests/photometry/data/corpus/luxpy_pair_quadrant.ies " + dir() + "/b.xyz",
          1, "b.xyz"},
         {"stress --case no-such-case", 1, "no such case"},
+        {"tolerance " + good + " --realisations 0 --reflectance-sd 0.01", 2, "--realisations"},
+        {"tolerance " + good + " --reflectance-sd -0.1", 2, "--reflectance-sd"},
+        {"tolerance " + good + " --source-shift-mm 1,2", 2, "--source-shift-mm"},
+        {"tolerance " + good + " --surface-rms-mm 0.01", 2, "--surface-correlation-mm"},
+        {"tolerance " + good, 2, "no tolerance given"},
+        {"tolerance " + good + " --reflectance-sd 0.01 --out /proc/fird_no", 1, "/proc/fird_no"},
         {"--max-device-memory 0 info", 2, "--max-device-memory"},
         {"--max-batch-rays 0 info", 2, "--max-batch-rays"},
         {"--max-batch-rays -5 info", 2, "--max-batch-rays"},
@@ -149,6 +158,35 @@ TEST(BadInput, FilesThatAreMissingUnreadableOrDirectories) {
         std::ofstream(target) << text;
     }
     check({{"trace " + target + " --rays 1000", 1, "broken.ies"}});
+}
+
+// A ray file source whose file is broken (tests/io/write_ray_files.py put each fault at a
+// byte it records): one line naming the scene's key, the ray file and the byte, exit 1.
+TEST(BadInput, RayFilesNamingTheFileAndTheByte) {
+    const fird::test::RayFiles& files = fird::test::ray_files();
+    const auto scene = [&](const std::string& name) {
+        return scene_with("rayfile_" + name,
+                          "type = \"point\"\ncenter_mm = [0.0, 0.0, 5.0]\nemittance = "
+                          "\"cosine\"\naxis = [0.0, 0.0, -1.0]",
+                          "type = \"rayfile\"\ncenter_mm = [0.0, 0.0, 5.0]\nfile = \"" +
+                              files(name) + "\"");
+    };
+    const auto byte = [&](const char* key) {
+        return fmt::format("byte {}", files.manifest[key]["byte"].get<int>());
+    };
+    check({
+        {"trace " + scene("short.tm25ray") + " --rays 1000", 1, "short.tm25ray: " + byte("short")},
+        {"trace " + scene("bad_tag.tm25ray") + " --rays 1000", 1, "bad_tag.tm25ray: byte 0"},
+        {"trace " + scene("size_mismatch.tm25ray") + " --rays 1000", 1,
+         "size_mismatch.tm25ray: " + byte("size_mismatch")},
+        {"trace " + scene("nan_direction.tm25ray") + " --rays 1000", 1,
+         "nan_direction.tm25ray: " + byte("nan_direction")},
+        {"optimize " + scene("negative_flux.tm25ray"), 1,
+         "negative_flux.tm25ray: " + byte("negative_flux")},
+        {"trace " + scene("zero_direction.npy") + " --rays 1000", 1,
+         "zero_direction.npy: " + byte("zero_direction")},
+        {"trace " + scene("nan_direction.csv") + " --rays 1000", 1, "nan_direction.csv: line 6"},
+    });
 }
 
 TEST(BadInput, OutputsThatCannotBeWritten) {

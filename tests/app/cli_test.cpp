@@ -17,6 +17,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "io/ray_files_fixture.hpp"
 #include "io/scene_file.hpp"
 #include "run_fird.hpp"
 
@@ -188,10 +189,17 @@ TEST(Cli, TraceProfileHasARowPerBounce) {
     EXPECT_EQ(cpu.code, 2) << cpu.out;
 }
 
+// The luminaire files hold what the far field holds, in absolute candela for the source's
+// real flux: the finished Model B with its direct light (1100 lm source). The IES file is
+// LM-63-2019 with its required keywords and a simulation's file generation type (read here
+// as text, line by line); the EULUMDAT file's lamp is the source and its light output
+// ratio the far field's share of it (read as text: line 23 LORL, the first lamp set's
+// flux at line 29 of the fixed header).
 TEST(Cli, TraceOutWritesNpyPicturesAndLuminaireFiles) {
     const std::string dir = ::testing::TempDir() + "/fird_out";
-    const auto r = run("trace " + std::string(FIRD_SOURCE_DIR) +
-                       "/scenes/model_b.toml --backend cpu --rays 5000 --json --out " + dir);
+    const auto r =
+        run("trace " + std::string(FIRD_SOURCE_DIR) +
+            "/scenes/model_b_aluminium.toml --backend cpu --rays 20000 --json --out " + dir);
     ASSERT_EQ(r.code, 0) << r.out;
     for (const char* name : {"farfield.npy", "farfield.png", "target.npy", "target.png",
                              "difference.png", "farfield.ies", "farfield.ldt"}) {
@@ -199,15 +207,39 @@ TEST(Cli, TraceOutWritesNpyPicturesAndLuminaireFiles) {
         EXPECT_TRUE(f) << name;
         if (f) std::fclose(f);
     }
-    // The luminaire files hold the far field's flux.
-    const double farfield_lm = nlohmann::json::parse(r.out)["energy_farfield_lm"].get<double>();
+    const double binned_lm = nlohmann::json::parse(r.out)["energy_binned_lm"].get<double>();
     for (const char* name : {"farfield.ies", "farfield.ldt"}) {
         const auto info = run("photometry info --json " + dir + "/" + name);
         ASSERT_EQ(info.code, 0) << info.out;
-        EXPECT_NEAR(nlohmann::json::parse(info.out)["flux_integrated_lm"].get<double>(),
-                    farfield_lm, 1e-3 * farfield_lm)
+        EXPECT_NEAR(nlohmann::json::parse(info.out)["flux_integrated_lm"].get<double>(), binned_lm,
+                    1e-3 * binned_lm)
             << name;
     }
+    const auto lines = [](const std::string& path) {
+        std::ifstream in(path);
+        std::vector<std::string> out;
+        for (std::string l; std::getline(in, l);)
+            out.push_back(l.substr(0, l.find('\r')));
+        return out;
+    };
+    const std::vector<std::string> ies = lines(dir + "/farfield.ies");
+    ASSERT_GT(ies.size(), 12u);
+    EXPECT_EQ(ies[0], "IES:LM-63-2019");
+    for (const char* keyword : {"[TEST] ", "[TESTLAB] ", "[ISSUEDATE] ", "[MANUFAC] "})
+        EXPECT_TRUE(std::any_of(ies.begin(), ies.end(), [&](const std::string& l) {
+            return l.rfind(keyword, 0) == 0;
+        })) << keyword;
+    const auto tilt = std::find(ies.begin(), ies.end(), "TILT=NONE");
+    ASSERT_NE(tilt, ies.end());
+    EXPECT_EQ((tilt + 1)->substr(0, 5), "1 -1 ") << "absolute photometry";
+    EXPECT_EQ(*(tilt + 2), "1 1.00010 0") << "a simulation's file generation type";
+    const std::vector<std::string> ldt = lines(dir + "/farfield.ldt");
+    ASSERT_GT(ldt.size(), 30u);
+    EXPECT_NEAR(std::stod(ldt[28]), 1100.0, 1e-9) << "the lamp is the source";
+    EXPECT_NEAR(std::stod(ldt[22]), 100.0 * binned_lm / 1100.0, 0.1) << "LORL %";
+    const auto ldt_info =
+        nlohmann::json::parse(run("photometry info --json " + dir + "/farfield.ldt").out);
+    EXPECT_NEAR(ldt_info["flux_declared_lm"].get<double>(), binned_lm, 1e-3 * binned_lm);
 }
 
 // A CSV file read by column name (header first; fields may be quoted, none holds a comma).
@@ -407,6 +439,36 @@ TEST(Cli, MissingOrBrokenIesTargetIsOneLineNamingSceneKeyAndFile) {
     EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << r.out;
 }
 
+// fird tolerance: the JSON's keys (DESIGN.md's contract for the command), the CSV's rows
+// (the nominal one, then K per run: joint and each tolerance's) read by column name, and
+// the picture.
+TEST(Cli, ToleranceWritesItsSpreadsSensitivitiesAndRows) {
+    const std::string dir = ::testing::TempDir() + "/fird_tolerance";
+    const auto r = run("tolerance " + std::string(FIRD_SOURCE_DIR) +
+                       "/scenes/test/focused_paraboloid_search.toml --rays 5000 "
+                       "--realisations 3 --source-shift-mm 0.2 --reflectance-sd 0.02 --json "
+                       "--out " +
+                       dir);
+    ASSERT_EQ(r.code, 0) << r.out;
+    const auto j = nlohmann::json::parse(r.out);
+    EXPECT_EQ(j["realisations"].get<int>(), 3);
+    for (const char* metric : {"l2", "efficiency", "peak_cd"})
+        for (const char* key : {"median", "p5", "p95"})
+            EXPECT_TRUE(j[metric].contains(key)) << metric << " " << key;
+    ASSERT_EQ(j["sensitivities"].size(), 2u);
+    EXPECT_EQ(j["sensitivities"][0]["tolerance"], "source_shift");
+    EXPECT_EQ(j["sensitivities"][1]["tolerance"], "reflectance");
+    const Csv csv = read_csv(dir + "/tolerance.csv");
+    ASSERT_EQ(csv.rows.size(), 1u + 3u * 3u);
+    EXPECT_EQ(csv.at(0, "kind"), "nominal");
+    EXPECT_EQ(csv.at(1, "kind"), "joint");
+    EXPECT_EQ(csv.number(0, "source_dx_mm"), 0.0);
+    EXPECT_GT(csv.number(1, "efficiency"), 0.0);
+    FILE* png = std::fopen((dir + "/tolerance.png").c_str(), "rb");
+    EXPECT_TRUE(png);
+    if (png) std::fclose(png);
+}
+
 } // namespace
 
 // fird optimize: the JSON contract, the files of --out, and one history row per
@@ -468,6 +530,29 @@ TEST(CliOptimize, AConstraintNoCandidateMeetsIsRefusedNamingTheKey) {
     EXPECT_EQ(r.code, 1) << r.out;
     EXPECT_NE(r.out.find("[reflector.constraints] max_depth_mm = 5:"), std::string::npos) << r.out;
     EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << r.out;
+}
+
+// A ray file source (the writer's, beside its scene): a search over it runs, and its
+// best.toml finds the ray file from the output folder (written absolute).
+TEST(CliOptimize, ARayFileScenesBestTomlTracesFromItsOutputFolder) {
+    const fird::test::RayFiles& files = fird::test::ray_files();
+    std::ifstream in(std::string(FIRD_SOURCE_DIR) + "/scenes/led_die.toml");
+    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    text = text.substr(0, text.find("[source]")) +
+           "[source]\ntype = \"rayfile\"\nfile = \"disk.tm25ray\"\ncenter_mm = [0.0, 0.0, "
+           "0.0]\nnormal = [0.0, 0.0, -1.0]\n\n" +
+           text.substr(text.find("[holder]"));
+    const std::string scene = files("led_ray_file.toml");
+    std::ofstream(scene) << text;
+    const std::string dir = ::testing::TempDir() + "/fird_optimize_ray_file";
+    std::filesystem::remove_all(dir);
+    const auto r =
+        run("optimize " + scene + " --method bobyqa --max-evals 3 --rays 5e4 --out " + dir);
+    ASSERT_EQ(r.code, 0) << r.out;
+    const auto t = run("trace " + dir + "/best.toml --json --rays 1000");
+    ASSERT_EQ(t.code, 0) << t.out;
+    const auto j = nlohmann::json::parse(t.out.substr(t.out.find('{')));
+    EXPECT_EQ(j["energy_emitted_lm"].get<double>(), 100.0) << "the file's header lumens";
 }
 
 TEST(CliOptimize, BadOptionsAreUsageErrorsAndAMissingBoxIsRefused) {

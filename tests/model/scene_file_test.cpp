@@ -111,6 +111,25 @@ max_depth_mm = 12
     EXPECT_EQ(parse_scene(scene_to_toml(all), "all.toml"), all);
 }
 
+// [source.optimize] reads the centre's and the tilts' ranges and round-trips.
+TEST(SceneFile, SourceOptimizeReadsItsRangesAndRoundTrips) {
+    const Scene s = parse_scene(R"([source]
+type = "disk"
+center_mm = [0.0, 0.0, -2.0]
+normal = [0.0, 0.0, -1.0]
+radius_mm = 0.5
+flux_lm = 100.0
+[source.optimize]
+z_mm = { min = -4.0, max = -1.0, step = 0.5 }
+tilt_x_deg = { min = -10.0, max = 10.0, step = 2.5 }
+)" + kAfterSource,
+                                "moving.toml");
+    ASSERT_EQ(s.source_optimize.size(), 2u);
+    EXPECT_EQ(s.source_optimize.at("z_mm"), (ParameterRange{-4.0, -1.0, 0.5}));
+    EXPECT_EQ(s.source_optimize.at("tilt_x_deg"), (ParameterRange{-10.0, 10.0, 2.5}));
+    EXPECT_EQ(parse_scene(scene_to_toml(s), "moving.toml"), s);
+}
+
 // A disk and a rectangle, tilted and turned, read as written and round-trip; a normal and
 // an x_axis not of unit length are made unit, the x_axis perpendicular to the normal.
 TEST(SceneFile, DiskAndRectangleSourcesReadTheirFrameAndRoundTrip) {
@@ -298,6 +317,16 @@ INSTANTIATE_TEST_SUITE_P(
                 "[reflector.material] lobe: must be one of: gaussian, phong"},
         BadCase{"[trace]", "[reflector.material]\nroughness = 0.1\n[trace]",
                 "[reflector.material] roughness: unknown key"},
+        BadCase{"radius_mm = 0.5",
+                "radius_mm = 0.5\noptimize = { w_mm = { min = 0.0, max = 1.0, step = 0.5 } }",
+                "[source.optimize] w_mm: is not a source parameter"},
+        BadCase{
+            "radius_mm = 0.5",
+            "radius_mm = 0.5\noptimize = { tilt_x_deg = { min = 0.0, max = 10.0, step = 5.0 } }",
+            "tilt_x_deg: a sphere source has no axis to tilt"},
+        BadCase{"radius_mm = 0.5",
+                "radius_mm = 0.5\noptimize = { z_mm = { min = 0.0, max = -1.0, step = 0.5 } }",
+                "[source.optimize.z_mm] max: must not be below min"},
         BadCase{"max_bounces = 2", "max_bounces = 2\ndirect = \"both\"",
                 "[trace] direct: must be one of: exclude, include"},
         BadCase{"[trace]", "[reflector.constraints]\nmax_slope_deg = 90.0\n[trace]",

@@ -14,9 +14,12 @@
 #include <set>
 #include <sstream>
 
+#include <glm/geometric.hpp>
+
 #include "evaluation/evaluation.hpp"
 #include "evaluation/evaluator.hpp"
 #include "io/scene_file.hpp"
+#include "model/design_parameters.hpp"
 #include "model/surface.hpp"
 #include "model/surface_distance.hpp"
 #include "optimize/flat_directions.hpp"
@@ -24,6 +27,7 @@
 #include "optimize/methods.hpp"
 #include "optimize/parameter_space.hpp"
 #include "optimize/search.hpp"
+#include "optimize/search_report.hpp"
 #include "photometry/farfield_photometry.hpp"
 #include "photometry/photometry_writer.hpp"
 #include "reference/reference_tracer.hpp"
@@ -733,6 +737,82 @@ TEST(SearchModel, HistoryRoundTripsAndACutLastRowIsDropped) {
     std::stringstream ss;
     ss << in.rdbuf();
     EXPECT_EQ(ss.str().back(), '\n'); // the cut row is gone from the file too
+}
+
+} // namespace
+} // namespace fird::test
+
+namespace fird::test {
+namespace {
+
+// [source.optimize] (issue 25 item 2). A moved source traced by an evaluator that was
+// built for another place gives, count for count, the far field of an evaluator built for
+// the new place (the same seed, so the same rays): the move leaves nothing stale.
+TEST_F(SearchRules, AMovedSourceTracesAsASceneBuiltWithItThere) {
+    Scene s = scene("focused_paraboloid_search.toml");
+    Scene moved = s;
+    moved.source.center_mm = {0.5, -0.25, -6.0};
+    Evaluator built_there(ctx(), moved, scene_fidelity(moved));
+    Evaluator moved_there(ctx(), s, scene_fidelity(s));
+    (void)moved_there.evaluate(s.reflector); // traced (and its rayset kept) at the old place
+    moved_there.set_source(moved.source);
+    const auto a = built_there.evaluate(moved.reflector);
+    const auto b = moved_there.evaluate(moved.reflector);
+    EXPECT_EQ(a.run.tally.by_reflections, b.run.tally.by_reflections);
+    EXPECT_EQ(built_there.farfield().lm, moved_there.farfield().lm);
+}
+
+// The source tilts about the scene's x, then y axis (Rodrigues' rotation, worked out by
+// hand for quarter turns); its frame stays orthonormal.
+TEST(SourceParameters, TiltsTurnTheAxisAndTheXAxisAboutTheScenesAxes) {
+    const SourceDesc disk{
+        .kind = SourceKind::Disk, .axis = {0, 0, -1}, .x_axis = {1, 0, 0}, .radius_mm = 1.0};
+    const SourceDesc about_x = moved_source(disk, {{"tilt_x_deg", 90.0}});
+    EXPECT_NEAR(glm::length(about_x.axis - glm::dvec3(0, 1, 0)), 0.0, 1e-12);
+    EXPECT_NEAR(glm::length(about_x.x_axis - glm::dvec3(1, 0, 0)), 0.0, 1e-12);
+    const SourceDesc both = moved_source(disk, {{"tilt_x_deg", 90.0}, {"tilt_y_deg", 90.0}});
+    EXPECT_NEAR(glm::length(both.axis - glm::dvec3(0, 1, 0)), 0.0, 1e-12);
+    EXPECT_NEAR(glm::length(both.x_axis - glm::dvec3(0, 0, -1)), 0.0, 1e-12);
+    const SourceDesc placed = moved_source(disk, {{"x_mm", 2.0}, {"z_mm", -3.0}});
+    EXPECT_EQ(placed.center_mm, glm::dvec3(2.0, 0.0, -3.0));
+    EXPECT_THROW((void)moved_source(disk, {{"w_mm", 1.0}}), std::invalid_argument);
+}
+
+// A search over the source's place alone finds where it was: the desired far field is the
+// paraboloid's with the point source 0.75 mm beside the focus, which tilts the beam by
+// about atan(0.75 / 3) = 14 degrees to the other side (as an absolute IES file: a measured
+// luminaire); the search starts at the focus; its grid holds the true place. (A height
+// would not do: 0.75 mm above and below the focus blur the beam alike.) best.toml holds
+// the source found.
+TEST_F(SearchRules, ASearchOverTheSourcesPlaceFindsWhereItWas) {
+    namespace fs = std::filesystem;
+    Scene s = scene("focused_paraboloid_search.toml");
+    s.reflector.parameters["fx"] = s.reflector.parameters["fy"] = 3.0;
+    s.reflector.optimize.clear();
+    Scene truth = s;
+    truth.source.center_mm.x = 0.75;
+    Evaluator at_truth(ctx(), truth, scene_fidelity(truth));
+    (void)at_truth.evaluate(truth.reflector);
+    const std::string ies = (fs::path(::testing::TempDir()) / "defocused_source.ies").string();
+    write_ies(ies, table_from_farfield(at_truth.farfield(), 10.0, 2.0), {});
+    s.target = {
+        .kind = TargetDesc::Kind::Photometric, .file = ies, .resolved_path = ies, .absolute = true};
+    s.source_optimize = {{"x_mm", {-1.5, 1.5, 0.25}}};
+    const SearchOutcome o = search(ctx(), s, SearchMethod::Grid);
+    const SearchResult& r = o.result;
+    ASSERT_EQ(r.history.size(), 13u);
+    ASSERT_TRUE(r.best);
+    EXPECT_DOUBLE_EQ(r.best_parameters.at("source.x_mm"), 0.75);
+    const Scene best = parse_scene(best_scene_toml(s, r), "best.toml");
+    EXPECT_EQ(best.source.center_mm, glm::dvec3(0.75, 0.0, -7.0));
+    EXPECT_EQ(best.reflector.parameters, s.reflector.parameters);
+    // A source moved off the holder's footprint is infeasible (counted, never traced).
+    Scene off = s;
+    off.source_optimize = {{"x_mm", {0.0, 30.0, 30.0}}};
+    const SearchOutcome o2 = search(ctx(), off, SearchMethod::Grid);
+    ASSERT_EQ(o2.result.history.size(), 2u);
+    EXPECT_TRUE(o2.result.history[0].feasible);
+    EXPECT_FALSE(o2.result.history[1].feasible);
 }
 
 } // namespace

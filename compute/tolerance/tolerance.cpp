@@ -1,0 +1,300 @@
+#include "tolerance.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <numbers>
+
+#include <unistd.h>
+
+#include <fmt/format.h>
+
+#include "evaluation/desired_farfield.hpp"
+#include "io/atomic_file.hpp"
+#include "model/design_parameters.hpp"
+#include "photometry/beam_metrics.hpp"
+#include "plot/chart.hpp"
+#include "sampling/philox.hpp"
+#include "tolerance/surface_error.hpp"
+
+namespace fird {
+
+namespace {
+
+// Streams of the draws (the counter's third word; the surface error's from 20100 on).
+constexpr std::uint32_t kShiftStream = 20000, kShiftZStream = 20001, kTiltStream = 20002,
+                        kReflectanceStream = 20003;
+
+// Two independent standard normals (Box-Muller) from one Philox block.
+std::pair<double, double> normals(std::uint64_t seed, std::uint64_t realisation,
+                                  std::uint32_t stream) {
+    const auto u = philox_uniforms(seed, realisation, stream);
+    const double r = std::sqrt(-2.0 * std::log(u[0]));
+    const double a = 2.0 * std::numbers::pi * u[1];
+    return {r * std::cos(a), r * std::sin(a)};
+}
+
+bool has_axis(const SourceDesc& s) {
+    return s.kind != SourceKind::Sphere &&
+           !(s.kind == SourceKind::Point && s.emittance == Emittance::Isotropic);
+}
+
+// The scene as realisation `d` makes it (the surface error's mesh written to `mesh_path`
+// where the surface tolerance is given: then every run, the nominal one too, traces a mesh
+// of the same grid, so that the runs differ by their errors, not by the mesh's sampling).
+Scene perturbed_scene(const Scene& base, const ToleranceDesc& tol, const ToleranceDraw& d,
+                      std::uint64_t seed, std::uint64_t realisation, const std::string& mesh_path,
+                      double& surface_rms_mm) {
+    Scene s = base;
+    std::map<std::string, double> moved{{"x_mm", base.source.center_mm.x + d.source_shift_mm.x},
+                                        {"y_mm", base.source.center_mm.y + d.source_shift_mm.y},
+                                        {"z_mm", base.source.center_mm.z + d.source_shift_mm.z}};
+    if (has_axis(base.source)) {
+        moved["tilt_x_deg"] = d.tilt_x_deg;
+        moved["tilt_y_deg"] = d.tilt_y_deg;
+    }
+    s.source = moved_source(base.source, moved);
+    s.reflector.material.reflectance = d.reflectance;
+    surface_rms_mm = 0.0;
+    if (tol.surface_rms_mm > 0.0) {
+        const SurfaceError error =
+            d.surface ? draw_surface_error(tol.surface_rms_mm, tol.surface_correlation_mm, seed,
+                                           realisation)
+                      : SurfaceError{};
+        const PerturbedMesh mesh = perturbed_mesh(s, error, tol.surface_correlation_mm, mesh_path);
+        s.reflector = mesh.reflector;
+        surface_rms_mm = mesh.rms_mm;
+    }
+    return s;
+}
+
+double percentile(const std::vector<double>& sorted, double q) {
+    if (sorted.empty()) return 0.0;
+    const double at = q * double(sorted.size() - 1);
+    const auto i = std::size_t(std::floor(at));
+    const double f = at - double(i);
+    return i + 1 < sorted.size() ? sorted[i] * (1.0 - f) + sorted[i + 1] * f : sorted[i];
+}
+
+nlohmann::json spread_json(const Spread& s) {
+    return {{"median", s.median}, {"p5", s.p5}, {"p95", s.p95}};
+}
+
+// The rows of one kind, and one metric of theirs.
+std::vector<double> metric(const std::vector<RealisationResult>& rows, const std::string& kind,
+                           double (*get)(const RealisationResult&)) {
+    std::vector<double> v;
+    for (const RealisationResult& r : rows)
+        if (r.kind == kind) v.push_back(get(r));
+    return v;
+}
+
+double get_l2(const RealisationResult& r) {
+    return r.l2_lm.value_or(0.0);
+}
+double get_efficiency(const RealisationResult& r) {
+    return r.efficiency;
+}
+double get_peak(const RealisationResult& r) {
+    return r.peak_cd;
+}
+double get_beam(const RealisationResult& r) {
+    return r.beam_angle_deg;
+}
+
+nlohmann::json metrics_json(const std::vector<RealisationResult>& rows, const std::string& kind,
+                            bool l2) {
+    nlohmann::json j = {{"efficiency", spread_json(spread_of(metric(rows, kind, get_efficiency)))},
+                        {"peak_cd", spread_json(spread_of(metric(rows, kind, get_peak)))},
+                        {"beam_angle_deg", spread_json(spread_of(metric(rows, kind, get_beam)))}};
+    if (l2) j["l2"] = spread_json(spread_of(metric(rows, kind, get_l2)));
+    return j;
+}
+
+} // namespace
+
+std::vector<std::string> active_tolerances(const ToleranceDesc& t) {
+    std::vector<std::string> a;
+    if (t.source_shift_mm != glm::dvec3(0.0)) a.push_back("source_shift");
+    if (t.source_tilt_deg > 0.0) a.push_back("source_tilt");
+    if (t.surface_rms_mm > 0.0) a.push_back("surface");
+    if (t.reflectance_sd > 0.0) a.push_back("reflectance");
+    return a;
+}
+
+ToleranceDraw draw_tolerances(const ToleranceDesc& t, const Scene& scene, std::uint64_t seed,
+                              std::uint64_t r, const std::string& only) {
+    ToleranceDraw d;
+    d.reflectance = scene.reflector.material.reflectance;
+    const auto on = [&](const char* name) { return only.empty() || only == name; };
+    if (on("source_shift")) {
+        const auto [x, y] = normals(seed, r, kShiftStream);
+        const auto [z, unused] = normals(seed, r, kShiftZStream);
+        (void)unused;
+        d.source_shift_mm = glm::dvec3(x, y, z) * t.source_shift_mm;
+    }
+    if (on("source_tilt")) {
+        const auto [a, b] = normals(seed, r, kTiltStream);
+        d.tilt_x_deg = a * t.source_tilt_deg;
+        d.tilt_y_deg = b * t.source_tilt_deg;
+    }
+    if (on("reflectance") && t.reflectance_sd > 0.0)
+        d.reflectance = std::clamp(d.reflectance + normals(seed, r, kReflectanceStream).first *
+                                                       t.reflectance_sd,
+                                   0.0, 1.0);
+    d.surface = on("surface") && t.surface_rms_mm > 0.0;
+    return d;
+}
+
+Spread spread_of(std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    return {percentile(v, 0.5), percentile(v, 0.05), percentile(v, 0.95)};
+}
+
+ToleranceResult run_tolerance(const vk::Context& ctx, const Scene& scene, const ToleranceRun& run) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const ToleranceDesc& tol = run.tolerances;
+    if (tol.realisations == 0)
+        throw std::invalid_argument("--realisations: at least one realisation is needed");
+    if (tol.source_tilt_deg > 0.0 && !has_axis(scene.source))
+        throw std::invalid_argument(fmt::format(
+            "source tilt: a {} source has no axis to tilt", source_type_name(scene.source.kind)));
+    ToleranceResult out;
+    out.tolerances = tol;
+    out.seed = run.seed;
+    out.active = active_tolerances(tol);
+    const std::string scratch =
+        run.scratch_dir.empty() ? std::filesystem::temp_directory_path().string() : run.scratch_dir;
+    const std::string mesh_path =
+        (std::filesystem::path(scratch) / fmt::format("fird_tolerance_{}.obj", ::getpid()))
+            .string();
+    struct Remove {
+        std::string path;
+        ~Remove() {
+            std::error_code ec;
+            std::filesystem::remove(path, ec);
+        }
+    } remove_mesh{mesh_path};
+
+    std::optional<FarField> desired;
+    const std::size_t total = 1 + tol.realisations * (1 + out.active.size());
+    std::size_t done = 0;
+    const auto evaluate = [&](const std::string& kind, std::uint64_t r, const ToleranceDraw& d) {
+        RealisationResult row{.kind = kind, .realisation = r, .draw = d};
+        const Scene s = perturbed_scene(scene, tol, d, run.seed, r, mesh_path, row.surface_rms_mm);
+        Evaluator ev(ctx, s, scene_fidelity(s), run.backend);
+        if (desired) ev.set_desired(*desired);
+        const CandidateResult result = ev.evaluate(s.reflector);
+        row.l2_lm = result.l2_lm;
+        row.efficiency = result.farfield_lm / s.source.flux_lm;
+        const BeamMetrics beam = beam_metrics(ev.farfield());
+        row.peak_cd = beam.peak_cd;
+        row.beam_angle_deg = beam.beam_angle_deg;
+        if (run.progress) run.progress(row, ++done, total);
+        return row;
+    };
+    // The desired far field: the scene's own target (a reflector traced as written, or a
+    // luminaire file scaled to the nominal luminaire's flux), then the nominal luminaire.
+    if (scene.target.kind != TargetDesc::Kind::None) {
+        Evaluator ev(ctx, scene, scene_fidelity(scene), run.backend);
+        const double flux_lm = ev.evaluate(scene.reflector).farfield_lm;
+        desired = desired_farfield(ctx, scene, flux_lm, run.backend).farfield;
+    }
+    out.nominal = evaluate("nominal", 0, draw_tolerances(ToleranceDesc{}, scene, run.seed, 0));
+    for (std::uint64_t r = 0; r < tol.realisations; ++r)
+        out.rows.push_back(evaluate("joint", r, draw_tolerances(tol, scene, run.seed, r)));
+    for (const std::string& name : out.active)
+        for (std::uint64_t r = 0; r < tol.realisations; ++r)
+            out.rows.push_back(evaluate(name, r, draw_tolerances(tol, scene, run.seed, r, name)));
+    out.ranked_by = desired ? "l2" : "efficiency";
+    double widest = -1.0;
+    for (const std::string& name : out.active) {
+        const Spread s = spread_of(metric(out.rows, name, desired ? get_l2 : get_efficiency));
+        if (s.p95 - s.p5 > widest) {
+            widest = s.p95 - s.p5;
+            out.most_sensitive = name;
+        }
+    }
+    out.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return out;
+}
+
+nlohmann::json tolerance_json(const ToleranceResult& r) {
+    const bool l2 = r.ranked_by == "l2";
+    const ToleranceDesc& t = r.tolerances;
+    nlohmann::json j = metrics_json(r.rows, "joint", l2);
+    j["realisations"] = t.realisations;
+    j["seed"] = r.seed;
+    j["tolerances"] = {
+        {"source_shift_mm", {t.source_shift_mm.x, t.source_shift_mm.y, t.source_shift_mm.z}},
+        {"source_tilt_deg", t.source_tilt_deg},
+        {"surface_rms_mm", t.surface_rms_mm},
+        {"surface_correlation_mm", t.surface_correlation_mm},
+        {"reflectance_sd", t.reflectance_sd}};
+    nlohmann::json nominal = {{"efficiency", r.nominal.efficiency},
+                              {"peak_cd", r.nominal.peak_cd},
+                              {"beam_angle_deg", r.nominal.beam_angle_deg}};
+    if (r.nominal.l2_lm) nominal["l2"] = *r.nominal.l2_lm;
+    j["nominal"] = nominal;
+    nlohmann::json sens = nlohmann::json::array();
+    for (const std::string& name : r.active) {
+        nlohmann::json s = metrics_json(r.rows, name, l2);
+        s["tolerance"] = name;
+        sens.push_back(s);
+    }
+    j["sensitivities"] = sens;
+    j["most_sensitive"] =
+        r.most_sensitive.empty() ? nlohmann::json(nullptr) : nlohmann::json(r.most_sensitive);
+    j["ranked_by"] = r.ranked_by;
+    j["time_s"] = r.time_s;
+    return j;
+}
+
+void write_tolerance_outputs(const std::string& dir, const Scene& scene, const ToleranceResult& r) {
+    namespace fs = std::filesystem;
+    create_output_directory(dir);
+    const auto path = [&](const char* name) { return (fs::path(dir) / name).string(); };
+    std::string csv = "kind,realisation,source_dx_mm,source_dy_mm,source_dz_mm,tilt_x_deg,"
+                      "tilt_y_deg,reflectance,surface_rms_mm,l2_lm,efficiency,peak_cd,"
+                      "beam_angle_deg\n";
+    std::vector<RealisationResult> all{r.nominal};
+    all.insert(all.end(), r.rows.begin(), r.rows.end());
+    for (const RealisationResult& row : all) {
+        const ToleranceDraw& d = row.draw;
+        csv += fmt::format("{},{},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{},{:.9g},"
+                           "{:.9g},{:.9g}\n",
+                           row.kind, row.realisation, d.source_shift_mm.x, d.source_shift_mm.y,
+                           d.source_shift_mm.z, d.tilt_x_deg, d.tilt_y_deg, d.reflectance,
+                           row.surface_rms_mm,
+                           row.l2_lm ? fmt::format("{:.9g}", *row.l2_lm) : std::string(),
+                           row.efficiency, row.peak_cd, row.beam_angle_deg);
+    }
+    write_text_file(path("tolerance.csv"), csv);
+    write_text_file(path("tolerance.json"), tolerance_json(r).dump(2) + "\n");
+    // Each kind's realisations sorted: the metric's distribution (a CDF) per tolerance.
+    const bool l2 = r.ranked_by == "l2";
+    plot::Chart chart{.title = fmt::format("{}: {} over {} realisations", scene.name,
+                                           l2 ? "l2 to the target" : "efficiency",
+                                           r.tolerances.realisations),
+                      .x = {.label = "share of the realisations"},
+                      .y = {.label = l2 ? "l2 (lm)" : "efficiency"}};
+    std::vector<std::string> kinds{"joint"};
+    kinds.insert(kinds.end(), r.active.begin(), r.active.end());
+    for (std::size_t k = 0; k < kinds.size(); ++k) {
+        std::vector<double> v = metric(r.rows, kinds[k], l2 ? get_l2 : get_efficiency);
+        std::sort(v.begin(), v.end());
+        plot::Series s{.label = kinds[k], .colour = plot::palette(k), .width = k ? 1.6 : 2.4};
+        for (std::size_t i = 0; i < v.size(); ++i) {
+            s.x.push_back((double(i) + 0.5) / double(v.size()));
+            s.y.push_back(v[i]);
+        }
+        chart.series.push_back(std::move(s));
+    }
+    chart.marks.push_back({.vertical = false,
+                           .value = l2 ? r.nominal.l2_lm.value_or(0.0) : r.nominal.efficiency,
+                           .label = "nominal"});
+    plot::write_chart_png(path("tolerance.png"), chart);
+}
+
+} // namespace fird
