@@ -2,14 +2,19 @@
 // ParaView (scene.pvd opens them all); with --cad, the reflector as CAD (STEP and STL).
 #include <cstdio>
 
+#include <cmath>
+
 #include <fmt/format.h>
+#include <nlohmann/json.hpp>
 
 #include "commands.hpp"
 #include "export/cad_export.hpp"
 #include "export/cad_option_error.hpp"
 #include "export/scene_export.hpp"
+#include "io/atomic_file.hpp"
 #include "io/scene_file.hpp"
 #include "parse.hpp"
+#include "report/manufacturability.hpp"
 #include "vk/context.hpp"
 
 namespace fird::app {
@@ -52,13 +57,53 @@ void print_cad_report(const std::string& dir, const CadReport& r) {
                     fmt::format("{}/{}: {:.2f} MB\n", dir, f.name, double(f.bytes) * 1e-6).c_str());
 }
 
+nlohmann::json cad_json(const CadReport& r) {
+    nlohmann::json files = nlohmann::json::array();
+    for (const ExportedFile& f : r.files)
+        files.push_back({{"name", f.name}, {"bytes", f.bytes}});
+    return {{"exact", r.exact},
+            {"creased", r.creased},
+            {"max_deviation_mm", r.max_deviation_mm},
+            {"worst_at_mm", {r.worst_xy_mm.x, r.worst_xy_mm.y}},
+            {"fit_grid", {r.fit_nx, r.fit_ny}},
+            {"check_grid", {r.check_nx, r.check_ny}},
+            {"back_radius_mm",
+             std::isfinite(r.back_radius_mm) ? nlohmann::json(r.back_radius_mm) : nullptr},
+            {"stl_chord_mm", r.stl_chord_mm},
+            {"files", files}};
+}
+
+void print_manufacturability(const std::string& dir, const nlohmann::json& j) {
+    const auto at = [](const nlohmann::json& p) {
+        return p.is_null()
+                   ? std::string("-")
+                   : fmt::format("({:.2f}, {:.2f}) mm", p[0].get<double>(), p[1].get<double>());
+    };
+    std::string text = fmt::format(
+        "press: steepest slope {:.2f} deg at {}; smallest radius {}; depth {:.3f} mm; "
+        "area {:.1f} mm2; {} rim wall(s)\n",
+        j["max_slope_deg"].get<double>(), at(j["max_slope_at_mm"]),
+        j["min_radius_mm"].is_null()
+            ? std::string("none (no curvature)")
+            : fmt::format("{:.4g} mm at {}{}", j["min_radius_mm"].get<double>(),
+                          at(j["min_radius_at_mm"]),
+                          j["min_radius_is_kink"].get<bool>() ? " (a kink)" : ""),
+        j["depth_mm"].get<double>(), j["area_mm2"].get<double>(), j["rim_walls"].size());
+    for (const auto& [name, c] : j["constraints"].items())
+        text += fmt::format("constraint {}: {} (limit {:g})\n", name,
+                            c["met"].get<bool>() ? "met" : "BROKEN", c["limit"].get<double>());
+    text += fmt::format("{}/manufacturability.json, {}/manufacturability.png\n", dir, dir);
+    std::printf("%s", text.c_str());
+}
+
 } // namespace
 
 void register_export(CLI::App& app, const GlobalOptions& global, std::function<int()>& run) {
     auto* cmd = app.add_subcommand("export", "Write the scene's reflector, quadtree, ray paths "
                                              "and far fields as VTK files for ParaView");
     struct Args {
-        std::string scene, parameters, rays, out = "export", cad;
+        std::string scene, parameters, rays, out = "export", cad, press;
+        bool json = false;
         std::uint32_t paths = 1000, levels = 0;
         CadOptions cad_options;
     };
@@ -80,24 +125,48 @@ void register_export(CLI::App& app, const GlobalOptions& global, std::function<i
     cmd->add_option("--thickness", a->cad_options.thickness_mm,
                     "Thicken the CAD reflector into a solid sheet this thick, mm, its back face "
                     "offset along the normal (default: the surface alone)");
+    cmd->add_option("--manufacturability", a->press,
+                    "Write the press's report here: manufacturability.json and .png (slope, "
+                    "radius of curvature, depth, area, rim walls, [reflector.constraints]); "
+                    "--cad writes it too, beside reflector.step");
+    cmd->add_flag("--json", a->json,
+                  "Print one JSON object (cad, manufacturability, vtk_files) instead of lines");
     cmd->callback([&global, &run, a, out] {
-        const bool vtk = a->cad.empty() || out->count() > 0;
+        const bool vtk = (a->cad.empty() && a->press.empty()) || out->count() > 0;
         run = [&global, a, vtk] {
             ExportOptions o{.paths = a->paths, .levels = a->levels};
             if (!a->parameters.empty())
                 o.parameters = parse_assignments("--parameters", a->parameters);
-            if (!a->cad.empty()) {
+            nlohmann::json j{
+                {"cad", nullptr}, {"manufacturability", nullptr}, {"vtk_files", nullptr}};
+            if (!a->cad.empty() || !a->press.empty()) {
                 const Scene scene = load_scene(a->scene);
-                const Surface surface =
-                    Surface::make(overridden(scene, o.parameters), scene.holder);
-                CadReport r;
-                try {
-                    r = export_cad(surface, a->cad_options, a->cad);
-                } catch (const CadOptionError& e) {
-                    throw UsageError(e.what());
+                const ReflectorDesc reflector = overridden(scene, o.parameters);
+                const Surface surface = Surface::make(reflector, scene.holder);
+                if (!a->cad.empty()) {
+                    CadReport r;
+                    try {
+                        r = export_cad(surface, a->cad_options, a->cad);
+                    } catch (const CadOptionError& e) {
+                        throw UsageError(e.what());
+                    }
+                    j["cad"] = cad_json(r);
+                    if (!a->json) print_cad_report(a->cad, r);
                 }
-                print_cad_report(a->cad, r);
-                if (!vtk) return 0;
+                // Beside the CAD files, and where --manufacturability asks (once if the same).
+                std::vector<std::string> dirs;
+                if (!a->cad.empty()) dirs.push_back(a->cad);
+                if (!a->press.empty() && a->press != a->cad) dirs.push_back(a->press);
+                for (const std::string& dir : dirs) {
+                    create_output_directory(dir);
+                    j["manufacturability"] =
+                        write_manufacturability(dir, surface, reflector.constraints);
+                    if (!a->json) print_manufacturability(dir, j["manufacturability"]);
+                }
+                if (!vtk) {
+                    if (a->json) std::printf("%s\n", j.dump(2).c_str());
+                    return 0;
+                }
             }
             if (!a->rays.empty()) o.rays = parse_count("--rays", a->rays, 4e9);
             const Scene scene = load_scene(a->scene);
@@ -108,15 +177,21 @@ void register_export(CLI::App& app, const GlobalOptions& global, std::function<i
             for (const std::string& note : report.notes)
                 std::fprintf(stderr, "fird: note: %s\n", note.c_str());
             std::uint64_t total = 0;
+            j["vtk_files"] = nlohmann::json::array();
             for (const ExportedFile& f : report.files) {
-                std::printf(
-                    "%s", fmt::format("{}/{}: {:.2f} MB\n", a->out, f.name, double(f.bytes) * 1e-6)
-                              .c_str());
+                j["vtk_files"].push_back({{"name", f.name}, {"bytes", f.bytes}});
+                if (!a->json)
+                    std::printf("%s", fmt::format("{}/{}: {:.2f} MB\n", a->out, f.name,
+                                                  double(f.bytes) * 1e-6)
+                                          .c_str());
                 total += f.bytes;
             }
-            std::printf("%s", fmt::format("{:.2f} MB in all; open {}/scene.pvd in ParaView\n",
-                                          double(total) * 1e-6, a->out)
-                                  .c_str());
+            if (a->json)
+                std::printf("%s\n", j.dump(2).c_str());
+            else
+                std::printf("%s", fmt::format("{:.2f} MB in all; open {}/scene.pvd in ParaView\n",
+                                              double(total) * 1e-6, a->out)
+                                      .c_str());
             return 0;
         };
     });

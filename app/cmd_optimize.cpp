@@ -10,15 +10,18 @@
 #include <unistd.h>
 
 #include "commands.hpp"
+#include "export/cad_export.hpp"
 #include "export/scene_export.hpp"
 #include "interrupt.hpp"
 #include "io/atomic_file.hpp"
 #include "io/scene_file.hpp"
 #include "optimize/history_csv.hpp"
 #include "optimize/parameter_space.hpp"
+#include "optimize/press_constraints.hpp"
 #include "optimize/search_report.hpp"
 #include "parse.hpp"
 #include "progress.hpp"
+#include "report/manufacturability.hpp"
 #include "resume_record.hpp"
 #include "vk/context.hpp"
 
@@ -86,9 +89,28 @@ Resumed resumed_settings(const std::string& dir, const Scene& scene) {
     }
 }
 
+// The best reflector as the part: reflector.step and .stl (as fird export --cad, default
+// tolerance) and the press's report beside them. A search's result stands without them: a
+// surface OpenCASCADE cannot fit is a note, not a failed search.
+void write_best_part(const std::string& out, const Scene& scene, const SearchResult& r) {
+    if (!r.best) return;
+    const ParameterSpace space = parameter_space(scene);
+    const ReflectorDesc best = space.reflector(scene.reflector, r.history[*r.best].x);
+    const Surface surface = Surface::make(best, scene.holder);
+    (void)write_manufacturability(out, surface, best.constraints);
+    try {
+        (void)export_cad(surface, CadOptions{}, out);
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "fird: note: %s: the best reflector's CAD was not written: %s\n",
+                     out.c_str(), e.what());
+    }
+}
+
 int run_optimize(const GlobalOptions& global, const Args& a, const CLI::App& cmd) {
     const Scene scene = load_scene(a.scene);
-    (void)parameter_space(scene); // no [reflector.optimize]: refused before any work
+    // No [reflector.optimize], or a press's limit nothing in the box meets: refused before
+    // any work (the device is not even opened).
+    refuse_unmeetable_constraints(scene, parameter_space(scene));
     SearchSettings settings = search_settings(scene);
     std::string out = a.out;
     SearchRequest request;
@@ -173,6 +195,7 @@ int run_optimize(const GlobalOptions& global, const Args& a, const CLI::App& cmd
     if (!out.empty()) {
         write_search_outputs(out, scene, outcome);
         (void)export_search_reflectors(scene, r, out); // reflectors.pvd for ParaView
+        write_best_part(out, scene, r);
     }
     if (ctx.validation_errors() > 0)
         throw std::runtime_error("Vulkan validation errors were reported (see above)");
@@ -190,6 +213,12 @@ int run_optimize(const GlobalOptions& global, const Args& a, const CLI::App& cmd
             std::printf("best:%s (l2 %.6g lm at evaluation %llu)\n", params.c_str(), r.best_l2_lm,
                         static_cast<unsigned long long>(*r.best));
         }
+        for (const ConstraintAtOptimum& c : r.constraints)
+            std::printf("%s",
+                        fmt::format("constraint {}: {:.4g} against {:g}, {}{}\n", c.name, c.value,
+                                    c.limit, c.met ? "met" : "BROKEN",
+                                    c.active ? " and active (" + c.active_by + " breaks it)" : "")
+                            .c_str());
         if (r.lattice) std::printf("lattice: %s\n", r.lattice->verdict.c_str());
         if (r.refine) std::printf("refine: %s\n", r.refine->verdict.c_str());
         if (r.final_l2_lm && r.noise_floor_l2_lm)
@@ -226,7 +255,8 @@ void register_optimize(CLI::App& app, const GlobalOptions& global, std::function
         ->check(CLI::IsMember({"gpu", "cpu"}));
     cmd->add_flag("--json", a->json, "Print one JSON object");
     cmd->add_option("--out", a->out,
-                    "Write history.csv, progress.png, best.toml and the best far field here");
+                    "Write history.csv, progress.png, best.toml, the best far field, and the best "
+                    "reflector as reflector.step / .stl with manufacturability.json / .png here");
     cmd->add_option("--resume", a->resume, "Continue the search recorded in this --out directory");
     cmd->callback([&global, &run, a, cmd] {
         run = [&global, a, cmd] { return run_optimize(global, *a, *cmd); };

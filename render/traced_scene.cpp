@@ -33,7 +33,7 @@ TracedScene trace_for_views(const vk::Context& ctx, const Scene& input, const Tr
     }
     // Reflector values into the reflector, the source's ([source.optimize]) into the source.
     apply_design_parameters(t.scene, o.parameters);
-    const Feasibility f = candidate_feasibility(t.scene, t.scene.reflector);
+    const Feasibility f = traceable(t.scene, t.scene.reflector);
     if (!f.feasible) throw std::invalid_argument("--parameters: " + f.reason);
     const Scene& s = t.scene;
     t.evaluator = std::make_unique<Evaluator>(ctx, s, scene_fidelity(s));
@@ -50,6 +50,18 @@ TracedScene trace_for_views(const vk::Context& ctx, const Scene& input, const Tr
         t.evaluator->set_desired(desired);
         t.farfield.l2_lm = t.evaluator->compare();
         t.farfield.desired = std::move(desired);
+    }
+    // The press's view: the steepest point (a mesh's heights are the evaluator's alone: it
+    // is not read again here), and the constraints met or broken.
+    if (s.reflector.family != Family::Mesh) {
+        const Surface surface = Surface::make(s.reflector, s.holder);
+        const PressMeasures press = press_measures(surface, {.curvature = false});
+        if (press.any_unclamped)
+            t.viewport.steepest_mm =
+                glm::dvec3(press.max_slope_at_mm,
+                           surface.height(press.max_slope_at_mm.x, press.max_slope_at_mm.y));
+        if (s.reflector.constraints.any())
+            t.constraints = constraint_checks(surface, s.reflector.constraints);
     }
     ViewportContent& v = t.viewport;
     v.holder = s.holder;

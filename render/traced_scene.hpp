@@ -11,6 +11,7 @@
 #include <string>
 
 #include "evaluation/evaluator.hpp"
+#include "model/press_measures.hpp"
 #include "views.hpp"
 
 namespace fird::render {
@@ -35,6 +36,8 @@ struct TracedScene {
     FarFieldContent farfield;
     ViewportContent viewport;
     RayTally tally;
+    // The reflector against the scene's [reflector.constraints] (none given: empty).
+    std::vector<ConstraintCheck> constraints;
 };
 
 // Throws std::invalid_argument naming the parameter for a bad override, or the pick.

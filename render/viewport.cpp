@@ -205,6 +205,15 @@ void ViewportRenderer::record(VkCommandBuffer cb, const OffscreenTarget& target,
             }
         }
     }
+    // The steepest point, when coloured by slope: a cross a fiftieth of the holder wide.
+    if (o.slope_colours && c.steepest_mm) {
+        const double r = 0.02 * glm::length(c.holder.max_mm - c.holder.min_mm);
+        for (int axis = 0; axis < 3; ++axis) {
+            glm::dvec3 d(0.0);
+            d[axis] = r;
+            box_edges(lines, *c.steepest_mm - d, *c.steepest_mm + d, {0.95f, 0.15f, 0.55f, 1.0f});
+        }
+    }
     upload(*ctx_, line_vertices_, lines, "fird.viewport.line_vertices");
     upload(*ctx_, triangle_vertices_, triangles, "fird.viewport.triangle_vertices");
 
@@ -221,7 +230,10 @@ void ViewportRenderer::record(VkCommandBuffer cb, const OffscreenTarget& target,
                                   float((h.max_mm.x - h.min_mm.x) / c.width),
                                   float((h.max_mm.y - h.min_mm.y) / c.height)},
                          .shade = {float(c.z_lo_mm), float(c.z_hi_mm),
-                                   o.height_colours ? 1.0f : 0.0f, float(c.heights_origin_z_mm)},
+                                   o.slope_colours    ? 2.0f
+                                   : o.height_colours ? 1.0f
+                                                      : 0.0f,
+                                   float(c.heights_origin_z_mm)},
                          .size = {c.width, c.height, 0, 0}};
         vkCmdPushConstants(cb, surface_.layout.get(),
                            VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,

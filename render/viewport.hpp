@@ -36,6 +36,9 @@ struct ViewportContent {
     std::vector<RayPath> paths;            // each with its rayset index
     std::vector<float> quadtree;           // FastTracer::read_quadtree() (for the level boxes)
     std::optional<PickedRay> picked;       // a ray whose path and walk are shown (picked_ray.hpp)
+    // The steepest point of the reflector from the press plane (model/press_measures.hpp),
+    // marked when the surface is coloured by slope.
+    std::optional<glm::dvec3> steepest_mm;
 };
 
 struct ViewportOptions {
@@ -44,6 +47,9 @@ struct ViewportOptions {
     bool quadtree = false;
     std::uint32_t quadtree_level = 4; // clamped to a level of at most kMaxViewportBoxes nodes
     bool height_colours = false;
+    // Coloured by the slope from the press plane instead, 0 (dark) to 90 degrees (yellow),
+    // the steepest point marked: the draft a press die needs (docs/export.md).
+    bool slope_colours = false;
     // Steps of the picked ray's walk shown (the last of them, the current one, in red).
     std::size_t walk_steps = std::numeric_limits<std::size_t>::max();
     bool walk_trail = true; // the nodes of the steps before the current one too

@@ -86,6 +86,15 @@ void scene_panel(Frame& f) {
                            static_cast<unsigned long long>(t.tally.farfield));
         ImGui::Text("far field %.2f lm of %.2f lm", f.snapshot->obtained_lm, scene.source.flux_lm);
         if (t.farfield.l2_lm) ImGui::Text("l2 to the target %.5g lm", *t.farfield.l2_lm);
+        // [reflector.constraints]: what the press can form, met or broken by this reflector.
+        for (const ConstraintCheck& c : t.constraints) {
+            ImGui::PushStyleColor(ImGuiCol_Text, c.met ? ImVec4(0.1f, 0.55f, 0.2f, 1.0f)
+                                                       : ImVec4(0.9f, 0.2f, 0.2f, 1.0f));
+            ImGui::TextWrapped("%s", fmt::format("{}: {:.4g} against {:g}, {}", c.name, c.value,
+                                                 c.limit, c.met ? "met" : "broken")
+                                         .c_str());
+            ImGui::PopStyleColor();
+        }
     }
     if (f.worker.busy()) ImGui::TextDisabled("working...");
     ImGui::End();

@@ -169,6 +169,8 @@ void viewport_panel(Frame& f) {
     if (ImGui::SliderInt("level", &level, 0, 12)) v.options.quadtree_level = std::uint32_t(level);
     ImGui::SameLine();
     ImGui::Checkbox("height colours", &v.options.height_colours);
+    ImGui::SameLine();
+    ImGui::Checkbox("slope", &v.options.slope_colours);
     if (!f.snapshot) {
         ImGui::TextDisabled("no trace yet");
         ImGui::End();

@@ -38,6 +38,7 @@ std::uint64_t camera_hash(const WorkbenchState& s, const PickedRay* picked, std:
                              double(o.quadtree),
                              double(o.quadtree_level),
                              double(o.height_colours),
+                             double(o.slope_colours),
                              double(s.viewport.walk_step),
                              double(s.viewport.walk_trail),
                              double(w),

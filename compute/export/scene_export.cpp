@@ -30,7 +30,7 @@ ReflectorDesc overridden(const Scene& scene, const std::map<std::string, double>
                                                     k, family_name(r.family)));
         r.parameters[k] = v;
     }
-    const Feasibility f = candidate_feasibility(scene, r);
+    const Feasibility f = traceable(scene, r);
     if (!f.feasible) throw std::invalid_argument("--parameters: " + f.reason);
     return r;
 }

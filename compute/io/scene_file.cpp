@@ -383,6 +383,22 @@ MaterialDesc read_material(const TableReader& t) {
     return m;
 }
 
+// [reflector.constraints]: what the press can form (model/press_measures.hpp), each optional.
+ConstraintsDesc read_constraints(const TableReader& t) {
+    t.allow_only({"max_slope_deg", "min_radius_mm", "max_depth_mm"});
+    ConstraintsDesc c;
+    if (t.has("max_slope_deg")) {
+        c.max_slope_deg = t.number("max_slope_deg");
+        // 90 degrees is a vertical wall, which a height field cannot have anyway.
+        if (!(*c.max_slope_deg > 0.0 && *c.max_slope_deg < 90.0))
+            t.fail(t.find("max_slope_deg"), "max_slope_deg",
+                   "must be between 0 and 90 degrees (exclusive)");
+    }
+    if (t.has("min_radius_mm")) c.min_radius_mm = t.positive("min_radius_mm");
+    if (t.has("max_depth_mm")) c.max_depth_mm = t.positive("max_depth_mm");
+    return c;
+}
+
 ReflectorDesc read_reflector(const TableReader& t, const std::string& scene_path) {
     ReflectorDesc r;
     const std::string family = t.text("family");
@@ -391,7 +407,7 @@ ReflectorDesc read_reflector(const TableReader& t, const std::string& scene_path
         t.fail(t.find("family"), "family",
                "must be one of: plane, paraboloid, cup, fluted_cup, bspline, mesh");
     r.family = *f;
-    std::set<std::string> allowed = {"family", "optimize", "material"};
+    std::set<std::string> allowed = {"family", "optimize", "material", "constraints"};
     std::vector<std::string> params = family_parameters(r.family);
     if (r.family == Family::BSpline) {
         allowed.insert({"grid", "heights_mm", "groups"});
@@ -458,6 +474,7 @@ ReflectorDesc read_reflector(const TableReader& t, const std::string& scene_path
     }
     t.allow_only(allowed);
     if (t.has("material")) r.material = read_material(t.sub("material"));
+    if (t.has("constraints")) r.constraints = read_constraints(t.sub("constraints"));
     if (t.has("optimize")) {
         const TableReader opt = t.sub("optimize");
         for (const auto& [k, v] : opt.table()) {
@@ -746,6 +763,14 @@ std::string scene_to_toml(const Scene& s) {
                          toml::table{{"reflectance", m.reflectance},
                                      {"spread_deg", m.spread_deg},
                                      {"lobe", m.lobe == SpreadLobe::Phong ? "phong" : "gaussian"}});
+    }
+    if (s.reflector.constraints.any()) {
+        const ConstraintsDesc& c = s.reflector.constraints;
+        toml::table constraints;
+        if (c.max_slope_deg) constraints.insert("max_slope_deg", *c.max_slope_deg);
+        if (c.min_radius_mm) constraints.insert("min_radius_mm", *c.min_radius_mm);
+        if (c.max_depth_mm) constraints.insert("max_depth_mm", *c.max_depth_mm);
+        reflector.insert("constraints", constraints);
     }
     const TraceSettings& t = s.trace;
     toml::table trace{

@@ -110,6 +110,16 @@ struct MaterialDesc {
     bool operator==(const MaterialDesc&) const = default;
 };
 
+// What the press can form ([reflector.constraints]; model/press_measures.hpp measures
+// them): each limit optional. A candidate that breaks one is infeasible in a search.
+struct ConstraintsDesc {
+    std::optional<double> max_slope_deg; // draft: steepest slope from the press plane
+    std::optional<double> min_radius_mm; // smallest radius of curvature a tool forms
+    std::optional<double> max_depth_mm;  // deepest draw
+    bool any() const { return max_slope_deg || min_radius_mm || max_depth_mm; }
+    bool operator==(const ConstraintsDesc&) const = default;
+};
+
 struct ReflectorDesc {
     Family family = Family::Plane;
     std::map<std::string, double> parameters;
@@ -117,6 +127,7 @@ struct ReflectorDesc {
     BSplineDesc bspline;
     MeshDesc mesh;
     MaterialDesc material;
+    ConstraintsDesc constraints;
     bool operator==(const ReflectorDesc&) const = default;
 };
 

@@ -48,7 +48,7 @@ std::uint64_t Objective::remaining() const {
 double Objective::penalty(const Feasibility& f) const {
     const double dz = scene_.holder.max_mm.z - scene_.holder.min_mm.z;
     return (stage_desired_norm_lm_ + scene_.source.flux_lm) *
-           (1.0 + std::max(0.0, -f.clearance_mm) / dz);
+           (1.0 + std::max(0.0, -f.clearance_mm) / dz + f.violation);
 }
 
 double Objective::operator()(const std::vector<double>& x) {
@@ -77,7 +77,9 @@ double Objective::trace(const std::vector<double>& x) {
     Candidate c{.index = history_.size(), .stage = std::uint32_t(stages_.size() - 1), .x = x};
     const Scene candidate = space_.candidate(scene_, x);
     const ReflectorDesc& reflector = candidate.reflector;
-    const Feasibility f = candidate_feasibility(candidate, reflector);
+    // A point traced ahead was found feasible then (its press measures are not taken twice).
+    const Feasibility f =
+        prefetched_.contains(x) ? Feasibility{} : candidate_feasibility(candidate, reflector);
     c.feasible = f.feasible;
     c.l2_lm = std::numeric_limits<double>::quiet_NaN();
     if (c.index < replay_.size()) {

@@ -56,8 +56,9 @@ class Objective {
     std::uint64_t evaluations() const { return history_.size(); }
     std::uint64_t remaining() const;
     // The score of an infeasible candidate: above any traced l2 (l2 <= ||desired|| + the
-    // source's flux), growing with how deep the surface cuts the source, so model-based
-    // methods are pushed back to the feasible side.
+    // source's flux), growing with how deep the surface cuts the source or how far it
+    // breaks a press's constraint, so model-based methods are pushed back to the feasible
+    // side.
     double penalty(const Feasibility& feasibility) const;
 
     // Two far fields of x at the current stage's fidelity: with the stage's rays (as its

@@ -3,11 +3,13 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 
 #include <fmt/format.h>
 
 #include "model/design_parameters.hpp"
+#include "model/press_measures.hpp"
 #include "model/source_clearance.hpp"
 #include "model/surface.hpp"
 
@@ -139,7 +141,11 @@ ParameterSpace parameter_space(const Scene& scene) {
     return s;
 }
 
-Feasibility candidate_feasibility(const Scene& scene, const ReflectorDesc& reflector) {
+namespace {
+
+// Whether the reflector makes a surface clear of the source, and that surface.
+Feasibility traceable(const Scene& scene, const ReflectorDesc& reflector,
+                      std::optional<Surface>& surface) {
     Feasibility f;
     // A moved source stays over the holder's footprint, as a scene's must.
     const glm::dvec3& c = scene.source.center_mm;
@@ -151,8 +157,8 @@ Feasibility candidate_feasibility(const Scene& scene, const ReflectorDesc& refle
         return f;
     }
     try {
-        const Surface surface = Surface::make(reflector, scene.holder);
-        f.clearance_mm = source_clearance_mm(surface, scene.source);
+        surface.emplace(Surface::make(reflector, scene.holder));
+        f.clearance_mm = source_clearance_mm(*surface, scene.source);
     } catch (const std::invalid_argument& e) {
         f.feasible = false;
         f.clearance_mm = 0.0;
@@ -163,6 +169,30 @@ Feasibility candidate_feasibility(const Scene& scene, const ReflectorDesc& refle
         f.feasible = false;
         f.reason =
             fmt::format("the surface cuts the light source ({:.3g} mm deep)", -f.clearance_mm);
+    }
+    return f;
+}
+
+} // namespace
+
+Feasibility traceable(const Scene& scene, const ReflectorDesc& reflector) {
+    std::optional<Surface> surface;
+    return traceable(scene, reflector, surface);
+}
+
+Feasibility candidate_feasibility(const Scene& scene, const ReflectorDesc& reflector) {
+    std::optional<Surface> surface;
+    Feasibility f = traceable(scene, reflector, surface);
+    if (!f.feasible || !reflector.constraints.any()) return f;
+    for (const ConstraintCheck& c : constraint_checks(*surface, reflector.constraints)) {
+        if (c.met) continue;
+        f.feasible = false;
+        f.constraint = c.name;
+        f.violation = c.violation;
+        f.reason = fmt::format("[reflector.constraints] {}: the surface measures {:.4g}, beyond "
+                               "the limit {:.4g}",
+                               c.name, c.value, c.limit);
+        break;
     }
     return f;
 }

@@ -49,10 +49,19 @@ struct Feasibility {
     bool feasible = true;
     double clearance_mm = 0.0; // source clearance (negative: how deep the surface cuts it)
     std::string reason;        // why not, in one line
+    // The [reflector.constraints] key it breaks (empty: none), and by how much as a share
+    // of its limit (the penalty grows with it, as with the clearance).
+    std::string constraint;
+    double violation = 0.0;
 };
 
-// A candidate is infeasible when its surface cuts the light source or its values make
-// no surface (e.g. a zero focal length): it is then never traced (DESIGN.md §2).
+// A candidate is infeasible when its surface cuts the light source, its values make no
+// surface (e.g. a zero focal length) or it breaks one of [reflector.constraints] (the
+// press's limits, model/press_measures.hpp): it is then never traced (DESIGN.md §2).
 Feasibility candidate_feasibility(const Scene& scene, const ReflectorDesc& reflector);
+// The same without the press's constraints: whether the reflector can be traced at all (a
+// surface clear of the source). An export, a screenshot or the search's start trace a
+// reflector that breaks a constraint; only the search refuses it as a candidate.
+Feasibility traceable(const Scene& scene, const ReflectorDesc& reflector);
 
 } // namespace fird

@@ -12,6 +12,7 @@
 #include "model/surface_distance.hpp"
 #include "optimize/methods.hpp"
 #include "optimize/objective.hpp"
+#include "optimize/press_constraints.hpp"
 #include "sampling/philox.hpp"
 
 namespace fird {
@@ -247,6 +248,8 @@ SearchOutcome run_search(const vk::Context& ctx, const Scene& scene, const Searc
         throw std::invalid_argument(
             "xnes needs two free parameters or more (pagmo's xNES ignores the start in one "
             "dimension); use cmaes or bobyqa for one");
+    // A press's limit that nothing in the box meets: refused before any trace.
+    refuse_unmeetable_constraints(scene, space);
     // Beyond a handful of free parameters auto searches with a population, not the lattice.
     const bool auto_population =
         settings.method == SearchMethod::Auto && space.size() > kPopulationAbove;
@@ -266,7 +269,8 @@ SearchOutcome run_search(const vk::Context& ctx, const Scene& scene, const Searc
     Evaluator final_eval(ctx, scene, final_fidelity, settings.backend);
     const Scene start_scene = space.candidate(scene, space.start);
     const ReflectorDesc& start = start_scene.reflector;
-    const bool start_feasible = candidate_feasibility(start_scene, start).feasible;
+    // Traced for its flux and l2 even where it breaks a press's constraint.
+    const bool start_feasible = traceable(start_scene, start).feasible;
     if (space.moves_source()) final_eval.set_source(start_scene.source);
     const double start_flux = start_feasible ? final_eval.evaluate(start).farfield_lm : 0.0;
     if (!req.desired && scene.target.kind == TargetDesc::Kind::Photometric &&
@@ -354,6 +358,7 @@ SearchOutcome run_search(const vk::Context& ctx, const Scene& scene, const Searc
         r.best_parameters = space.named(x);
         const Scene best_scene = space.candidate(scene, x);
         const ReflectorDesc& best = best_scene.reflector;
+        r.constraints = constraints_at(scene, space, x);
         if (scene.target.kind == TargetDesc::Kind::Reflector)
             r.surface_rms_mm =
                 surface_rms_distance_mm(Surface::make(best, scene.holder),

@@ -92,6 +92,14 @@ nlohmann::json search_json(const SearchResult& r) {
                       {"sigma0", p.sigma0},       {"seed", p.seed}, {"spread_steps", spread},
                       {"verdict", p.verdict}};
     }
+    nlohmann::json constraints = nlohmann::json::array();
+    for (const ConstraintAtOptimum& c : r.constraints)
+        constraints.push_back({{"name", c.name},
+                               {"value", c.value},
+                               {"limit", c.limit},
+                               {"met", c.met},
+                               {"active", c.active},
+                               {"active_by", c.active ? nlohmann::json(c.active_by) : nullptr}});
     return {{"method", r.method},
             {"backend", r.backend},
             {"evaluations", r.history.size()},
@@ -108,6 +116,7 @@ nlohmann::json search_json(const SearchResult& r) {
             {"flat_directions", flat},
             {"lattice", lattice},
             {"population", population},
+            {"constraints", constraints},
             {"desired", r.desired},
             {"time_s", r.time_s},
             {"stopped", stop_reason_name(r.stopped)}};

@@ -14,6 +14,7 @@
 #include "evaluation/evaluator.hpp"
 #include "model/scene.hpp"
 #include "optimize/flat_directions.hpp"
+#include "optimize/press_constraints.hpp"
 
 namespace fird {
 
@@ -125,10 +126,11 @@ struct SearchResult {
     std::optional<double> noise_floor_l2_lm; // two independent traces of the best
     std::optional<double> surface_rms_mm;    // best against a target reflector, over the holder
     std::vector<FlatDirection> flat_directions;
-    std::optional<LatticeCheck> lattice;        // lattice methods (auto, grid)
-    std::optional<RefineReport> refine;         // --refine
-    std::optional<PopulationReport> population; // cmaes, xnes (and auto beyond a handful)
-    std::string desired;                        // what the desired far field is
+    std::optional<LatticeCheck> lattice;          // lattice methods (auto, grid)
+    std::optional<RefineReport> refine;           // --refine
+    std::optional<PopulationReport> population;   // cmaes, xnes (and auto beyond a handful)
+    std::vector<ConstraintAtOptimum> constraints; // [reflector.constraints] at the best
+    std::string desired;                          // what the desired far field is
     StopReason stopped = StopReason::None;
     double time_s = 0.0;
     std::uint64_t grid_size = 0; // the lattice's size (the grid method's work)

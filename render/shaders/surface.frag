@@ -1,5 +1,6 @@
 #version 450
-// Two lights and a rim so the shape reads; optionally coloured by height.
+// Two lights and a rim so the shape reads; optionally coloured by height or by slope (the
+// vertex shader puts either in height01).
 layout(location = 0) in vec3 normal;
 layout(location = 1) in float height01;
 layout(location = 0) out vec4 colour;

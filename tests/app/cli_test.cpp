@@ -7,6 +7,7 @@
 #include <fstream>
 #include <functional>
 #include <iterator>
+#include <numbers>
 #include <sstream>
 #include <string>
 #include <sys/wait.h>
@@ -488,8 +489,16 @@ TEST(CliOptimize, JsonHasTheContractKeysAndOutHasTheFiles) {
     EXPECT_TRUE(j["best_parameters"].contains("sx") && j["best_parameters"].contains("sy"));
     for (const char* name :
          {"history.csv", "progress.png", "best.toml", "search.json", "options.json", "farfield.png",
-          "target.png", "difference.png", "farfield.npy"})
+          "target.png", "difference.png", "farfield.npy", "reflector.step", "reflector.stl",
+          "manufacturability.json", "manufacturability.png"})
         EXPECT_TRUE(std::filesystem::is_regular_file(dir + "/" + name)) << name;
+    EXPECT_TRUE(j["constraints"].is_array()); // none in this scene
+    // The report is the best reflector's: a plane, its slope atan(hypot(sx, sy)).
+    std::ifstream press(dir + "/manufacturability.json");
+    const auto m = nlohmann::json::parse(press);
+    const double sx = j["best_parameters"]["sx"], sy = j["best_parameters"]["sy"];
+    EXPECT_NEAR(m["max_slope_deg"].get<double>(),
+                std::atan(std::hypot(sx, sy)) * 180.0 / std::numbers::pi, 1e-9);
     std::ifstream history(dir + "/history.csv");
     std::string line;
     std::getline(history, line);
@@ -501,6 +510,26 @@ TEST(CliOptimize, JsonHasTheContractKeysAndOutHasTheFiles) {
     // best.toml traces as it is, from anywhere, and gives the best reflector.
     const auto t = run("trace " + dir + "/best.toml --json --rays 1000");
     EXPECT_EQ(t.code, 0) << t.out;
+}
+
+// A press's limit nothing in the box meets (the focused paraboloid rises from z0 = -10 to
+// the clamp at 0 for every fx, fy: 10 mm deep): one line naming the key, exit 1, before
+// the device is opened (there is none).
+TEST(CliOptimize, AConstraintNoCandidateMeetsIsRefusedNamingTheKey) {
+    const std::string dir = ::testing::TempDir() + "/fird_optimize_unmeetable";
+    std::filesystem::create_directories(dir);
+    const std::string scene = dir + "/steep.toml";
+    {
+        std::ifstream in(std::string(FIRD_SOURCE_DIR) +
+                         "/scenes/test/focused_paraboloid_search.toml");
+        std::ofstream out(scene);
+        out << in.rdbuf() << "\n[reflector.constraints]\nmax_depth_mm = 5.0\n";
+    }
+    const auto r = run_env("VK_DRIVER_FILES=/nonexistent.json VK_ICD_FILENAMES=/nonexistent.json",
+                           "optimize " + scene);
+    EXPECT_EQ(r.code, 1) << r.out;
+    EXPECT_NE(r.out.find("[reflector.constraints] max_depth_mm = 5:"), std::string::npos) << r.out;
+    EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << r.out;
 }
 
 // A ray file source (the writer's, beside its scene): a search over it runs, and its
@@ -759,6 +788,55 @@ TEST(CliCalibrate, SemivariogramWritesStepsThatTraceAndRefusesBadInput) {
     const auto c = run("calibrate rays " + scene + " --counts 1e3,0");
     EXPECT_EQ(c.code, 2) << c.out;
     EXPECT_NE(c.out.find("--counts"), std::string::npos) << c.out;
+}
+
+// The manufacturability report of Model A's target paraboloid (fx 15, fy 10, z0 -12) with
+// a slope limit it breaks: its keys, its closed forms (depth 12 mm to the clamp at the top,
+// smallest radius 2 fy at the apex, walls 2 mm tall where y = +-20 stays below the top),
+// and the steepest slope, on the crease where it meets the rim (x^2 / 60 = 2, y = 20:
+// atan sqrt(1 + 120 / 900)), within the sampling error the report states.
+TEST(CliExport, ManufacturabilityReportHasTheClosedFormsAndTheConstraints) {
+    const std::string dir = ::testing::TempDir() + "/fird_press_cli";
+    std::filesystem::remove_all(dir);
+    std::filesystem::create_directories(dir);
+    const std::string scene = dir + "/pressed.toml";
+    {
+        std::ifstream in(std::string(FIRD_SOURCE_DIR) + "/scenes/model_a.toml");
+        std::ofstream out(scene);
+        out << in.rdbuf() << "\n[reflector.constraints]\nmax_slope_deg = 40.0\nmax_depth_mm = 15\n";
+    }
+    const auto r = run("export " + scene + " --parameters fx=15,fy=10,z0=-12 --manufacturability " +
+                       dir + "/press --json");
+    ASSERT_EQ(r.code, 0) << r.out;
+    const auto j = nlohmann::json::parse(r.out.substr(r.out.find('{')));
+    EXPECT_TRUE(j["cad"].is_null());
+    const auto& m = j["manufacturability"];
+    for (const char* key : {"max_slope_deg", "max_slope_at_mm", "min_radius_mm", "min_radius_at_mm",
+                            "depth_mm", "area_mm2", "rim_walls", "constraints"})
+        EXPECT_TRUE(m.contains(key)) << key;
+    EXPECT_NEAR(m["depth_mm"].get<double>(), 12.0, 1e-9);
+    EXPECT_NEAR(m["min_radius_mm"].get<double>(), 20.0, 1e-9);
+    ASSERT_EQ(m["rim_walls"].size(), 2u);
+    EXPECT_NEAR(m["rim_walls"][0]["height_mm"].get<double>(), 2.0, 1e-9);
+    const double steepest = std::atan(std::sqrt(1.0 + 120.0 / 900.0)) * 180.0 / std::numbers::pi;
+    EXPECT_LE(m["max_slope_deg"].get<double>(), steepest + 1e-9);
+    EXPECT_GE(m["max_slope_deg"].get<double>() + m["sampling"]["slope_error_deg"].get<double>(),
+              steepest);
+    EXPECT_NEAR(std::abs(m["max_slope_at_mm"][1].get<double>()), 20.0, 0.2);
+    EXPECT_EQ(m["constraints"]["max_slope_deg"]["met"], false);
+    EXPECT_EQ(m["constraints"]["max_slope_deg"]["limit"], 40.0);
+    EXPECT_EQ(m["constraints"]["max_depth_mm"]["met"], true);
+    EXPECT_FALSE(m["constraints"].contains("min_radius_mm"));
+    for (const char* name : {"manufacturability.json", "manufacturability.png"})
+        EXPECT_TRUE(std::filesystem::is_regular_file(dir + "/press/" + name)) << name;
+    // --cad writes the report beside reflector.step.
+    const auto cad =
+        run("export " + std::string(FIRD_SOURCE_DIR) +
+            "/scenes/test/mirror_search.toml --parameters sx=0.1,sy=0 --cad " + dir + "/cad");
+    ASSERT_EQ(cad.code, 0) << cad.out;
+    EXPECT_NE(cad.out.find("steepest slope 5.71 deg"), std::string::npos) << cad.out;
+    for (const char* name : {"reflector.step", "manufacturability.json", "manufacturability.png"})
+        EXPECT_TRUE(std::filesystem::is_regular_file(dir + "/cad/" + name)) << name;
 }
 
 TEST(CliExport, WritesEveryFileAndRefusesBadValues) {

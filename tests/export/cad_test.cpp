@@ -17,6 +17,7 @@
 
 #include <unistd.h>
 
+#include <GeomLProp_SLProps.hxx>
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>
 
@@ -24,6 +25,7 @@
 #include "export/cad_curvature.hpp"
 #include "export/cad_surface.hpp"
 #include "io/scene_file.hpp"
+#include "model/press_measures.hpp"
 #include "model/surface.hpp"
 
 namespace fird::test {
@@ -254,6 +256,32 @@ TEST(CadSurface, DomeSmallestBackRadiusIsTheApexRadius) {
     const Surface bowl = surface_of(dome_scene("1.0"));
     EXPECT_TRUE(std::isinf(
         smallest_back_radius(make_cad_surface(bowl, 0.01).surface, 101, 101).smallest_radius_mm));
+}
+
+// The press's curvature (differences of the family's gradient, model/press_measures.hpp)
+// against OpenCASCADE's principal curvatures of the exact CAD spline, an independent
+// evaluation, at every sample of a 94 x 94 grid: its samples miss the knots (x every 2 mm,
+// y every 2.5 mm) by more than the difference step, so each difference is of one piece of
+// the gradient, a quadratic, which central and one-sided second-order differences take
+// exactly; what is left is rounding (1e-9 per mm) and the map's float (1e-6 relative).
+TEST(CadSurface, ThePressCurvatureIsOpenCascadesOnTheExactSpline) {
+    const Surface f = surface_of(source("scenes/test/bspline_dish.toml"));
+    const CadSurface cad = make_cad_surface(f, 0.01);
+    ASSERT_TRUE(cad.exact);
+    const PressMeasures m = press_measures(f, 94, 94, {.maps = true});
+    GeomLProp_SLProps props(cad.surface, 2, 1e-9);
+    double largest = 0.0;
+    for (int j = 0; j < m.ny; ++j)
+        for (int i = 0; i < m.nx; ++i) {
+            props.SetParameters(i * m.dx_mm, j * m.dy_mm);
+            ASSERT_TRUE(props.IsCurvatureDefined());
+            const double k =
+                std::max(std::abs(props.MinCurvature()), std::abs(props.MaxCurvature()));
+            largest = std::max(largest, k);
+            ASSERT_NEAR(m.maps.curvature_per_mm[std::size_t(j) * m.nx + i], k, 1e-9 + 1e-6 * k)
+                << i << "," << j;
+        }
+    EXPECT_NEAR(m.min_radius_mm, 1.0 / largest, 1e-9 * m.min_radius_mm);
 }
 
 TEST(CadStep, GmshReadsTheBSplineExactly) {

@@ -62,19 +62,21 @@ rays = 1000
 max_bounces = 1
 )";
 
-// A reflector's finish and the direct light read as written and round-trip; their
-// defaults are the paper's perfect mirror without direct light.
-TEST(SceneFile, AMaterialAndDirectLightReadAndRoundTrip) {
-    const std::string head = R"([source]
+// A point source's table: the head of a scene whose rest is kAfterSource.
+const std::string kPointSource = R"([source]
 type = "point"
 center_mm = [0.0, 0.0, -2.0]
 flux_lm = 100.0
 )";
-    const Scene plain = parse_scene(head + kAfterSource, "plain.toml");
+
+// A reflector's finish and the direct light read as written and round-trip; their
+// defaults are the paper's perfect mirror without direct light.
+TEST(SceneFile, AMaterialAndDirectLightReadAndRoundTrip) {
+    const Scene plain = parse_scene(kPointSource + kAfterSource, "plain.toml");
     EXPECT_EQ(plain.reflector.material.reflectance, 1.0);
     EXPECT_EQ(plain.reflector.material.spread_deg, 0.0);
     EXPECT_EQ(plain.trace.direct, DirectLight::Exclude);
-    const Scene s = parse_scene(head + kAfterSource + R"(direct = "include"
+    const Scene s = parse_scene(kPointSource + kAfterSource + R"(direct = "include"
 [reflector.material]
 reflectance = 0.88
 spread_deg = 1.5
@@ -87,6 +89,26 @@ lobe = "phong"
     EXPECT_EQ(s.trace.direct, DirectLight::Include);
     EXPECT_EQ(parse_scene(scene_to_toml(s), "finished.toml"), s);
     EXPECT_EQ(parse_scene(scene_to_toml(plain), "plain.toml"), plain);
+}
+
+// The press's constraints read as written, each optional (absent: no limit), and
+// round-trip; a scene without them writes none.
+TEST(SceneFile, ThePresssConstraintsReadAndRoundTrip) {
+    const Scene plain = parse_scene(kPointSource + kAfterSource, "plain.toml");
+    EXPECT_FALSE(plain.reflector.constraints.any());
+    EXPECT_EQ(scene_to_toml(plain).find("constraints"), std::string::npos);
+    const Scene s = parse_scene(kPointSource + kAfterSource + R"([reflector.constraints]
+max_slope_deg = 55.0
+max_depth_mm = 12
+)",
+                                "pressed.toml");
+    EXPECT_EQ(s.reflector.constraints.max_slope_deg, 55.0);
+    EXPECT_FALSE(s.reflector.constraints.min_radius_mm);
+    EXPECT_EQ(s.reflector.constraints.max_depth_mm, 12.0);
+    EXPECT_EQ(parse_scene(scene_to_toml(s), "pressed.toml"), s);
+    Scene all = s;
+    all.reflector.constraints.min_radius_mm = 2.5;
+    EXPECT_EQ(parse_scene(scene_to_toml(all), "all.toml"), all);
 }
 
 // [source.optimize] reads the centre's and the tilts' ranges and round-trips.
@@ -307,6 +329,14 @@ INSTANTIATE_TEST_SUITE_P(
                 "[source.optimize.z_mm] max: must not be below min"},
         BadCase{"max_bounces = 2", "max_bounces = 2\ndirect = \"both\"",
                 "[trace] direct: must be one of: exclude, include"},
+        BadCase{"[trace]", "[reflector.constraints]\nmax_slope_deg = 90.0\n[trace]",
+                "bad.toml:21: [reflector.constraints] max_slope_deg: must be between 0 and 90"},
+        BadCase{"[trace]", "[reflector.constraints]\nmin_radius_mm = 0\n[trace]",
+                "bad.toml:21: [reflector.constraints] min_radius_mm: must be > 0"},
+        BadCase{"[trace]", "[reflector.constraints]\nmax_depth_mm = \"deep\"\n[trace]",
+                "[reflector.constraints] max_depth_mm: must be a number"},
+        BadCase{"[trace]", "[reflector.constraints]\nmax_draft = 5.0\n[trace]",
+                "[reflector.constraints] max_draft: unknown key"},
         BadCase{"fx = 3.0", "fx = 3.0 3.0", "bad.toml:13"}));
 
 // A B-spline whose every control height is freed by one line: bad values of heights_mm

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <numbers>
 
 #include <glm/geometric.hpp>
 
@@ -79,6 +80,37 @@ TEST_F(Views, ViewportMatchesItsGolden) {
     expect_like_view_golden(rgba, kW, kH, "viewport.png");
 }
 
+// Coloured by slope: the paraboloid's steepest point (the press measures') is marked by a
+// magenta cross drawn where the camera projects it, and nowhere without slope colours;
+// the picture matches its golden.
+TEST_F(Views, ViewportColoursBySlopeAndMarksTheSteepestPoint) {
+    ASSERT_TRUE(traced_->viewport.steepest_mm);
+    render::ViewportRenderer renderer(ctx());
+    render::ViewportOptions o{.camera = render::frame_holder(traced_->scene.holder),
+                              .rays = false,
+                              .slope_colours = true};
+    const auto rgba = render::render_viewport(ctx(), renderer, traced_->viewport, o, kW, kH);
+    const glm::vec4 clip = render::view_projection(o.camera, double(kW) / kH) *
+                           glm::vec4(glm::vec3(*traced_->viewport.steepest_mm), 1.0f);
+    const double px = (clip.x / clip.w * 0.5 + 0.5) * kW, py = (clip.y / clip.w * 0.5 + 0.5) * kH;
+    // Magenta (0.95, 0.15, 0.55): red high, green low, blue between; within the cross's
+    // half width (a fiftieth of the holder's diagonal, a few pixels here) of the point.
+    const auto magenta_near = [&](const std::vector<std::uint8_t>& img) {
+        int count = 0;
+        for (int y = std::max(0, int(py) - 8); y < std::min(kH, int(py) + 9); ++y)
+            for (int x = std::max(0, int(px) - 8); x < std::min(kW, int(px) + 9); ++x) {
+                const std::uint8_t* p = &img[(std::size_t(y) * kW + x) * 4];
+                count += p[0] > 200 && p[1] < 90 && p[2] > 90 && p[2] < 180;
+            }
+        return count;
+    };
+    EXPECT_GT(magenta_near(rgba), 3) << px << "," << py;
+    o.slope_colours = false;
+    EXPECT_EQ(magenta_near(render::render_viewport(ctx(), renderer, traced_->viewport, o, kW, kH)),
+              0);
+    expect_like_view_golden(rgba, kW, kH, "viewport_slope.png");
+}
+
 TEST_F(Views, FarFieldAndPlotsMatchTheirGoldens) {
     plot::Canvas far{640, 400};
     render::draw_farfield_view(far, {0, 0, 640, 400}, traced_->farfield, {});
@@ -138,6 +170,28 @@ TEST_F(Views, PickedRaysWalkVisitsNodesAlongItsPathAndEndsAtTheReferenceHit) {
 // selection the panel offers (all maps in one column or three, or one alone), at a panel's
 // small size (the compact picture), a narrow and a wide (polar curves beside) size, with the
 // whole sphere and a zoomed band shown.
+using TracedConstraints = VulkanTest;
+
+// A reflector that breaks a press's constraint is still traced for the views (only a
+// search refuses it), and carries each constraint met or broken for the scene panel: the
+// mirror's slope is atan(hypot(sx, sy)) everywhere, its depth its rise across the holder.
+TEST_F(TracedConstraints, ATracedReflectorCarriesItsConstraintsMetOrBroken) {
+    Scene s = load_scene(std::string(FIRD_SOURCE_DIR) + "/scenes/test/mirror_search.toml");
+    s.reflector.constraints.max_slope_deg = 8.0;
+    s.reflector.constraints.max_depth_mm = 100.0;
+    const render::TracedScene t = render::trace_for_views(
+        ctx(), s, {.parameters = {{"sx", 0.15}, {"sy", -0.1}}, .rays = 2000, .paths = 0});
+    ASSERT_EQ(t.constraints.size(), 2u);
+    EXPECT_EQ(t.constraints[0].name, "max_slope_deg");
+    EXPECT_NEAR(t.constraints[0].value, std::atan(std::hypot(0.15, 0.1)) * 180.0 / std::numbers::pi,
+                1e-9);
+    EXPECT_FALSE(t.constraints[0].met);
+    EXPECT_EQ(t.constraints[1].name, "max_depth_mm");
+    EXPECT_TRUE(t.constraints[1].met);
+    s.reflector.constraints = {};
+    EXPECT_TRUE(render::trace_for_views(ctx(), s, {.rays = 2000, .paths = 0}).constraints.empty());
+}
+
 TEST(FarFieldReadout, TheCellUnderAPixelIsTheCellDrawnThere) {
     const std::uint32_t W = 36, H = 18;
     const auto direction = [](double az_deg, double alt_deg) {
