@@ -2,12 +2,18 @@
 // worked out by hand that the emitter and material tests check both tracers against.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <numbers>
+#include <tuple>
+#include <vector>
+
+#include <glm/geometric.hpp>
 
 #include "io/scene_file.hpp"
 #include "model/scene.hpp"
+#include "model/source.hpp"
 
 namespace fird::test {
 
@@ -50,6 +56,24 @@ inline double cosine_law_row_fraction(std::uint32_t row, std::uint32_t rows) {
     const double bottom = std::numbers::pi / 2 - std::numbers::pi * (row + 1) / rows;
     const auto sin2 = [](double e) { return e > 0 ? std::sin(e) * std::sin(e) : 0.0; };
     return sin2(top) - sin2(bottom);
+}
+
+// How many rays of two lists (the fast path's rayset, in float, and the CPU's rays, in
+// double) are equal to `tolerance` in origin and direction, both sorted by direction
+// (near-equal x components may sort apart between float and double: a few unmatched).
+inline std::size_t rays_matching(std::vector<Ray> a, std::vector<Ray> b, double tolerance) {
+    const auto by_direction = [](const Ray& p, const Ray& q) {
+        return std::tie(p.direction.x, p.direction.y, p.direction.z) <
+               std::tie(q.direction.x, q.direction.y, q.direction.z);
+    };
+    std::sort(a.begin(), a.end(), by_direction);
+    std::sort(b.begin(), b.end(), by_direction);
+    std::size_t matched = 0;
+    for (std::size_t i = 0; i < std::min(a.size(), b.size()); ++i)
+        if (glm::length(a[i].direction - b[i].direction) < tolerance &&
+            glm::length(a[i].origin - b[i].origin) < tolerance)
+            ++matched;
+    return matched;
 }
 
 } // namespace fird::test

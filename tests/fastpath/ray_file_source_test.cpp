@@ -20,6 +20,7 @@
 #include "fastpath/fast_tracer.hpp"
 #include "io/ray_files_fixture.hpp"
 #include "io/scene_file.hpp"
+#include "mirror_scene.hpp"
 #include "model/ray_file_source.hpp"
 #include "model/source.hpp"
 #include "reference/reference_tracer.hpp"
@@ -158,17 +159,7 @@ TEST_F(VulkanTest, BothTracersEmitTheSameRaysFromARayFile) {
     ASSERT_GT(cpu.size(), s.trace.rays / 2);
     // A ray grazing the holder's face may be kept by one precision and not the other.
     ASSERT_NEAR(double(gpu.size()), double(cpu.size()), 2.0);
-    const auto by_direction = [](const Ray& a, const Ray& b) {
-        return std::tie(a.direction.x, a.direction.y, a.direction.z) <
-               std::tie(b.direction.x, b.direction.y, b.direction.z);
-    };
-    std::sort(gpu.begin(), gpu.end(), by_direction);
-    std::sort(cpu.begin(), cpu.end(), by_direction);
-    std::size_t matched = 0;
-    for (std::size_t i = 0; i < std::min(gpu.size(), cpu.size()); ++i)
-        if (glm::length(gpu[i].direction - cpu[i].direction) < 1e-5 &&
-            glm::length(gpu[i].origin - cpu[i].origin) < 1e-5)
-            ++matched;
+    const std::size_t matched = rays_matching(gpu, cpu, 1e-5);
     // A resampled ray emitted twice sorts next to itself; near-equal x components may sort
     // apart between float and double.
     EXPECT_GE(double(matched), 0.99 * double(cpu.size()));
