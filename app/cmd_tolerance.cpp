@@ -9,6 +9,7 @@
 #include "evaluation/evaluation.hpp"
 #include "io/atomic_file.hpp"
 #include "io/scene_file.hpp"
+#include "model/source.hpp"
 #include "parse.hpp"
 #include "tolerance/tolerance.hpp"
 #include "vk/context.hpp"
@@ -92,10 +93,7 @@ void register_tolerance(CLI::App& app, const GlobalOptions& global, std::functio
                 t.reflectance_sd = non_negative("--reflectance-sd", a->reflectance_sd);
             if (t.surface_rms_mm > 0.0 && !(t.surface_correlation_mm > 0.0))
                 throw UsageError("--surface-correlation-mm: needed (> 0) with a surface error");
-            const bool has_axis = scene.source.kind != SourceKind::Sphere &&
-                                  !(scene.source.kind == SourceKind::Point &&
-                                    scene.source.emittance == Emittance::Isotropic);
-            if (t.source_tilt_deg > 0.0 && !has_axis)
+            if (t.source_tilt_deg > 0.0 && !source_has_axis(scene.source))
                 throw UsageError(fmt::format("--source-tilt-deg: a {} source has no axis to tilt",
                                              source_type_name(scene.source.kind)));
             if (active_tolerances(t).empty())

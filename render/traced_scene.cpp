@@ -21,7 +21,7 @@ TracedScene trace_for_views(const vk::Context& ctx, const Scene& input, const Tr
     for (const auto& [k, v] : o.parameters) {
         if (is_source_parameter(k)) {
             try {
-                (void)moved_source(t.scene.source, {{k.substr(7), v}});
+                (void)moved_source(t.scene.source, {{source_parameter_key(k), v}});
             } catch (const std::invalid_argument& e) {
                 throw std::invalid_argument("--parameters " + k + ": " + e.what());
             }

@@ -63,7 +63,7 @@ void put_on_sliders(WorkbenchState& s, const std::map<std::string, double>& valu
     std::map<std::string, double> source; // [source.optimize]'s: the source editor's
     for (const auto& [name, value] : values) {
         if (is_source_parameter(name))
-            source[name.substr(std::string(kSourceParameterPrefix).size())] = value;
+            source[source_parameter_key(name)] = value;
         else if (auto it = s.editor.parameters.find(name); it != s.editor.parameters.end())
             it->second = value;
     }

@@ -319,9 +319,7 @@ ParameterRange read_range(const TableReader& opt, const std::string& name);
 std::map<std::string, ParameterRange> read_source_optimize(const TableReader& opt,
                                                            const SourceDesc& source) {
     std::map<std::string, ParameterRange> out;
-    const bool has_axis =
-        source.kind != SourceKind::Sphere &&
-        !(source.kind == SourceKind::Point && source.emittance == Emittance::Isotropic);
+    const bool has_axis = source_has_axis(source);
     for (const auto& [k, v] : opt.table()) {
         const std::string name(k.str());
         const bool tilt = name == "tilt_x_deg" || name == "tilt_y_deg";
@@ -517,9 +515,7 @@ ToleranceDesc read_tolerance(const TableReader& t, const SourceDesc& source) {
     if (d.surface_rms_mm > 0.0 && !(d.surface_correlation_mm > 0.0))
         t.fail(t.find("surface_rms_mm"), "surface_correlation_mm",
                "must be > 0 where surface_rms_mm is (the error's correlation length)");
-    const bool has_axis =
-        source.kind != SourceKind::Sphere &&
-        !(source.kind == SourceKind::Point && source.emittance == Emittance::Isotropic);
+    const bool has_axis = source_has_axis(source);
     if (d.source_tilt_deg > 0.0 && !has_axis)
         t.fail(t.find("source_tilt_deg"), "source_tilt_deg",
                fmt::format("a {} source has no axis to tilt", source_type_name(source.kind)));

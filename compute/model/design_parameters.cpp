@@ -21,6 +21,10 @@ bool is_source_parameter(const std::string& name) {
     return name.rfind(kSourceParameterPrefix, 0) == 0;
 }
 
+std::string source_parameter_key(const std::string& name) {
+    return name.substr(std::string(kSourceParameterPrefix).size());
+}
+
 SourceDesc moved_source(const SourceDesc& base, const std::map<std::string, double>& values) {
     SourceDesc s = base;
     double tilt_x = 0.0, tilt_y = 0.0;
@@ -51,7 +55,7 @@ void apply_design_parameters(Scene& scene, const std::map<std::string, double>& 
     std::map<std::string, double> source;
     for (const auto& [name, v] : named) {
         if (is_source_parameter(name))
-            source[name.substr(std::string(kSourceParameterPrefix).size())] = v;
+            source[source_parameter_key(name)] = v;
         else
             scene.reflector.parameters[name] = v;
     }

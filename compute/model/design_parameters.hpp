@@ -14,6 +14,8 @@ namespace fird {
 inline constexpr const char* kSourceParameterPrefix = "source.";
 
 bool is_source_parameter(const std::string& name);
+// A source parameter's key without the prefix ("source.x_mm" -> "x_mm").
+std::string source_parameter_key(const std::string& name);
 
 // `base` with the given source parameters (keys without the prefix).
 SourceDesc moved_source(const SourceDesc& base, const std::map<std::string, double>& values);

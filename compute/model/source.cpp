@@ -24,6 +24,11 @@ constexpr std::uint32_t kSampleStream = 1;
 
 } // namespace
 
+bool source_has_axis(const SourceDesc& s) {
+    return s.kind != SourceKind::Sphere &&
+           !(s.kind == SourceKind::Point && s.emittance == Emittance::Isotropic);
+}
+
 glm::dvec3 default_x_axis(const glm::dvec3& normal) {
     const glm::dvec3 n = glm::normalize(normal);
     const glm::dvec3 x =

@@ -22,6 +22,10 @@ struct Ray {
 // to the normal, or world +y where the normal lies within 26 degrees of the x axis.
 glm::dvec3 default_x_axis(const glm::dvec3& normal);
 
+// Whether the source has an axis to tilt ([source.optimize], tolerances): every kind but a
+// sphere and an isotropic point.
+bool source_has_axis(const SourceDesc& source);
+
 // The source as shaders/emitter.h's emitter (the one definition of its sampling), in a
 // frame whose origin is `origin` (the fast path's is the holder box's centre).
 gpu::emission::Emitter emitter_of(const SourceDesc& source, const glm::dvec3& origin = {});

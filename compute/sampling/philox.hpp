@@ -5,7 +5,10 @@
 #pragma once
 
 #include <array>
+#include <cmath>
 #include <cstdint>
+#include <numbers>
+#include <utility>
 
 namespace fird {
 
@@ -38,6 +41,13 @@ inline std::array<double, 4> philox_uniforms(std::uint64_t seed, std::uint64_t i
     for (int i = 0; i < 4; ++i)
         u[i] = (double(bits[i]) + 0.5) * 0x1p-32;
     return u;
+}
+
+// Two independent standard normals from two uniforms in (0, 1) (Box-Muller).
+inline std::pair<double, double> standard_normals(double u1, double u2) {
+    const double r = std::sqrt(-2.0 * std::log(u1));
+    const double a = 2.0 * std::numbers::pi * u2;
+    return {r * std::cos(a), r * std::sin(a)};
 }
 
 } // namespace fird

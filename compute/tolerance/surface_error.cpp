@@ -30,11 +30,10 @@ SurfaceError draw_surface_error(double rms_mm, double correlation_mm, std::uint6
     SurfaceError e{.rms_mm = rms_mm};
     if (!(rms_mm > 0.0)) return e;
     for (int m = 0; m < kFeatures; ++m) {
-        // Two normals (Box-Muller) for k, one uniform for the phase.
+        // Two normals for k, one uniform for the phase.
         const auto u = philox_uniforms(seed, realisation, kSurfaceStream + std::uint32_t(m));
-        const double r = std::sqrt(-2.0 * std::log(u[0]));
-        const double a = 2.0 * std::numbers::pi * u[1];
-        e.k_per_mm.push_back(glm::dvec2(r * std::cos(a), r * std::sin(a)) / correlation_mm);
+        const auto [kx, ky] = standard_normals(u[0], u[1]);
+        e.k_per_mm.push_back(glm::dvec2(kx, ky) / correlation_mm);
         e.phase_rad.push_back(2.0 * std::numbers::pi * u[2]);
     }
     return e;

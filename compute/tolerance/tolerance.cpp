@@ -13,6 +13,7 @@
 #include "evaluation/desired_farfield.hpp"
 #include "io/atomic_file.hpp"
 #include "model/design_parameters.hpp"
+#include "model/source.hpp"
 #include "optimize/parameter_space.hpp"
 #include "photometry/beam_metrics.hpp"
 #include "plot/chart.hpp"
@@ -27,18 +28,11 @@ namespace {
 constexpr std::uint32_t kShiftStream = 20000, kShiftZStream = 20001, kTiltStream = 20002,
                         kReflectanceStream = 20003;
 
-// Two independent standard normals (Box-Muller) from one Philox block.
+// Two independent standard normals from one Philox block.
 std::pair<double, double> normals(std::uint64_t seed, std::uint64_t realisation,
                                   std::uint32_t stream) {
     const auto u = philox_uniforms(seed, realisation, stream);
-    const double r = std::sqrt(-2.0 * std::log(u[0]));
-    const double a = 2.0 * std::numbers::pi * u[1];
-    return {r * std::cos(a), r * std::sin(a)};
-}
-
-bool has_axis(const SourceDesc& s) {
-    return s.kind != SourceKind::Sphere &&
-           !(s.kind == SourceKind::Point && s.emittance == Emittance::Isotropic);
+    return standard_normals(u[0], u[1]);
 }
 
 // The scene as realisation `d` makes it (the surface error's mesh written to `mesh_path`
@@ -51,7 +45,7 @@ Scene perturbed_scene(const Scene& base, const ToleranceDesc& tol, const Toleran
     std::map<std::string, double> moved{{"x_mm", base.source.center_mm.x + d.source_shift_mm.x},
                                         {"y_mm", base.source.center_mm.y + d.source_shift_mm.y},
                                         {"z_mm", base.source.center_mm.z + d.source_shift_mm.z}};
-    if (has_axis(base.source)) {
+    if (source_has_axis(base.source)) {
         moved["tilt_x_deg"] = d.tilt_x_deg;
         moved["tilt_y_deg"] = d.tilt_y_deg;
     }
@@ -158,7 +152,7 @@ ToleranceResult run_tolerance(const vk::Context& ctx, const Scene& scene, const 
     const ToleranceDesc& tol = run.tolerances;
     if (tol.realisations == 0)
         throw std::invalid_argument("--realisations: at least one realisation is needed");
-    if (tol.source_tilt_deg > 0.0 && !has_axis(scene.source))
+    if (tol.source_tilt_deg > 0.0 && !source_has_axis(scene.source))
         throw std::invalid_argument(fmt::format("source tilt: a {} source has no axis to tilt",
                                                 source_type_name(scene.source.kind)));
     ToleranceResult out;
