@@ -110,6 +110,7 @@ int run_optimize(const GlobalOptions& global, const Args& a, const CLI::App& cmd
     const Scene scene = load_scene(a.scene);
     // No [reflector.optimize], or a press's limit nothing in the box meets: refused before
     // any work (the device is not even opened).
+    refuse_start_outside_bounds(scene);
     refuse_unmeetable_constraints(scene, parameter_space(scene));
     SearchSettings settings = search_settings(scene);
     std::string out = a.out;
@@ -130,7 +131,7 @@ int run_optimize(const GlobalOptions& global, const Args& a, const CLI::App& cmd
         settings = resumed.settings;
         depends_on = std::move(resumed.depends_on);
         request.replay = read_history((std::filesystem::path(out) / "history.csv").string(),
-                                      parameter_space(scene).names);
+                                      parameter_space(scene).names, scene.optimize.metric);
     } else {
         if (!a.method.empty()) settings.method = *method_from_name(a.method);
         if (!a.rays.empty()) settings.rays = parse_counts("--rays", a.rays, 4e9);
@@ -144,7 +145,7 @@ int run_optimize(const GlobalOptions& global, const Args& a, const CLI::App& cmd
             throw UsageError("--refine follows a lattice method: --method auto or grid");
         if (settings.max_evaluations == 0) throw UsageError("--max-evals must be at least 1");
         if (!(settings.threshold_lm >= 0.0))
-            throw UsageError("--threshold must be >= 0 lm (0: never stop early)");
+            throw UsageError("--threshold must be >= 0 (0: never stop early)");
         if (settings.method != SearchMethod::Auto && settings.rays.size() > 1)
             settings.rays = {settings.rays.back()};
     }
@@ -159,7 +160,7 @@ int run_optimize(const GlobalOptions& global, const Args& a, const CLI::App& cmd
             write_text_file(path("options.json"),
                             settings_json(settings, scene, ctx.summary()).dump(2) + "\n");
         history = std::make_unique<HistoryWriter>(path("history.csv"), parameter_space(scene).names,
-                                                  !a.resume.empty());
+                                                  !a.resume.empty(), scene.optimize.metric);
     }
     ProgressLine progress;
     const std::uint64_t grid = parameter_space(scene).lattice_size();
@@ -222,9 +223,18 @@ int run_optimize(const GlobalOptions& global, const Args& a, const CLI::App& cmd
         if (r.lattice) std::printf("lattice: %s\n", r.lattice->verdict.c_str());
         if (r.refine) std::printf("refine: %s\n", r.refine->verdict.c_str());
         if (r.final_l2_lm && r.noise_floor_l2_lm)
-            std::printf("final l2 %.6g lm with fresh rays; noise floor %.6g lm (ratio %.3f)\n",
-                        *r.final_l2_lm, *r.noise_floor_l2_lm,
-                        *r.final_l2_lm / *r.noise_floor_l2_lm);
+            std::printf("%s",
+                        fmt::format("final {} {:.6g} {} with fresh rays; noise floor {:.6g} "
+                                    "{} (ratio {:.3f})\n",
+                                    r.metric, *r.final_l2_lm, r.metric_unit, *r.noise_floor_l2_lm,
+                                    r.metric_unit, *r.final_l2_lm / *r.noise_floor_l2_lm)
+                            .c_str());
+        if (r.photometrics)
+            std::printf("best: %s\n",
+                        photometrics_text(photometrics_json(*r.photometrics)).c_str());
+        if (r.desired_photometrics)
+            std::printf("desired: %s\n",
+                        photometrics_text(photometrics_json(*r.desired_photometrics)).c_str());
         if (!out.empty()) std::printf("wrote %s/\n", out.c_str());
     }
     return r.stopped == StopReason::Interrupted ? 130 : 0;
@@ -245,7 +255,8 @@ void register_optimize(CLI::App& app, const GlobalOptions& global, std::function
                     "Rays per evaluation, one count per stage (auto), e.g. 1e5,1e6,1e7");
     cmd->add_option("--max-evals", a->max_evals, "Most candidates to consider")
         ->check(CLI::Range(1.0, 1e8));
-    cmd->add_option("--threshold", a->threshold, "Stop once l2 falls below this (lm)");
+    cmd->add_option("--threshold", a->threshold,
+                    "Stop once l2 falls below this (lm; cd with [optimize] metric = candela_l2)");
     cmd->add_option("--seed", a->seed, "Seed of the search's rays")->check(CLI::NonNegativeNumber);
     cmd->add_flag("--refine", a->refine,
                   "After the lattice (auto, grid), BOBYQA within one step of its best point");

@@ -8,6 +8,7 @@
 #include "evaluation/evaluator.hpp"
 #include "io/scene_file.hpp"
 #include "parse.hpp"
+#include "photometry/beam_metrics.hpp"
 #include "vk/context.hpp"
 
 namespace fird::app {
@@ -52,8 +53,7 @@ void register_trace(CLI::App& app, const GlobalOptions& global, std::function<in
             Evaluation e;
             if (a->backend == "gpu") {
                 const auto ctx = vk::Context::create(context_options(global));
-                e = evaluate_fast(ctx, scene,
-                                  {.profile = a->profile, .read_farfields = !a->out.empty()});
+                e = evaluate_fast(ctx, scene, {.profile = a->profile, .read_farfields = true});
                 if (ctx.validation_errors() > 0)
                     throw std::runtime_error("Vulkan validation errors were reported (see above)");
             } else {
@@ -79,7 +79,10 @@ void register_trace(CLI::App& app, const GlobalOptions& global, std::function<in
                                               j["energy_farfield_lm"].get<double>(),
                                               j["energy_emitted_lm"].get<double>())
                                       .c_str());
-                if (e.l2_lm) std::printf("l2 to the target: %.6g lm\n", *e.l2_lm);
+                if (e.l2_lm)
+                    std::printf("%s to the target: %.6g %s\n", metric_name(e.metric), *e.l2_lm,
+                                metric_unit(e.metric));
+                std::printf("%s\n", photometrics_text(j["photometrics"]).c_str());
                 std::printf("time: %.1f ms on %s\n", e.timings.total_ms, e.device.c_str());
                 if (!e.bounces.empty()) std::printf("%s", profile_table(e.bounces).c_str());
                 if (!a->out.empty())

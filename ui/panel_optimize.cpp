@@ -104,11 +104,13 @@ void search_status(const WorkbenchState& s, const SearchProgress& p) {
                                        : fmt::format(" ({})", stop_reason_name(r.stopped)).c_str());
         if (r.start_l2_lm && r.final_l2_lm)
             ImGui::TextWrapped(
-                "l2 at the scene's rays: start %.5g lm, best %.5g lm%s", *r.start_l2_lm,
-                *r.final_l2_lm,
-                r.noise_floor_l2_lm
-                    ? fmt::format(" (noise floor {:.3g} lm)", *r.noise_floor_l2_lm).c_str()
-                    : "");
+                "%s",
+                fmt::format("{} at the scene's rays: start {:.5g} {}, best {:.5g} {}{}", r.metric,
+                            *r.start_l2_lm, r.metric_unit, *r.final_l2_lm, r.metric_unit,
+                            r.noise_floor_l2_lm ? fmt::format(" (noise floor {:.3g} {})",
+                                                              *r.noise_floor_l2_lm, r.metric_unit)
+                                                : "")
+                    .c_str());
         if (!p.out_dir.empty()) ImGui::TextWrapped("files in %s", p.out_dir.c_str());
     }
     if (const Candidate* c = best_candidate(p); c && c->stage < p.stages.size()) {

@@ -85,7 +85,9 @@ void scene_panel(Frame& f) {
                            static_cast<unsigned long long>(t.tally.emitted - t.tally.discarded),
                            static_cast<unsigned long long>(t.tally.farfield));
         ImGui::Text("far field %.2f lm of %.2f lm", f.snapshot->obtained_lm, scene.source.flux_lm);
-        if (t.farfield.l2_lm) ImGui::Text("l2 to the target %.5g lm", *t.farfield.l2_lm);
+        if (t.farfield.l2_lm)
+            ImGui::Text("%s to the target %.5g %s", metric_name(scene.optimize.metric),
+                        *t.farfield.l2_lm, metric_unit(scene.optimize.metric));
         // [reflector.constraints]: what the press can form, met or broken by this reflector.
         for (const ConstraintCheck& c : t.constraints) {
             ImGui::PushStyleColor(ImGuiCol_Text, c.met ? ImVec4(0.1f, 0.55f, 0.2f, 1.0f)

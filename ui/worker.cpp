@@ -216,9 +216,9 @@ void Worker::run(const SearchJob& job) {
         (void)export_search_reflectors(job.scene, outcome.result, job.out_dir);
     }
     const SearchResult& r = outcome.result;
-    log(fmt::format("{} search: {} evaluations, stopped: {}, best l2 {:.5g} lm{}", r.method,
-                    r.history.size(), stop_reason_name(r.stopped), r.best_l2_lm,
-                    job.out_dir.empty() ? "" : ", files in " + job.out_dir));
+    log(fmt::format("{} search: {} evaluations, stopped: {}, best {} {:.5g} {}{}", r.method,
+                    r.history.size(), stop_reason_name(r.stopped), r.metric, r.best_l2_lm,
+                    r.metric_unit, job.out_dir.empty() ? "" : ", files in " + job.out_dir));
     if (r.best)
         publish(render::trace_for_views(*ctx_, job.scene, {.parameters = r.best_parameters}),
                 r.best_parameters, job.scene.trace.rays, false);

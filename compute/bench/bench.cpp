@@ -47,8 +47,8 @@ std::vector<BenchRow> run_bench(const vk::Context& ctx, const BenchOptions& o,
                                           .farfield_h = base.trace.farfield_h,
                                           .material = base.reflector.material,
                                           .direct = base.trace.direct});
-        const double multinomial =
-            multinomial_noise_lm2_times_rays(ref.farfield, base.source.flux_lm);
+        const double multinomial = multinomial_noise_lm2_times_rays(
+            ref.farfield, base.source.flux_lm, base.optimize.metric);
         // The reference traced with the fast path's own rays (same seed and sampler), once
         // per ray count: the l2 to it has no Monte Carlo noise, only the discretization
         // of the surface (and rays that float rounding sends another way).
@@ -110,7 +110,8 @@ std::vector<BenchRow> run_bench(const vk::Context& ctx, const BenchOptions& o,
                         const FarField first = evaluator.farfield();
                         evaluator.set_seed(stream_seed(s.trace.seed, kReplicateStream, ~0ull));
                         (void)evaluator.evaluate(s.reflector);
-                        const double d = l2_distance(first, evaluator.farfield());
+                        const double d =
+                            farfield_distance(first, evaluator.farfield(), evaluator.metric());
                         row_noise_lm2 = 0.5 * d * d;
                     }
                     r.noise_from =

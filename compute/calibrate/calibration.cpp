@@ -58,7 +58,7 @@ DesiredFarField calibration_desired(const vk::Context& ctx, const Scene& scene, 
     if (noise_lm2) {
         desired.set_seed(stream_seed(seed, kDesiredStream + 1, avoid_seed(scene)));
         (void)desired.evaluate(desired_reflector(scene));
-        const double l2 = l2_distance(d.farfield, desired.farfield());
+        const double l2 = farfield_distance(d.farfield, desired.farfield(), desired.metric());
         *noise_lm2 = 0.5 * l2 * l2;
     }
     return d;
@@ -119,8 +119,8 @@ RaysTable calibrate_rays(const vk::Context& ctx, const Scene& scene, const RaysT
     table.desired = desired.description;
     if (photometric) table.desired_rays = 0;
     // Independent rays: E[l2^2] = flux^2 sum p (1 - p) (1/n + 1/N), p from the desired.
-    const double multinomial =
-        multinomial_noise_lm2_times_rays(desired.farfield, scene.source.flux_lm);
+    const double multinomial = multinomial_noise_lm2_times_rays(
+        desired.farfield, scene.source.flux_lm, scene.optimize.metric);
     const ReflectorDesc reflector = desired_reflector(scene);
     for (std::size_t c = 0; c < o.counts.size(); ++c) {
         const auto tc = std::chrono::steady_clock::now();
@@ -142,7 +142,7 @@ RaysTable calibrate_rays(const vk::Context& ctx, const Scene& scene, const RaysT
             if (run % 2 == 0 && run + 1 < o.runs) {
                 first = evaluator.farfield();
             } else if (run % 2 == 1) {
-                const double d = l2_distance(first, evaluator.farfield());
+                const double d = farfield_distance(first, evaluator.farfield(), evaluator.metric());
                 pair_sum2 += d * d;
                 ++row.replicate_pairs;
             }

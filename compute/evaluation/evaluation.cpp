@@ -10,6 +10,7 @@
 #include "io/atomic_file.hpp"
 #include "io/npy.hpp"
 #include "model/energy_balance.hpp"
+#include "photometry/beam_metrics.hpp"
 #include "photometry/farfield_photometry.hpp"
 #include "photometry/photometry_file.hpp"
 #include "plot/farfield_picture.hpp"
@@ -74,7 +75,8 @@ Evaluation evaluate_reference(const Scene& scene, unsigned threads) {
     }
     if (e.target_farfield) {
         const auto tc = std::chrono::steady_clock::now();
-        e.l2_lm = l2_distance(e.farfield, *e.target_farfield);
+        e.l2_lm = farfield_distance(e.farfield, *e.target_farfield, scene.optimize.metric);
+        e.metric = scene.optimize.metric;
         e.timings.compare_ms = ms_since(tc);
     }
     e.timings.total_ms = ms_since(t0);
@@ -162,7 +164,16 @@ nlohmann::json evaluation_json(const Evaluation& e) {
                           {"histogram", e.timings.histogram_ms},
                           {"compare", e.timings.compare_ms},
                           {"total", e.timings.total_ms}}}};
-    if (e.l2_lm) j["l2"] = *e.l2_lm;
+    if (e.l2_lm) {
+        j["l2"] = *e.l2_lm;
+        j["metric"] = metric_name(e.metric);
+        j["metric_unit"] = metric_unit(e.metric);
+    }
+    if (!e.farfield.lm.empty())
+        j["photometrics"] = photometrics_json(photometrics(e.farfield, energy.emitted_lm));
+    if (e.target_farfield)
+        j["desired_photometrics"] =
+            photometrics_json(photometrics(*e.target_farfield, energy.emitted_lm));
     if (!e.bounces.empty()) j["profile"] = profile_json(e.bounces);
     if (e.submissions) j["submissions"] = *e.submissions;
     if (e.device_memory_allocations) j["device_memory_allocations"] = *e.device_memory_allocations;

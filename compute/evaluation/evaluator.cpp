@@ -79,10 +79,13 @@ void Evaluator::set_desired(const FarField& desired) {
         coarse = coarsen_farfield(desired, fidelity_.farfield_w, fidelity_.farfield_h);
         f = &coarse;
     }
-    double sum = 0.0;
-    for (const double v : f->lm)
-        sum += backend_ == Backend::Fast ? double(float(v)) * double(float(v)) : v * v;
-    desired_norm_lm_ = std::sqrt(sum);
+    // ||desired|| in the metric (the distance to an empty far field), of the values compared.
+    FarField compared = *f;
+    if (backend_ == Backend::Fast)
+        for (double& v : compared.lm)
+            v = double(float(v));
+    desired_norm_lm_ = farfield_distance(
+        compared, FarField{f->width, f->height, std::vector<double>(f->lm.size(), 0.0)}, metric());
     if (backend_ == Backend::Reference) {
         cpu_desired_ = *f; // compared on the host, in double precision
         return;
@@ -111,7 +114,7 @@ CandidateResult Evaluator::evaluate_on_cpu(const ReflectorDesc& reflector) {
     r.run.timings.trace_ms = traced.trace_ms;
     r.farfield_lm = energy_balance(traced.tally, traced.energy_per_ray_lm).binned_lm;
     cpu_farfield_ = std::move(traced.farfield);
-    if (cpu_desired_) r.l2_lm = l2_distance(*cpu_farfield_, *cpu_desired_);
+    if (cpu_desired_) r.l2_lm = farfield_distance(*cpu_farfield_, *cpu_desired_, metric());
     r.wall_ms = ms_since(t0);
     r.run.timings.total_ms = r.wall_ms;
     return r;
@@ -136,7 +139,7 @@ std::vector<CandidateResult> Evaluator::evaluate_batch(std::span<const Reflector
                                   vk::MemoryUse::Readback, "fird.evaluator.l2.sums");
         record_compare = [&](VkCommandBuffer cb, std::size_t k, const vk::Buffer& farfield) {
             reduce_.record(cb, farfield, &desired_, cells(), l2_scratch_, l2_sums_,
-                           k * kL2SumStride);
+                           k * kL2SumStride, difference());
         };
     }
     std::vector<FastRun> runs = tracer_->run_batch(reflectors, record_compare);
@@ -175,19 +178,22 @@ double Evaluator::compare(double* compare_ms) const {
         throw std::logic_error("Evaluator::compare: needs a trace and a desired far field");
     if (backend_ == Backend::Reference) {
         const auto t0 = std::chrono::steady_clock::now();
-        const double l2 = l2_distance(*cpu_farfield_, *cpu_desired_);
+        const double l2 = farfield_distance(*cpu_farfield_, *cpu_desired_, metric());
         if (compare_ms) *compare_ms = ms_since(t0);
         return l2;
     }
-    return device_l2(*ctx_, reduce_, tracer_->farfield_lm(), desired_, cells(), compare_ms);
+    return device_l2(*ctx_, reduce_, tracer_->farfield_lm(), desired_, cells(), compare_ms,
+                     difference());
 }
 
 double Evaluator::l2_to(const Evaluator& other) const {
     if (cells() != other.cells() || fidelity_.farfield_w != other.fidelity_.farfield_w)
         throw std::invalid_argument("Evaluator::l2_to: far fields of different grids");
     if (!traced_ || !other.traced_) throw std::logic_error("Evaluator::l2_to: nothing traced");
-    if (!tracer_ || !other.tracer_) return l2_distance(farfield(), other.farfield());
-    return device_l2(*ctx_, reduce_, tracer_->farfield_lm(), other.tracer_->farfield_lm(), cells());
+    if (!tracer_ || !other.tracer_)
+        return farfield_distance(farfield(), other.farfield(), metric());
+    return device_l2(*ctx_, reduce_, tracer_->farfield_lm(), other.tracer_->farfield_lm(), cells(),
+                     nullptr, difference());
 }
 
 FarField Evaluator::farfield() const {
@@ -215,11 +221,11 @@ Evaluation evaluate_fast(const vk::Context& ctx, const Scene& scene,
     e.energy_per_ray_lm = r.run.energy_per_ray_lm;
     e.timings = r.run.timings;
     if (options.profile) e.bounces = r.run.bounces;
-    if (options.read_farfields) e.farfield = evaluator.farfield();
     if (scene.target.kind != TargetDesc::Kind::None) {
         DesiredFarField desired = desired_farfield(ctx, scene, r.farfield_lm);
         evaluator.set_desired(desired.farfield);
         e.l2_lm = evaluator.compare(&e.timings.compare_ms);
+        e.metric = evaluator.metric();
         e.target_farfield = std::move(desired.farfield);
     }
     if (options.profile) {
@@ -227,6 +233,8 @@ Evaluation evaluate_fast(const vk::Context& ctx, const Scene& scene,
         e.device_memory_allocations = ctx.memory_allocations().total - allocations_before;
     }
     e.timings.total_ms = ms_since(t0);
+    // A readback for pictures and photometrics, not part of the evaluation's time.
+    if (options.read_farfields) e.farfield = evaluator.farfield();
     return e;
 }
 

@@ -86,6 +86,9 @@ class Evaluator {
     // The fast path's far field on the device (the fast backend only).
     const vk::Buffer& farfield_buffer() const { return fast().farfield_lm(); }
     std::uint32_t cells() const { return fidelity_.farfield_w * fidelity_.farfield_h; }
+    // What compare(), l2_to() and every CandidateResult::l2_lm measure: the scene's
+    // [optimize] metric (l2 in lm, or candela_l2 in cd).
+    FarFieldMetric metric() const { return scene_.optimize.metric; }
     const Fidelity& fidelity() const { return fidelity_; }
     const Scene& scene() const { return scene_; }
     Backend backend() const { return backend_; }
@@ -123,6 +126,7 @@ class Evaluator {
     }
 
   private:
+    ReduceDifference difference() const { return {metric(), fidelity_.farfield_w}; }
     FastTracer& fast();
     const FastTracer& fast() const;
     // The reference backend's evaluation of one candidate (its far field kept).

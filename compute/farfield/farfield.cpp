@@ -36,21 +36,55 @@ FarField farfield_from_counts(const std::vector<std::uint64_t>& counts, std::uin
 }
 
 double l2_distance(const FarField& a, const FarField& b) {
+    return farfield_distance(a, b, FarFieldMetric::L2);
+}
+
+const char* metric_name(FarFieldMetric metric) {
+    return metric == FarFieldMetric::CandelaL2 ? "candela_l2" : "l2";
+}
+
+const char* metric_unit(FarFieldMetric metric) {
+    return metric == FarFieldMetric::CandelaL2 ? "cd" : "lm";
+}
+
+double metric_cell_weight(FarFieldMetric metric, std::uint32_t row, std::uint32_t width,
+                          std::uint32_t height) {
+    if (metric == FarFieldMetric::L2) return 1.0;
+    return 1.0 / (4.0 * std::numbers::pi * farfield_cell_solid_angle_sr(row, width, height));
+}
+
+double farfield_distance(const FarField& a, const FarField& b, FarFieldMetric metric) {
     if (a.width != b.width || a.height != b.height || a.lm.size() != b.lm.size())
         throw std::invalid_argument("far fields of different grids cannot be compared");
     double s = 0.0;
-    for (std::size_t i = 0; i < a.lm.size(); ++i) {
-        const double d = a.lm[i] - b.lm[i];
-        s += d * d;
+    if (metric == FarFieldMetric::L2) {
+        for (std::size_t i = 0; i < a.lm.size(); ++i) {
+            const double d = a.lm[i] - b.lm[i];
+            s += d * d;
+        }
+        return std::sqrt(s);
+    }
+    for (std::uint32_t row = 0; row < a.height; ++row) {
+        double row_sum = 0.0;
+        for (std::size_t i = std::size_t(row) * a.width; i < std::size_t(row + 1) * a.width; ++i) {
+            const double d = a.lm[i] - b.lm[i];
+            row_sum += d * d;
+        }
+        s += row_sum * metric_cell_weight(metric, row, a.width, a.height);
     }
     return std::sqrt(s);
 }
 
-double multinomial_noise_lm2_times_rays(const FarField& expected, double flux_lm) {
+double multinomial_noise_lm2_times_rays(const FarField& expected, double flux_lm,
+                                        FarFieldMetric metric) {
     double sum = 0.0;
-    for (double v : expected.lm) {
-        const double p = v / flux_lm;
-        sum += p * (1.0 - p);
+    for (std::uint32_t row = 0; row < expected.height; ++row) {
+        double row_sum = 0.0;
+        for (std::uint32_t col = 0; col < expected.width; ++col) {
+            const double p = expected.lm[std::size_t(row) * expected.width + col] / flux_lm;
+            row_sum += p * (1.0 - p);
+        }
+        sum += row_sum * metric_cell_weight(metric, row, expected.width, expected.height);
     }
     return flux_lm * flux_lm * sum;
 }

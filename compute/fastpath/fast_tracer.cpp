@@ -357,9 +357,10 @@ std::vector<double> FastTracer::read_farfield() const {
 }
 
 double device_l2(const vk::Context& ctx, const ReducePass& reduce, const vk::Buffer& a,
-                 const vk::Buffer& b, std::uint32_t cells, double* compare_ms) {
+                 const vk::Buffer& b, std::uint32_t cells, double* compare_ms,
+                 ReduceDifference difference) {
     const auto t0 = std::chrono::steady_clock::now();
-    const double sum = reduce.sum_squared_difference(ctx, a, b, cells);
+    const double sum = reduce.sum_squared_difference(ctx, a, b, cells, difference);
     if (compare_ms) *compare_ms = ms_since(t0);
     return std::sqrt(std::max(0.0, sum));
 }

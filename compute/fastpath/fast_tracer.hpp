@@ -292,7 +292,9 @@ class FastTracer {
 };
 
 // l2 between two far fields on the device (reduction; only the number is read back).
+// With a weighted difference (ReduceDifference), that metric's distance.
 double device_l2(const vk::Context& ctx, const ReducePass& reduce, const vk::Buffer& a,
-                 const vk::Buffer& b, std::uint32_t cells, double* compare_ms = nullptr);
+                 const vk::Buffer& b, std::uint32_t cells, double* compare_ms = nullptr,
+                 ReduceDifference difference = {});
 
 } // namespace fird

@@ -127,6 +127,8 @@ std::uint32_t gpu_family(Family family) {
         return gpu::kFamilyBSpline;
     case Family::Mesh:
         return gpu::kFamilyTexture;
+    case Family::Profile:
+        return gpu::kFamilyProfile;
     }
     throw std::invalid_argument("unknown reflector family");
 }
@@ -165,6 +167,20 @@ std::vector<float> set_reflector_params(gpu::SceneParams& p, const ReflectorDesc
         for (std::size_t k = 0; k < h.size(); ++k)
             control[k] = float(h[k] - origin.z);
         return control;
+    }
+    if (r.family == Family::Profile) {
+        // (z0, cx, cy, knot spacing) and the spline's control points, solved here in double
+        // (model/surface.cpp: the one definition both tracers read). f is relative to z0,
+        // which alone moves into the frame.
+        const int heights = r.bspline.nx;
+        p.bspline_nx = std::uint32_t(heights);
+        p.bspline_ny = 1;
+        p.params[0] = get("z0");
+        p.params[1] = get("cx");
+        p.params[2] = get("cy");
+        p.params[3] = float(r.parameters.at("radius_mm") / (heights - 1));
+        const auto c = profile_control_points(bspline_heights(r.bspline, r.parameters));
+        return std::vector<float>(c.begin(), c.end());
     }
     for (std::size_t k = 0; k < names.size(); ++k)
         p.params[k] = get(names[k]);

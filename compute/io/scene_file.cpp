@@ -397,13 +397,56 @@ ConstraintsDesc read_constraints(const TableReader& t) {
     return c;
 }
 
+// The profile family: z0, cx, cy, radius_mm, and heights_mm, an array of at least two (the
+// profile's heights at radii 0 .. radius_mm evenly spaced) or one number for every height
+// with their count in `grid`. Each height is a parameter h_<k> (a point group), its value
+// optional in [reflector] (overriding heights_mm) and free in [reflector.optimize], or all
+// at once by heights_mm = { min, max, step } there.
+void read_profile(const TableReader& t, ReflectorDesc& r, std::vector<std::string>& params,
+                  std::set<std::string>& allowed) {
+    for (const auto& p : params) {
+        allowed.insert(p);
+        r.parameters[p] = t.number(p);
+    }
+    if (!(r.parameters["radius_mm"] > 0.0)) t.fail(t.find("radius_mm"), "radius_mm", "must be > 0");
+    allowed.insert({"grid", "heights_mm"});
+    const toml::node& h = t.need("heights_mm");
+    if (h.is_integer() || h.is_floating_point()) {
+        if (!t.has("grid"))
+            t.fail(&h, "heights_mm", "is one number, so `grid` must give how many heights");
+        const auto count = t.integer("grid", 2, kMaxProfileHeights);
+        r.bspline.heights_mm.assign(std::size_t(count), t.number("heights_mm", h));
+    } else if (!h.is_array()) {
+        t.fail(&h, "heights_mm", "must be an array of heights or one number (with `grid`)");
+    } else {
+        r.bspline.heights_mm = t.numbers("heights_mm", 0);
+        if (r.bspline.heights_mm.size() < 2 || r.bspline.heights_mm.size() > kMaxProfileHeights)
+            t.fail(&h, "heights_mm",
+                   fmt::format("must hold between 2 and {} heights (a cubic spline through "
+                               "them from the axis to radius_mm)",
+                               kMaxProfileHeights));
+        if (t.has("grid") &&
+            std::size_t(t.integer("grid", 2, kMaxProfileHeights)) != r.bspline.heights_mm.size())
+            t.fail(t.find("grid"), "grid", "must equal the number of heights_mm");
+    }
+    r.bspline.nx = int(r.bspline.heights_mm.size());
+    r.bspline.ny = 1;
+    for (int k = 0; k < r.bspline.nx; ++k) {
+        const std::string name = fmt::format("h_{}", k);
+        r.bspline.groups[name] = {.kind = ControlGroup::Kind::Point, .i = k, .j = 0};
+        params.push_back(name);
+        allowed.insert(name);
+        if (t.has(name)) r.parameters[name] = t.number(name);
+    }
+}
+
 ReflectorDesc read_reflector(const TableReader& t, const std::string& scene_path) {
     ReflectorDesc r;
     const std::string family = t.text("family");
     const auto f = family_from_name(family);
     if (!f)
         t.fail(t.find("family"), "family",
-               "must be one of: plane, paraboloid, cup, fluted_cup, bspline, mesh");
+               "must be one of: plane, paraboloid, cup, fluted_cup, bspline, profile, mesh");
     r.family = *f;
     std::set<std::string> allowed = {"family", "optimize", "material", "constraints"};
     std::vector<std::string> params = family_parameters(r.family);
@@ -459,6 +502,8 @@ ReflectorDesc read_reflector(const TableReader& t, const std::string& scene_path
             allowed.insert(name);
             if (t.has(name)) r.parameters[name] = t.number(name);
         }
+    } else if (r.family == Family::Profile) {
+        read_profile(t, r, params, allowed);
     } else if (r.family == Family::Mesh) {
         allowed.insert({"file", "unit_mm"});
         r.mesh.file = t.text("file");
@@ -479,6 +524,12 @@ ReflectorDesc read_reflector(const TableReader& t, const std::string& scene_path
             const std::string name(k.str());
             if (r.family == Family::BSpline && name == "heights_mm") {
                 free_every_height(opt, r);
+                continue;
+            }
+            if (r.family == Family::Profile && name == "heights_mm") {
+                const ParameterRange range = read_range(opt, name);
+                for (const auto& [h, group] : r.bspline.groups)
+                    r.optimize[h] = range;
                 continue;
             }
             if (std::find(params.begin(), params.end(), name) == params.end())
@@ -588,8 +639,12 @@ TargetDesc read_target(const TableReader& t, const ReflectorDesc& reflector,
 }
 
 OptimizeSettings read_optimize(const TableReader& t) {
-    t.allow_only({"method", "rays", "threshold_lm", "max_evaluations"});
+    t.allow_only({"method", "metric", "rays", "threshold_lm", "max_evaluations"});
     OptimizeSettings o;
+    if (t.has("metric"))
+        o.metric = t.choice("metric", {"l2", "candela_l2"}, "l2") == "candela_l2"
+                       ? FarFieldMetric::CandelaL2
+                       : FarFieldMetric::L2;
     if (t.has("method")) {
         const auto m = method_from_name(t.text("method"));
         if (!m)
@@ -743,6 +798,12 @@ std::string scene_to_toml(const Scene& s) {
         }
         reflector.insert("groups", groups);
     }
+    if (s.reflector.family == Family::Profile) { // its h_<k> groups are implicit
+        toml::array heights;
+        for (double h : s.reflector.bspline.heights_mm)
+            heights.push_back(h);
+        reflector.insert("heights_mm", heights);
+    }
     if (s.reflector.family == Family::Mesh) {
         reflector.insert("file", s.reflector.mesh.file);
         reflector.insert("unit_mm", s.reflector.mesh.unit_mm);
@@ -799,6 +860,7 @@ std::string scene_to_toml(const Scene& s) {
     if (s.optimize != OptimizeSettings{}) {
         const OptimizeSettings& o = s.optimize;
         toml::table opt{{"method", method_name(o.method)},
+                        {"metric", metric_name(o.metric)},
                         {"threshold_lm", o.threshold_lm},
                         {"max_evaluations", std::int64_t(o.max_evaluations)}};
         if (!o.rays.empty()) {

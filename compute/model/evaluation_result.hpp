@@ -55,7 +55,8 @@ struct Evaluation {
     double energy_per_ray_lm = 0.0;
     FarField farfield;
     std::optional<FarField> target_farfield;
-    std::optional<double> l2_lm;
+    std::optional<double> l2_lm; // in `metric` (the scene's [optimize] metric)
+    FarFieldMetric metric = FarFieldMetric::L2;
     StageTimings timings;
     std::vector<BounceProfile> bounces; // the fast path's, when profiled
     // Submissions (host waits) the fast evaluation made, when profiled: the trace's and,

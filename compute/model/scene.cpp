@@ -13,7 +13,8 @@ template <typename E> struct Named {
 
 constexpr Named<Family> kFamilies[] = {
     {Family::Plane, "plane"},          {Family::Paraboloid, "paraboloid"}, {Family::Cup, "cup"},
-    {Family::FlutedCup, "fluted_cup"}, {Family::BSpline, "bspline"},       {Family::Mesh, "mesh"}};
+    {Family::FlutedCup, "fluted_cup"}, {Family::BSpline, "bspline"},       {Family::Mesh, "mesh"},
+    {Family::Profile, "profile"}};
 constexpr Named<SearchMethod> kMethods[] = {
     {SearchMethod::Auto, "auto"},     {SearchMethod::Grid, "grid"},
     {SearchMethod::Bobyqa, "bobyqa"}, {SearchMethod::Sbplx, "sbplx"},
@@ -103,6 +104,8 @@ std::vector<std::string> family_parameters(Family f) {
         return {"a", "b", "p", "h", "z0", "cx", "cy"};
     case Family::FlutedCup:
         return {"a", "p", "h", "w", "z0", "cx", "cy"};
+    case Family::Profile: // z = z0 + f(|(x, y) - (cx, cy)|), f through the heights
+        return {"z0", "cx", "cy", "radius_mm"};
     case Family::BSpline:
     case Family::Mesh:
         return {};

@@ -10,6 +10,8 @@
 
 #include <glm/vec3.hpp>
 
+#include "farfield/farfield.hpp"
+
 namespace fird {
 
 enum class SourceKind { Cylinder, Sphere, Point, Disk, Rectangle, Photometric, RayFile };
@@ -66,7 +68,9 @@ struct Holder {
     bool operator==(const Holder&) const = default;
 };
 
-enum class Family { Plane, Paraboloid, Cup, FlutedCup, BSpline, Mesh };
+// Profile: rotationally symmetric about (cx, cy), z = z0 + f(r) with f a cubic spline through
+// heights at radii evenly spaced from 0 to radius_mm (model/surface.hpp).
+enum class Family { Plane, Paraboloid, Cup, FlutedCup, BSpline, Mesh, Profile };
 
 struct ParameterRange {
     double min = 0.0;
@@ -83,6 +87,11 @@ struct ControlGroup {
     bool operator==(const ControlGroup&) const = default;
 };
 
+// A profile's heights at most (a bspline's grid is held to 1024 a side alike).
+constexpr std::size_t kMaxProfileHeights = 1024;
+
+// The bspline family's control grid, or the profile family's heights (nx of them, ny = 1,
+// each its own point group h_<k>).
 struct BSplineDesc {
     int nx = 0;                     // control heights along x
     int ny = 0;                     // along y
@@ -177,6 +186,9 @@ struct OptimizeSettings {
     // count (empty: 1e5, 1e6 and the scene's [trace] rays); the other methods run one
     // stage with the last count (empty: the scene's [trace] rays).
     std::vector<std::uint64_t> rays;
+    // What every evaluation compares (farfield.hpp): with candela_l2, every "l2" a search
+    // reports (history, JSON, threshold) is that metric, in cd.
+    FarFieldMetric metric = FarFieldMetric::L2;
     double threshold_lm = 0.0;              // stop once l2 falls below (0: never)
     std::uint64_t max_evaluations = 100000; // candidates, infeasible ones included
     bool operator==(const OptimizeSettings&) const = default;

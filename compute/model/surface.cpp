@@ -51,6 +51,25 @@ void basis(double t, double b[4], double db[4]) {
     db[3] = t2 / 2.0;
 }
 
+// f(r) and f'(r) of a profile: the span holding r (beyond the last knot, f there and no
+// slope).
+std::pair<double, double> profile_value_slope(const ProfileFn& f, double r) {
+    const double s = r / f.spacing;
+    if (s >= double(f.spans)) {
+        const std::size_t n = std::size_t(f.spans);
+        return {(f.control[n] + 4.0 * f.control[n + 1] + f.control[n + 2]) / 6.0, 0.0};
+    }
+    const int i = std::min(int(s), f.spans - 1);
+    double b[4], db[4];
+    basis(s - i, b, db);
+    double v = 0.0, d = 0.0;
+    for (int k = 0; k < 4; ++k) {
+        v += b[k] * f.control[std::size_t(i + k)]; // c_(i-1+k) sits at control[i + k]
+        d += db[k] * f.control[std::size_t(i + k)];
+    }
+    return {v, d / f.spacing};
+}
+
 struct Raw {
     double x, y;
     // Every point of the holder rectangle lies over a triangle (checked at load); the
@@ -91,6 +110,9 @@ struct Raw {
                 z += by[m] * bx[k] * f.heights[std::size_t(cj) * f.nx + ci];
             }
         return z;
+    }
+    double operator()(const ProfileFn& f) const {
+        return f.z0 + profile_value_slope(f, std::hypot(x - f.cx, y - f.cy)).first;
     }
 };
 
@@ -153,6 +175,14 @@ struct RawGradient {
         if (sx != cx) g.x = 0.0;
         if (sy != cy) g.y = 0.0;
         return g;
+    }
+    glm::dvec2 operator()(const ProfileFn& f) const {
+        const double u = x - f.cx;
+        const double v = y - f.cy;
+        const double r = std::hypot(u, v);
+        if (r == 0.0) return {0.0, 0.0}; // f'(0) = 0 by construction
+        const double slope = profile_value_slope(f, r).second;
+        return {slope * u / r, slope * v / r};
     }
 };
 
@@ -218,9 +248,75 @@ struct RawBounds {
             }
         return r;
     }
+    HeightRange operator()(const ProfileFn& f) const {
+        // f over the box's radii [r_lo, r_hi], exactly: in each span it reaches, the cubic at
+        // the interval's ends and where its derivative (a quadratic in t) vanishes between
+        // them. Tight bounds that shrink with the box keep the reference tracer's
+        // subdivision shallow (a span's convex hull would not shrink below the span).
+        const auto u = distance_range(x0, x1, f.cx);
+        const auto v = distance_range(y0, y1, f.cy);
+        const double r_lo = std::hypot(u.lo, v.lo), r_hi = std::hypot(u.hi, v.hi);
+        HeightRange r{1e300, -1e300};
+        const auto include = [&](double radius) {
+            const double z = profile_value_slope(f, radius).first;
+            r.lo = std::min(r.lo, z);
+            r.hi = std::max(r.hi, z);
+        };
+        include(r_lo);
+        include(r_hi);
+        const double end = f.spacing * f.spans;
+        for (int i = std::min(int(r_lo / f.spacing), f.spans); i < f.spans && i * f.spacing < r_hi;
+             ++i) {
+            const double* c = &f.control[std::size_t(i)];
+            // f'(t) spacing = A t^2 + B t + C (the basis derivatives of basis()).
+            const double A = -0.5 * c[0] + 1.5 * c[1] - 1.5 * c[2] + 0.5 * c[3];
+            const double B = c[0] - 2.0 * c[1] + c[2];
+            const double C = 0.5 * (c[2] - c[0]);
+            const double t0 = std::max(0.0, r_lo / f.spacing - i);
+            const double t1 = std::min(1.0, std::min(r_hi, end) / f.spacing - i);
+            const auto root = [&](double t) {
+                if (t > t0 && t < t1) include((i + t) * f.spacing);
+            };
+            if (std::abs(A) < 1e-300) {
+                if (B != 0.0) root(-C / B);
+            } else if (const double disc = B * B - 4.0 * A * C; disc >= 0.0) {
+                const double q = -0.5 * (B + std::copysign(std::sqrt(disc), B));
+                root(q / A);
+                if (q != 0.0) root(C / q);
+            }
+        }
+        // Rounding in the cubic's evaluation: a margin far below a texel.
+        const double margin = 1e-9 * (1.0 + std::abs(r.lo) + std::abs(r.hi));
+        return {f.z0 + r.lo - margin, f.z0 + r.hi + margin};
+    }
 };
 
 } // namespace
+
+std::vector<double> profile_control_points(const std::vector<double>& h) {
+    if (h.size() < 2) throw std::invalid_argument("a profile needs at least two heights");
+    const std::size_t n = h.size() - 1;
+    // Rows k = 0 .. n of A c = 6 h: row 0 (4, 2) (c_-1 = c_1), rows 1 .. n-1 (1, 4, 1),
+    // row n c_n = h_n (the natural end folds c_n+1 into it). Forward sweep, back substitution.
+    std::vector<double> diag(n + 1, 4.0), upper(n + 1, 1.0), lower(n + 1, 1.0), rhs(n + 1);
+    for (std::size_t k = 0; k <= n; ++k)
+        rhs[k] = 6.0 * h[k];
+    upper[0] = 2.0;
+    diag[n] = 6.0;
+    lower[n] = 0.0;
+    for (std::size_t k = 1; k <= n; ++k) {
+        const double m = lower[k] / diag[k - 1];
+        diag[k] -= m * upper[k - 1];
+        rhs[k] -= m * rhs[k - 1];
+    }
+    std::vector<double> c(n + 3);
+    c[n + 1] = rhs[n] / diag[n];
+    for (std::size_t k = n; k-- > 0;)
+        c[k + 1] = (rhs[k] - upper[k] * c[k + 2]) / diag[k];
+    c[0] = c[2];                      // c_-1 = c_1
+    c[n + 2] = 2.0 * c[n + 1] - c[n]; // c_n+1 = 2 c_n - c_n-1
+    return c;
+}
 
 bool in_control_group(const ControlGroup& group, int i, int j, int nx, int ny) {
     switch (group.kind) {
@@ -286,6 +382,16 @@ Surface Surface::make(const ReflectorDesc& r, const Holder& holder) {
         return {BSplineFn{s.nx, s.ny, h.min_mm.x, h.min_mm.y,
                           (h.max_mm.x - h.min_mm.x) / (s.nx - 1),
                           (h.max_mm.y - h.min_mm.y) / (s.ny - 1), bspline_heights(s, r.parameters)},
+                holder};
+    }
+    case Family::Profile: {
+        const auto& s = r.bspline;
+        if (s.nx < 2 || s.ny != 1 || s.heights_mm.size() != std::size_t(s.nx))
+            throw std::invalid_argument("a profile needs at least two heights");
+        const double radius = param(r, "radius_mm");
+        require(radius > 0.0, "radius_mm", "> 0");
+        return {ProfileFn{param(r, "z0"), param(r, "cx"), param(r, "cy"), radius / (s.nx - 1),
+                          s.nx - 1, profile_control_points(bspline_heights(s, r.parameters))},
                 holder};
     }
     case Family::Mesh: {

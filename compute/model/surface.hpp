@@ -39,6 +39,21 @@ struct BSplineFn {
     double x0, y0, dx, dy; // control height (i, j) sits at (x0 + i dx, y0 + j dy)
     std::vector<double> heights;
 };
+// z = z0 + f(r), r the distance from (cx, cy): f the uniform cubic B-spline with knots at
+// r_k = k spacing (k = 0 .. spans) through the profile's heights, held at f(r_spans) beyond.
+// control[k + 1] is the control point c_k, k = -1 .. spans + 1 (profile_control_points).
+struct ProfileFn {
+    double z0, cx, cy, spacing;
+    int spans;
+    std::vector<double> control;
+};
+
+// The control points c_-1 .. c_n (n = heights - 1) of the uniform cubic B-spline f through
+// heights h_0 .. h_n at r_0 .. r_n: f(r_k) = (c_k-1 + 4 c_k + c_k+1) / 6 = h_k, with
+// f'(0) = 0 (c_-1 = c_1: a surface of revolution without a cone's tip on its axis) and
+// f''(r_n) = 0 (c_n+1 = 2 c_n - c_n-1, the natural end). A tridiagonal system, solved
+// exactly (Thomas' algorithm; the matrix is diagonally dominant). Needs two heights.
+std::vector<double> profile_control_points(const std::vector<double>& heights_mm);
 
 class Surface {
   public:
@@ -56,7 +71,8 @@ class Surface {
     glm::dvec2 raw_gradient(double x, double y) const;
 
     // The family function itself, for exports that write it exactly (a B-spline as CAD).
-    using Fn = std::variant<PlaneFn, ParaboloidFn, CupFn, FlutedCupFn, BSplineFn, MeshFn>;
+    using Fn =
+        std::variant<PlaneFn, ParaboloidFn, CupFn, FlutedCupFn, BSplineFn, MeshFn, ProfileFn>;
     const Fn& function() const { return fn_; }
 
   private:

@@ -54,6 +54,7 @@ std::vector<FlatDirection> flat_directions(const ReflectorDesc& r,
     case Family::Paraboloid:
     case Family::BSpline:
     case Family::Mesh:
+    case Family::Profile: // z0 trades with every height alike only when all are free
         break;
     }
     return out;

@@ -32,16 +32,16 @@ double number(const std::string& path, std::size_t line, const std::string& cell
 
 } // namespace
 
-std::string history_header(const std::vector<std::string>& names) {
-    return fmt::format("index,stage,stage_name,rays,farfield_w,farfield_h,{},l2_lm,feasible,ms",
-                       fmt::join(names, ","));
+std::string history_header(const std::vector<std::string>& names, FarFieldMetric metric) {
+    return fmt::format("index,stage,stage_name,rays,farfield_w,farfield_h,{},{}_{},feasible,ms",
+                       fmt::join(names, ","), metric_name(metric), metric_unit(metric));
 }
 
 HistoryWriter::HistoryWriter(const std::string& path, const std::vector<std::string>& names,
-                             bool append)
+                             bool append, FarFieldMetric metric)
     : path_(path), file_(std::fopen(path.c_str(), append ? "a" : "w")) {
     if (!file_) throw std::runtime_error(fmt::format("{}: cannot open for writing", path));
-    if (!append) std::fprintf(file_, "%s\n", history_header(names).c_str());
+    if (!append) std::fprintf(file_, "%s\n", history_header(names, metric).c_str());
     std::fflush(file_);
 }
 
@@ -62,8 +62,8 @@ void HistoryWriter::write(const Candidate& c, const StageSummary& s) {
         throw std::runtime_error(fmt::format("{}: write failed", path_));
 }
 
-std::vector<Candidate> read_history(const std::string& path,
-                                    const std::vector<std::string>& names) {
+std::vector<Candidate> read_history(const std::string& path, const std::vector<std::string>& names,
+                                    FarFieldMetric metric) {
     std::ifstream in(path, std::ios::binary);
     if (!in) throw std::runtime_error(fmt::format("{}: cannot open", path));
     std::stringstream ss;
@@ -81,10 +81,10 @@ std::vector<Candidate> read_history(const std::string& path,
     std::stringstream lines(text);
     std::string line;
     std::getline(lines, line);
-    if (line != history_header(names))
-        throw std::runtime_error(
-            fmt::format("{}:1: the header does not match this search's parameters ({})", path,
-                        fmt::join(names, ", ")));
+    if (line != history_header(names, metric))
+        throw std::runtime_error(fmt::format(
+            "{}:1: the header does not match this search's parameters ({}) and metric ({})", path,
+            fmt::join(names, ", "), metric_name(metric)));
     const std::size_t columns = 9 + names.size();
     std::vector<Candidate> out;
     for (std::size_t n = 2; std::getline(lines, line); ++n) {

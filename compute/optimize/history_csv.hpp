@@ -12,12 +12,14 @@
 namespace fird {
 
 // Columns: index, stage (its number), stage_name, rays, farfield_w, farfield_h, one per
-// parameter (by name), l2_lm (empty when infeasible), feasible (1 or 0), ms. Numbers are
+// parameter (by name), l2_lm (candela_l2_cd under that metric; empty when infeasible),
+// feasible (1 or 0), ms. Numbers are
 // written with 17 significant digits, so a resumed search reads back the very values.
 class HistoryWriter {
   public:
     // Creates the file with its header, or (append) opens an existing one to continue it.
-    HistoryWriter(const std::string& path, const std::vector<std::string>& names, bool append);
+    HistoryWriter(const std::string& path, const std::vector<std::string>& names, bool append,
+                  FarFieldMetric metric = FarFieldMetric::L2);
     ~HistoryWriter();
     HistoryWriter(const HistoryWriter&) = delete;
     HistoryWriter& operator=(const HistoryWriter&) = delete;
@@ -28,10 +30,12 @@ class HistoryWriter {
     std::FILE* file_ = nullptr;
 };
 
-std::string history_header(const std::vector<std::string>& names);
+std::string history_header(const std::vector<std::string>& names,
+                           FarFieldMetric metric = FarFieldMetric::L2);
 
 // Reads a history written for these parameter names. A last line without its newline (a
 // row cut short by a kill) is dropped, and the file truncated to the whole rows.
-std::vector<Candidate> read_history(const std::string& path, const std::vector<std::string>& names);
+std::vector<Candidate> read_history(const std::string& path, const std::vector<std::string>& names,
+                                    FarFieldMetric metric = FarFieldMetric::L2);
 
 } // namespace fird

@@ -141,6 +141,21 @@ ParameterSpace parameter_space(const Scene& scene) {
     return s;
 }
 
+void refuse_start_outside_bounds(const Scene& scene) {
+    const auto check = [&](const std::string& table, const std::string& name, double start,
+                           const ParameterRange& range) {
+        if (start < range.min || start > range.max)
+            throw std::invalid_argument(fmt::format(
+                "{}: [{}] {}: the start {:g} lies outside its bounds [{:g}, {:g}]; widen them or "
+                "move the start",
+                scene.path, table, name, start, range.min, range.max));
+    };
+    for (const auto& [name, range] : scene.reflector.optimize)
+        check("reflector.optimize", name, start_value(scene.reflector, name), range);
+    for (const auto& [key, range] : scene.source_optimize)
+        check("source.optimize", key, source_parameter_value(scene.source, key), range);
+}
+
 namespace {
 
 // Whether the reflector makes a surface clear of the source, and that surface.

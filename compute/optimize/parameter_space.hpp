@@ -45,6 +45,10 @@ struct ParameterSpace {
 // nor [source.optimize].
 ParameterSpace parameter_space(const Scene& scene);
 
+// A search whose start lies outside a parameter's bounds is refused before any trace (one
+// line naming the table and the parameter): parameter_space() would clamp it silently.
+void refuse_start_outside_bounds(const Scene& scene);
+
 struct Feasibility {
     bool feasible = true;
     double clearance_mm = 0.0; // source clearance (negative: how deep the surface cuts it)

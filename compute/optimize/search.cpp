@@ -289,6 +289,9 @@ SearchOutcome run_search(const vk::Context& ctx, const Scene& scene, const Searc
             scene.path, out.desired.farfield.width, out.desired.farfield.height,
             final_fidelity.farfield_w, final_fidelity.farfield_h));
     r.desired = out.desired.description;
+    r.metric = metric_name(scene.optimize.metric);
+    r.metric_unit = metric_unit(scene.optimize.metric);
+    r.desired_photometrics = photometrics(out.desired.farfield, scene.source.flux_lm);
     final_eval.set_desired(out.desired.farfield);
     if (start_feasible) r.start_l2_lm = final_eval.compare();
 
@@ -369,6 +372,7 @@ SearchOutcome run_search(const vk::Context& ctx, const Scene& scene, const Searc
             if (space.moves_source()) final_eval.set_source(best_scene.source);
             r.final_l2_lm = *final_eval.evaluate(best).l2_lm;
             out.best_farfield = final_eval.farfield();
+            r.photometrics = photometrics(*out.best_farfield, scene.source.flux_lm);
             Fidelity noise = final_fidelity;
             noise.seed = stream_seed(settings.seed, kNoiseStream, avoid);
             Evaluator noise_eval(ctx, best_scene, noise, settings.backend);

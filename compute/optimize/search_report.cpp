@@ -100,8 +100,15 @@ nlohmann::json search_json(const SearchResult& r) {
                                {"met", c.met},
                                {"active", c.active},
                                {"active_by", c.active ? nlohmann::json(c.active_by) : nullptr}});
+    const auto photometry = [](const std::optional<Photometrics>& p) {
+        return p ? photometrics_json(*p) : nlohmann::json(nullptr);
+    };
     return {{"method", r.method},
             {"backend", r.backend},
+            {"metric", r.metric},
+            {"metric_unit", r.metric_unit},
+            {"photometrics", photometry(r.photometrics)},
+            {"desired_photometrics", photometry(r.desired_photometrics)},
             {"evaluations", r.history.size()},
             {"infeasible", r.infeasible},
             {"best_parameters", best},

@@ -15,6 +15,7 @@
 #include "model/scene.hpp"
 #include "optimize/flat_directions.hpp"
 #include "optimize/press_constraints.hpp"
+#include "photometry/beam_metrics.hpp"
 
 namespace fird {
 
@@ -125,6 +126,10 @@ struct SearchResult {
     std::optional<double> final_l2_lm;       // the best, fresh rays, scene fidelity
     std::optional<double> noise_floor_l2_lm; // two independent traces of the best
     std::optional<double> surface_rms_mm;    // best against a target reflector, over the holder
+    std::string metric = "l2";               // what every l2 above measures (farfield.hpp)
+    std::string metric_unit = "lm";
+    // The best's far field (fresh rays) and the desired one as a data sheet states them.
+    std::optional<Photometrics> photometrics, desired_photometrics;
     std::vector<FlatDirection> flat_directions;
     std::optional<LatticeCheck> lattice;          // lattice methods (auto, grid)
     std::optional<RefineReport> refine;           // --refine

@@ -1,5 +1,6 @@
 #include "reduce_pass.hpp"
 
+#include <stdexcept>
 #include <vector>
 
 #include "fird_shared.h"
@@ -37,14 +38,19 @@ VkDeviceSize ReducePass::scratch_bytes(std::uint64_t count) {
 
 void ReducePass::record(VkCommandBuffer cb, const vk::Buffer& a, const vk::Buffer* b,
                         std::uint32_t count, const vk::Buffer& scratch, const vk::Buffer& result,
-                        VkDeviceSize result_offset) const {
+                        VkDeviceSize result_offset, ReduceDifference difference) const {
+    const bool weighted = b && difference.metric == FarFieldMetric::CandelaL2;
+    if (weighted && (difference.width == 0 || count % difference.width != 0))
+        throw std::invalid_argument("ReducePass: a weighted difference needs the grid's width");
     // Level 0 reads a (and b); later levels read the previous level's partials, placed
     // one after another in scratch (offsets keep every level's binding distinct).
     const vk::Buffer* input = &a;
     VkDeviceSize input_offset = 0;
     VkDeviceSize scratch_offset = 0;
     std::uint32_t n = count;
-    std::uint32_t mode = b ? gpu::kReduceSquaredDifference : gpu::kReduceSum;
+    std::uint32_t mode = weighted ? gpu::kReduceCandelaSquaredDifference
+                         : b      ? gpu::kReduceSquaredDifference
+                                  : gpu::kReduceSum;
     do {
         const std::uint32_t groups = groups_for(n);
         const bool last = groups <= 1;
@@ -55,7 +61,10 @@ void ReducePass::record(VkCommandBuffer cb, const vk::Buffer& a, const vk::Buffe
         vk::Binding out = vk::storage(last ? result : scratch);
         out.buffer.offset = last ? result_offset : scratch_offset;
         const vk::Binding bindings[] = {in, other, out};
-        const gpu::ReducePush push{.count = n, .mode = mode};
+        const gpu::ReducePush push{.count = n,
+                                   .mode = mode,
+                                   .width = weighted ? difference.width : 1u,
+                                   .height = weighted ? count / difference.width : 1u};
         pipeline_.dispatch(cb, bindings, &push, groups > 0 ? groups : 1);
         vk::barrier_all(cb);
         input = &scratch;
@@ -69,22 +78,24 @@ void ReducePass::record(VkCommandBuffer cb, const vk::Buffer& a, const vk::Buffe
 }
 
 double ReducePass::run(const vk::Context& ctx, const vk::Buffer& a, const vk::Buffer* b,
-                       std::uint32_t count) const {
+                       std::uint32_t count, ReduceDifference difference) const {
     vk::Buffer scratch(ctx, scratch_bytes(count), vk::kStorageUsage, vk::MemoryUse::Device,
                        "fird.reduce.scratch");
     vk::Buffer result(ctx, sizeof(float), vk::kStorageUsage, vk::MemoryUse::Readback,
                       "fird.reduce.result");
-    ctx.submit_and_wait([&](VkCommandBuffer cb) { record(cb, a, b, count, scratch, result); });
+    ctx.submit_and_wait(
+        [&](VkCommandBuffer cb) { record(cb, a, b, count, scratch, result, 0, difference); });
     return result.download_as<float>(ctx, 1)[0];
 }
 
 double ReducePass::sum(const vk::Context& ctx, const vk::Buffer& a, std::uint32_t count) const {
-    return run(ctx, a, nullptr, count);
+    return run(ctx, a, nullptr, count, {});
 }
 
 double ReducePass::sum_squared_difference(const vk::Context& ctx, const vk::Buffer& a,
-                                          const vk::Buffer& b, std::uint32_t count) const {
-    return run(ctx, a, &b, count);
+                                          const vk::Buffer& b, std::uint32_t count,
+                                          ReduceDifference difference) const {
+    return run(ctx, a, &b, count, difference);
 }
 
 } // namespace fird

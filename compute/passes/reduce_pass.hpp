@@ -4,10 +4,18 @@
 
 #include <cstdint>
 
+#include "farfield/farfield.hpp"
 #include "vk/buffer.hpp"
 #include "vk/compute_pipeline.hpp"
 
 namespace fird {
+
+// How a reduction's difference is weighted: a far-field metric over a grid of `width`
+// columns (count / width rows); L2 needs no grid.
+struct ReduceDifference {
+    FarFieldMetric metric = FarFieldMetric::L2;
+    std::uint32_t width = 0;
+};
 
 class ReducePass {
   public:
@@ -20,17 +28,17 @@ class ReducePass {
     // 256: storage-buffer offsets are aligned). `b` may be null for a plain sum. scratch
     // must hold scratch_bytes(count); result may alias nothing else.
     void record(VkCommandBuffer cb, const vk::Buffer& a, const vk::Buffer* b, std::uint32_t count,
-                const vk::Buffer& scratch, const vk::Buffer& result,
-                VkDeviceSize result_offset = 0) const;
+                const vk::Buffer& scratch, const vk::Buffer& result, VkDeviceSize result_offset = 0,
+                ReduceDifference difference = {}) const;
 
     // Convenience: allocate scratch, run, read back.
     double sum(const vk::Context& ctx, const vk::Buffer& a, std::uint32_t count) const;
     double sum_squared_difference(const vk::Context& ctx, const vk::Buffer& a, const vk::Buffer& b,
-                                  std::uint32_t count) const;
+                                  std::uint32_t count, ReduceDifference difference = {}) const;
 
   private:
     double run(const vk::Context& ctx, const vk::Buffer& a, const vk::Buffer* b,
-               std::uint32_t count) const;
+               std::uint32_t count, ReduceDifference difference) const;
     vk::ComputePipeline pipeline_;
 };
 

@@ -74,9 +74,31 @@ vec3 bspline_height_gradient(float x, float y) {
     return r;
 }
 
+// The profile (model/surface.hpp ProfileFn): z0 + f(r) about (cx, cy), f the uniform cubic
+// B-spline with knots every `spacing` mm; control_height(k) is its control point c_(k-1),
+// k = 0 .. spans + 2 (the host solves them from the heights). Constant past the last knot.
+vec3 profile_height_gradient(float x, float y) {
+    const float u = x - P.params[1], v = y - P.params[2];
+    const float r = length(vec2(u, v));
+    const int spans = int(P.bspline_nx) - 1;
+    const float s = r / P.params[3];
+    if (s >= float(spans))
+        return vec3(P.params[0] + (control_height(spans) + 4.0 * control_height(spans + 1) + control_height(spans + 2)) / 6.0, 0.0, 0.0);
+    const int i = min(int(s), spans - 1);
+    vec4 b, db;
+    bspline_basis(s - float(i), b, db);
+    const vec4 c = vec4(control_height(i), control_height(i + 1), control_height(i + 2), control_height(i + 3));
+    const float slope = dot(db, c) / P.params[3];
+    // f'(0) = 0 by construction: the axis itself has no direction to slope along.
+    const vec2 g = r > 0.0 ? slope * vec2(u, v) / r : vec2(0.0);
+    return vec3(P.params[0] + dot(b, c), g);
+}
+
 // The reflector's raw (unclamped) height and gradient at (x, y), any analytic family.
 vec3 reflector_height_gradient(vec2 xy) {
-    return kFamily == kFamilyBSpline ? bspline_height_gradient(xy.x, xy.y) : family_height_gradient(xy.x, xy.y);
+    if (kFamily == kFamilyBSpline) return bspline_height_gradient(xy.x, xy.y);
+    if (kFamily == kFamilyProfile) return profile_height_gradient(xy.x, xy.y);
+    return family_height_gradient(xy.x, xy.y);
 }
 
 #endif

@@ -27,9 +27,13 @@ FIRD_CONSTANT(uint, kReduceBindingB, 1u);       // float[count] (mode kReduceSqu
 FIRD_CONSTANT(uint, kReduceBindingPartial, 2u); // float[groups]
 FIRD_CONSTANT(uint, kReduceSum, 0u);
 FIRD_CONSTANT(uint, kReduceSquaredDifference, 1u);
+// (a - b)^2 / (4 pi omega), omega the cell's solid angle (farfield.hpp's candela_l2)
+FIRD_CONSTANT(uint, kReduceCandelaSquaredDifference, 2u);
 struct ReducePush {
     uint count;
     uint mode;
+    uint width;  // kReduceCandelaSquaredDifference: the far field's grid
+    uint height;
 };
 
 // ---- bin_keys.comp: atomic histogram of integer keys ----
@@ -56,6 +60,7 @@ FIRD_CONSTANT(uint, kFamilyCup, 2u);
 FIRD_CONSTANT(uint, kFamilyFlutedCup, 3u);
 FIRD_CONSTANT(uint, kFamilyBSpline, 4u);
 FIRD_CONSTANT(uint, kFamilyTexture, 5u); // heights rasterized from a triangle mesh
+FIRD_CONSTANT(uint, kFamilyProfile, 6u); // params (z0, cx, cy, spacing), bspline_nx heights
 
 // The finish's spread lobe (material.h) and its random stream: the counter (ray index,
 // kMaterialStream + bounce) under the seed, so a reflection's draw depends on the ray and

@@ -207,6 +207,13 @@ std::vector<StressCase> stress_cases(const vk::Context& ctx, const std::string& 
         .ny = 4,
         .heights_mm = {-1, -1, -1, -1, -1, -5, -5, -1, -1, -5, -5, -1, -1, -1, -1, -1}};
     cases.push_back({bspline.name, bspline});
+    // A profile bowl about (1, -1), near the paraboloid -5 + r^2 / 16 whose focus the sphere
+    // sits at; its rim clamped by the holder's top.
+    Scene profile = base_scene("profile bowl", Family::Profile,
+                               {{"z0", -5.0}, {"cx", 1.0}, {"cy", -1.0}, {"radius_mm", 9.0}},
+                               {{-10, -10, -6}, {10, 10, 0}}, sphere({1, -1, -1}, 0.4), 3, 300);
+    profile.reflector.bspline = {.nx = 6, .ny = 1, .heights_mm = {0, 0.2, 0.8, 1.8, 3.25, 5.1}};
+    cases.push_back({profile.name, profile});
     Scene mesh = base_scene("triangle mesh dish", Family::Mesh, {}, {{-10, -10, -6}, {10, 10, 0}},
                             point({0, 0, -4}), 2);
     mesh.reflector.mesh = {

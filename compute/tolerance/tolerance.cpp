@@ -201,7 +201,7 @@ ToleranceResult run_tolerance(const vk::Context& ctx, const Scene& scene, const 
         desired =
             desired_farfield(ctx, scene, nominal.efficiency * scene.source.flux_lm, run.backend)
                 .farfield;
-        out.nominal.l2_lm = l2_distance(nominal_farfield, *desired);
+        out.nominal.l2_lm = farfield_distance(nominal_farfield, *desired, scene.optimize.metric);
     }
     for (std::uint64_t r = 0; r < tol.realisations; ++r)
         out.rows.push_back(evaluate("joint", r, draw_tolerances(tol, scene, run.seed, r)).first);

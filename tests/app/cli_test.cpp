@@ -532,6 +532,73 @@ TEST(CliOptimize, AConstraintNoCandidateMeetsIsRefusedNamingTheKey) {
     EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << r.out;
 }
 
+// A start outside its bounds (fx = 5 below [10, 20]) would be clamped silently into the
+// box: refused instead, one line naming the table and the parameter, before the device.
+TEST(CliOptimize, AStartOutsideItsBoundsIsRefusedNamingTheParameter) {
+    const std::string dir = ::testing::TempDir() + "/fird_optimize_start_outside";
+    std::filesystem::create_directories(dir);
+    const std::string scene = dir + "/outside.toml";
+    {
+        std::ifstream in(std::string(FIRD_SOURCE_DIR) + "/scenes/model_a.toml");
+        std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+        const auto at = text.find("fx = 13.0");
+        ASSERT_NE(at, std::string::npos);
+        text.replace(at, 9, "fx = 5.0");
+        std::ofstream(scene) << text;
+    }
+    const auto r = run_env("VK_DRIVER_FILES=/nonexistent.json VK_ICD_FILENAMES=/nonexistent.json",
+                           "optimize " + scene);
+    EXPECT_EQ(r.code, 1) << r.out;
+    EXPECT_NE(r.out.find("[reflector.optimize] fx: the start 5 lies outside its bounds [10, 20]"),
+              std::string::npos)
+        << r.out;
+    EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << r.out;
+}
+
+// The profile family searched under the candela metric, end to end: its heights are the
+// parameters h_<k>, history.csv's value column says the metric and its unit, the JSON
+// names the metric and reports the photometrics of the best and of the target (each
+// efficiency the far field's share of the source's 100 lm), and best.toml holds the
+// heights found.
+TEST(CliOptimize, AProfileSearchUnderTheCandelaMetricReportsItsPhotometrics) {
+    const std::string dir = ::testing::TempDir() + "/fird_optimize_profile";
+    std::filesystem::remove_all(dir);
+    const std::string scene = dir + "_scene.toml";
+    {
+        std::ifstream in(std::string(FIRD_SOURCE_DIR) + "/scenes/test/profile_dish.toml");
+        std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+        text.replace(text.find("heights_mm = { min"),
+                     std::string("heights_mm = { min = 0.0, max = 6.0, step = 0.05 }").size(),
+                     "h_2 = { min = 0.4, max = 1.2, step = 0.1 }");
+        text += "\n[target]\nseed = 2\nparameters = { h_2 = 1.0 }\n";
+        std::ofstream(scene) << text;
+    }
+    const auto r = run("optimize " + scene + " --method grid --rays 2e4 --json --out " + dir);
+    ASSERT_EQ(r.code, 0) << r.out;
+    const auto j = nlohmann::json::parse(r.out.substr(r.out.find('{')));
+    EXPECT_EQ(j["metric"], "candela_l2");
+    EXPECT_EQ(j["metric_unit"], "cd");
+    EXPECT_EQ(j["evaluations"].get<int>(), 9);
+    EXPECT_TRUE(j["best_parameters"].contains("h_2"));
+    for (const char* key : {"photometrics", "desired_photometrics"}) {
+        const auto& p = j[key];
+        EXPECT_GT(p["efficiency"].get<double>(), 0.2) << key;
+        EXPECT_LE(p["efficiency"].get<double>(), 1.0) << key;
+        EXPECT_GT(p["peak_cd"].get<double>(), 0.0) << key;
+        EXPECT_GT(p["beam_angle_deg"]["C0"].get<double>(), 0.0) << key;
+        EXPECT_GE(p["field_angle_deg"]["C90"].get<double>(),
+                  p["beam_angle_deg"]["C90"].get<double>())
+            << key;
+    }
+    std::ifstream history(dir + "/history.csv");
+    std::string header;
+    std::getline(history, header);
+    EXPECT_NE(header.find(",h_2,candela_l2_cd,feasible,"), std::string::npos) << header;
+    const fird::Scene best = fird::load_scene(dir + "/best.toml");
+    EXPECT_EQ(best.reflector.family, fird::Family::Profile);
+    EXPECT_EQ(best.reflector.parameters.at("h_2"), j["best_parameters"]["h_2"].get<double>());
+}
+
 // A ray file source (the writer's, beside its scene): a search over it runs, and its
 // best.toml finds the ray file from the output folder (written absolute).
 TEST(CliOptimize, ARayFileScenesBestTomlTracesFromItsOutputFolder) {

@@ -133,6 +133,33 @@ TEST_F(VulkanTest, ABatchOfCandidatesEqualsSingleEvaluationsCountForCount) {
     }
 }
 
+// [optimize] metric = "candela_l2": the device compares intensities weighted by solid
+// angle, in a batch's submission as in compare(); each equals the CPU's farfield_distance
+// of the read-back far fields (double) to float accumulation's ~1e-5, and the desired
+// norm is that metric's.
+TEST_F(VulkanTest, TheCandelaMetricOnTheDeviceIsTheCpuMetricOfTheSameFarFields) {
+    Scene s = small_scene("model_a.toml");
+    s.optimize.metric = FarFieldMetric::CandelaL2;
+    const std::vector<ReflectorDesc> list = candidates(s, 3);
+    const FarField want = desired(ctx(), s);
+    Evaluator e(ctx(), s, scene_fidelity(s));
+    e.set_desired(want);
+    EXPECT_EQ(e.metric(), FarFieldMetric::CandelaL2);
+    const FarField zero{want.width, want.height, std::vector<double>(want.lm.size(), 0.0)};
+    FarField want_float = want;
+    for (double& v : want_float.lm)
+        v = double(float(v));
+    EXPECT_NEAR(e.desired_norm_lm(), farfield_distance(want_float, zero, FarFieldMetric::CandelaL2),
+                1e-9);
+    const std::vector<CandidateResult> batch = e.evaluate_batch(list);
+    const double last = farfield_distance(e.farfield(), want_float, FarFieldMetric::CandelaL2);
+    EXPECT_NEAR(*batch.back().l2_lm, last, 1e-5 * last);
+    EXPECT_NEAR(e.compare(), last, 1e-5 * last);
+    // Not the lumen metric: on Model A the two differ by far more than rounding.
+    const double lumens = farfield_distance(e.farfield(), want_float, FarFieldMetric::L2);
+    EXPECT_GT(std::abs(last - lumens), 0.1 * lumens);
+}
+
 // Where the device memory budget (--max-device-memory) leaves room for three candidates'
 // height fields and far fields, a batch takes three quarters of it (two extra states, the
 // third candidate in the evaluator's own), so it splits into submissions of three, with

@@ -159,7 +159,8 @@ TEST_P(FarFieldAccuracy, L2ToAFourTimesLargerReferenceIsWithinTheMonteCarloNoise
 
 INSTANTIATE_TEST_SUITE_P(Scenes, FarFieldAccuracy,
                          ::testing::Values("model_a.toml", "model_b.toml", "model_c.toml",
-                                           "test/mesh_dish.toml", "model_b_aluminium.toml"));
+                                           "test/mesh_dish.toml", "model_b_aluminium.toml",
+                                           "test/profile_dish.toml"));
 
 TEST_F(VulkanTest, FastPathBalancesEnergyForBothPoliciesAndIgnoresBatching) {
     for (BouncePolicy policy : {BouncePolicy::Paper, BouncePolicy::Strict}) {

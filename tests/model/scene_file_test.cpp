@@ -27,7 +27,7 @@ INSTANTIATE_TEST_SUITE_P(Scenes, SceneRoundTrip,
                          ::testing::Values("model_a.toml", "model_b.toml", "model_c.toml",
                                            "test/flat_mirror.toml", "test/focused_paraboloid.toml",
                                            "test/bspline_dish.toml", "test/mesh_dish.toml",
-                                           "test/freeform_search.toml"));
+                                           "test/freeform_search.toml", "test/profile_dish.toml"));
 
 TEST(SceneFile, PaperScenesHaveThePaperValues) {
     const Scene a = load_scene(kScenes + "model_a.toml");

@@ -46,7 +46,8 @@ TEST_P(SurfaceFamily, GradientMatchesFiniteDifferencesAndBoundsContainTheSurface
 
 INSTANTIATE_TEST_SUITE_P(Families, SurfaceFamily,
                          ::testing::Values("model_a.toml", "model_b.toml", "model_c.toml",
-                                           "test/flat_mirror.toml", "test/bspline_dish.toml"));
+                                           "test/flat_mirror.toml", "test/bspline_dish.toml",
+                                           "test/profile_dish.toml"));
 
 TEST(Surface, ClampPlateausAreFlatAndWithinTheHolder) {
     const Scene s = load_scene(kScenes + "model_a.toml");
@@ -65,6 +66,38 @@ TEST(Surface, BSplineGroupsMoveTheirControlHeights) {
     EXPECT_EQ(h[1 * 5 + 1], -1.0); // inner
     EXPECT_EQ(h[1 * 5 + 2], -3.0); // the point group
     EXPECT_EQ(h[3 * 5 + 4], -0.5);
+}
+
+// The profile family against its definition: the spline passes through every height at
+// its radius in every direction (f(r_k) = h_k, solved exactly, so to rounding), is level on
+// the axis (f'(0) = 0) and beyond radius_mm, its height there the last one's, and its
+// second derivative vanishes at the last knot (the natural end) - checked by differences
+// of the exact function, not of the spline's own formulas.
+TEST(Surface, AProfilePassesThroughItsHeightsLevelOnItsAxis) {
+    const std::vector<double> h = {-2.0, -1.7, -0.4, 1.1, 0.5, 2.0, 2.3};
+    ReflectorDesc r{.family = Family::Profile,
+                    .parameters = {{"z0", -6.0}, {"cx", 1.5}, {"cy", -0.5}, {"radius_mm", 12.0}}};
+    r.bspline = {.nx = int(h.size()), .ny = 1, .heights_mm = h};
+    r.bspline.groups["h_3"] = {ControlGroup::Kind::Point, 3, 0};
+    r.parameters["h_3"] = 0.9; // a parameter moves its height
+    const Holder holder{{-20, -20, -30}, {20, 20, 30}};
+    const Surface f = Surface::make(r, holder);
+    const double spacing = 12.0 / double(h.size() - 1);
+    for (std::size_t k = 0; k < h.size(); ++k)
+        for (double angle : {0.0, 0.7, 2.9, -1.3}) {
+            const double x = 1.5 + double(k) * spacing * std::cos(angle);
+            const double y = -0.5 + double(k) * spacing * std::sin(angle);
+            EXPECT_NEAR(f.height(x, y), -6.0 + (k == 3 ? 0.9 : h[k]), 1e-12) << k;
+        }
+    EXPECT_EQ(f.raw_gradient(1.5, -0.5), glm::dvec2(0.0));
+    constexpr double e = 1e-4;
+    EXPECT_NEAR((f.raw(1.5 + e, -0.5) - f.raw(1.5, -0.5)) / e, 0.0, 1e-3); // f'(0) = 0
+    EXPECT_NEAR(f.height(1.5 + 13.0, -0.5), -6.0 + 2.3, 1e-12);            // held beyond
+    EXPECT_EQ(f.raw_gradient(1.5 - 14.0, 3.0), glm::dvec2(0.0));
+    const double x_n = 1.5 + 12.0;
+    const double curvature =
+        (f.raw(x_n - 2e-3, -0.5) - 2.0 * f.raw(x_n - 1e-3, -0.5) + f.raw(x_n, -0.5)) / 1e-6;
+    EXPECT_NEAR(curvature, 0.0, 0.02); // f'' linear in a span: within ~2e-3 of the knot
 }
 
 } // namespace

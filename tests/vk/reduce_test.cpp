@@ -59,5 +59,30 @@ TEST_P(ReduceTest, SquaredDifferenceMatchesCpu) {
 
 INSTANTIATE_TEST_SUITE_P(Sizes, ReduceTest, ::testing::Values(0u, 1u, 17u, 2049u, 1000003u));
 
+// The candela metric's weighting on the device (each cell's squared difference over 4 pi
+// times its solid angle, the angle computed in float in the shader) against the CPU's
+// farfield_distance in double, on the paper's grid, whose polar cells are ~570x smaller
+// than its equatorial ones. Float tree accumulation and the float solid angle bound the
+// relative error by ~1e-5.
+TEST_F(VulkanTest, CandelaWeightedDifferenceMatchesTheCpuMetric) {
+    constexpr std::uint32_t w = 1800, h = 900;
+    const auto a = random_floats(w * h, 11);
+    const auto b = random_floats(w * h, 12);
+    const FarField fa{w, h, {a.begin(), a.end()}}, fb{w, h, {b.begin(), b.end()}};
+    const double expected = farfield_distance(fa, fb, FarFieldMetric::CandelaL2);
+    const ReducePass pass(ctx());
+    const double got = std::sqrt(pass.sum_squared_difference(
+        ctx(), upload(ctx(), a), upload(ctx(), b), w * h, {FarFieldMetric::CandelaL2, w}));
+    EXPECT_NEAR(got, expected, 1e-5 * expected);
+    // And a constant intensity difference of 3 cd everywhere is 3 cd: the metric is an RMS
+    // over the sphere (cells of lm = cd x solid angle).
+    FarField c{w, h, std::vector<double>(std::size_t(w) * h)};
+    for (std::uint32_t row = 0; row < h; ++row)
+        for (std::uint32_t col = 0; col < w; ++col)
+            c.lm[std::size_t(row) * w + col] = 3.0 * farfield_cell_solid_angle_sr(row, w, h);
+    const FarField zero{w, h, std::vector<double>(std::size_t(w) * h, 0.0)};
+    EXPECT_NEAR(farfield_distance(c, zero, FarFieldMetric::CandelaL2), 3.0, 1e-9);
+}
+
 } // namespace
 } // namespace fird::test
