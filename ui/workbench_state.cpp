@@ -6,6 +6,8 @@
 #include <fmt/format.h>
 
 #include "io/scene_file.hpp"
+#include "model/design_parameters.hpp"
+#include "optimize/parameter_space.hpp"
 #include "panels.hpp"
 #include "photometry/photometry_file.hpp"
 #include "run_directory.hpp"
@@ -24,6 +26,14 @@ bool open_scene(WorkbenchState& s, const std::string& given) {
     try {
         Scene scene = load_scene(path);
         s.editor.parameters = scene.reflector.parameters;
+        // A free control height (a bspline's or a profile's h_<k>) needs no value in the
+        // scene: its slider starts where the search would (the heights it moves).
+        if (!scene.reflector.optimize.empty()) {
+            const ParameterSpace space = parameter_space(scene);
+            for (std::size_t k = 0; k < space.size(); ++k)
+                if (!is_source_parameter(space.names[k]))
+                    s.editor.parameters.emplace(space.names[k], space.start[k]);
+        }
         s.editor.scene = std::move(scene);
         s.editor.path = path;
         s.editor.error.clear();
