@@ -211,8 +211,16 @@ int run_optimize(const GlobalOptions& global, const Args& a, const CLI::App& cmd
     // Under mpirun: the batches' shares go to the other ranks (the history is rank 0's).
     std::optional<distributed::Farm> farm;
     if (global.job && global.job->distributed()) {
+        // The history is flushed per candidate: the search continues from it on any number
+        // of ranks.
+        const std::string after_loss =
+            out.empty() ? std::string()
+                        : fmt::format("; {}/history.csv keeps the candidates so far: fird "
+                                      "optimize {} --resume {} continues",
+                                      out, a.scene, out);
         farm.emplace(*global.job, settings.backend, &control,
-                     cmd.count("--rank-timeout") ? std::optional(a.rank_timeout) : std::nullopt);
+                     cmd.count("--rank-timeout") ? std::optional(a.rank_timeout) : std::nullopt,
+                     after_loss);
         request.settings.distributed = farm->tracing();
     }
 #endif
@@ -221,12 +229,10 @@ int run_optimize(const GlobalOptions& global, const Args& a, const CLI::App& cmd
     try {
         const InterruptScope interrupts(control);
         outcome = run_search(ctx, scene, request);
-    } catch (const distributed::RankLost& e) {
-        // What the history holds stays: the search continues from it on any number of ranks.
-        if (out.empty()) throw;
-        throw std::runtime_error(fmt::format("{}; {}/history.csv keeps the candidates so far: "
-                                             "fird optimize {} --resume {} continues",
-                                             e.what(), out, a.scene, out));
+    } catch (const distributed::RankLost&) {
+        // The signal handler said it already (the process may not live to say it again).
+        if (control.noted.load()) return 1;
+        throw;
     }
 #else
     {

@@ -76,10 +76,18 @@ std::optional<std::uint64_t> test_hook(const char* name, const Job& job) {
 
 } // namespace
 
-Farm::Farm(const Job& job, Backend backend, const SearchControl* control,
-           std::optional<double> rank_timeout_s)
+// Why rank 0 stopped waiting when asked to stop: under mpirun most often because a rank
+// died (mpirun then sends SIGTERM to the others, and SIGKILL a moment later).
+static std::string stopped_waiting(const std::vector<int>& pending) {
+    return fmt::format("the run was stopped (Ctrl-C, or mpirun's SIGTERM after one of its ranks "
+                       "ended) while rank 0 waited on rank {}",
+                       fmt::join(pending, ", "));
+}
+
+Farm::Farm(const Job& job, Backend backend, SearchControl* control,
+           std::optional<double> rank_timeout_s, std::string after_loss)
     : job_(&job), backend_(backend), control_(control), rank_timeout_s_(rank_timeout_s),
-      desired_sent_(std::size_t(job.size()), false) {}
+      after_loss_(std::move(after_loss)), desired_sent_(std::size_t(job.size()), false) {}
 
 Farm::~Farm() {
     if (lost_) return;
@@ -132,6 +140,17 @@ std::vector<CandidateResult> Farm::trace(const StageBatch& b) {
         pending.push_back(int(r));
     }
 
+    // Said at once by the signal handler should mpirun stop this process (it kills it
+    // moments later); cleared however this batch ends.
+    note_ = fmt::format("fird: error: {}{}\n", stopped_waiting(pending), after_loss_);
+    struct NoteScope {
+        SearchControl* control;
+        ~NoteScope() {
+            if (control) control->stop_note.store(nullptr);
+        }
+    } note_scope{control_};
+    if (control_ && !pending.empty()) control_->stop_note.store(note_.c_str());
+
     const auto t_here = std::chrono::steady_clock::now();
     std::vector<CandidateResult> here = b.trace_here(b.points.subspan(0, first[1]));
     const double here_ms = ms_since(t_here);
@@ -155,7 +174,7 @@ std::vector<CandidateResult> Farm::trace(const StageBatch& b) {
             const std::vector<unsigned char> bytes = receive(*it, status);
             if (status.MPI_TAG == kError) {
                 lost_ = true;
-                throw RankLost(std::string(bytes.begin(), bytes.end()));
+                throw RankLost(std::string(bytes.begin(), bytes.end()) + after_loss_);
             }
             const std::size_t r = std::size_t(*it);
             if (bytes.size() != (first[r + 1] - first[r]) * 3 * sizeof(double))
@@ -173,15 +192,13 @@ std::vector<CandidateResult> Farm::trace(const StageBatch& b) {
         if (pending.empty()) break;
         if (control_ && control_->stop.load()) {
             lost_ = true;
-            throw RankLost(fmt::format(
-                "the run was stopped (Ctrl-C, or mpirun's SIGTERM after one of its ranks ended) "
-                "while rank 0 waited on rank {}",
-                fmt::join(pending, ", ")));
+            throw RankLost(stopped_waiting(pending) + after_loss_);
         }
         if (ms_since(t_wait) > timeout_s * 1e3) {
             lost_ = true;
             throw RankLost(fmt::format("rank {} did not answer within {:.0f} s (--rank-timeout)",
-                                       pending.front(), timeout_s));
+                                       pending.front(), timeout_s) +
+                           after_loss_);
         }
         std::this_thread::sleep_for(kPoll);
     }

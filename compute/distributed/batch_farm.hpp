@@ -36,12 +36,14 @@ struct FarmStats {
 };
 
 // Rank 0's side. `control` (may be null) is the search's: a stop asked while waiting on
-// ranks ends the wait. `rank_timeout_s`: the longest wait on a rank for a batch's share;
-// unset: 60 s plus ten times what rank 0 took for its own share of that batch.
+// ranks ends the wait, and its stop_note names the ranks waited on while a batch is out.
+// `rank_timeout_s`: the longest wait on a rank for a batch's share; unset: 60 s plus ten
+// times what rank 0 took for its own share of that batch. `after_loss` ends each RankLost
+// line (where the search's record is kept, how to continue it).
 class Farm {
   public:
-    Farm(const Job& job, Backend backend, const SearchControl* control,
-         std::optional<double> rank_timeout_s);
+    Farm(const Job& job, Backend backend, SearchControl* control,
+         std::optional<double> rank_timeout_s, std::string after_loss);
     // Tells the other ranks the run is over (not after a lost rank: the job is aborted).
     ~Farm();
     Farm(const Farm&) = delete;
@@ -58,8 +60,10 @@ class Farm {
   private:
     const Job* job_;
     Backend backend_;
-    const SearchControl* control_;
+    SearchControl* control_;
     std::optional<double> rank_timeout_s_;
+    std::string after_loss_;
+    std::string note_; // control_->stop_note while a batch is out
     std::vector<bool> desired_sent_;
     // Messages in flight stay alive here until the run ends.
     std::vector<std::vector<unsigned char>> sent_;

@@ -65,6 +65,11 @@ SearchSettings search_settings(const Scene& scene);
 struct SearchControl {
     std::atomic<bool> stop{false};
     std::atomic<bool> pause{false};
+    // A line the signal handler writes at once when asked to stop, and sets noted: under
+    // mpirun a rank's death brings SIGTERM and then, within milliseconds, SIGKILL, too soon
+    // for the search to say why it ends (set while rank 0 waits on other ranks).
+    std::atomic<const char*> stop_note{nullptr};
+    std::atomic<bool> noted{false};
 };
 
 struct Candidate {
