@@ -102,6 +102,10 @@ DistributedTrace Farm::tracing() {
 
 std::vector<CandidateResult> Farm::trace(const StageBatch& b) {
     const std::size_t n = b.points.size(), ranks = std::size_t(job_->size());
+    if (last_batch_end_) {
+        stats_.between_ms += ms_since(*last_batch_end_);
+        stats_.points_after_gaps += n;
+    }
     // Contiguous shares whose sizes differ by one at most; rank 0 keeps the first.
     std::vector<std::size_t> first(ranks + 1);
     for (std::size_t r = 0; r <= ranks; ++r)
@@ -206,6 +210,7 @@ std::vector<CandidateResult> Farm::trace(const StageBatch& b) {
     MPI_Waitall(int(requests.size()), requests.data(), MPI_STATUSES_IGNORE);
     sent_.clear();
     stats_.wait_ms += ms_since(t_wait);
+    last_batch_end_ = std::chrono::steady_clock::now();
     return results;
 }
 
@@ -213,13 +218,17 @@ std::string Farm::summary(double elapsed_s) const {
     const FarmStats& s = stats_;
     const double per_point =
         s.points_elsewhere ? double(s.bytes_out + s.bytes_in) / double(s.points_elsewhere) : 0.0;
+    const int others = job_->size() - 1;
     return fmt::format(
-        "{} ranks: {} batches, {} candidates traced on ranks 1-{} and {} on rank 0; {:.0f} bytes "
+        "{} ranks: {} batches, {} candidates traced on {} and {} on rank 0; {:.0f} bytes "
         "exchanged per candidate traced elsewhere (and the desired far field, {} bytes in all, "
-        "once to each rank); rank 0 traced {:.2f} s and waited {:.2f} s of {:.2f} s ({:.1f}%)",
-        job_->size(), s.batches, s.points_elsewhere, job_->size() - 1, s.points_here, per_point,
-        s.bytes_desired, s.here_ms * 1e-3, s.wait_ms * 1e-3, elapsed_s,
-        elapsed_s > 0.0 ? 100.0 * s.wait_ms * 1e-3 / elapsed_s : 0.0);
+        "once to each rank); rank 0 traced {:.2f} s, waited {:.2f} s of {:.2f} s ({:.1f}%) and "
+        "spent {:.3f} ms per candidate between batches",
+        job_->size(), s.batches, s.points_elsewhere,
+        others == 1 ? std::string("rank 1") : fmt::format("ranks 1-{}", others), s.points_here,
+        per_point, s.bytes_desired, s.here_ms * 1e-3, s.wait_ms * 1e-3, elapsed_s,
+        elapsed_s > 0.0 ? 100.0 * s.wait_ms * 1e-3 / elapsed_s : 0.0,
+        s.points_after_gaps ? s.between_ms / double(s.points_after_gaps) : 0.0);
 }
 
 int serve_batches(const Job& job, PointTracer& tracer) {

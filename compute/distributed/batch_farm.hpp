@@ -7,6 +7,7 @@
 // devices might not get the very same numbers).
 #pragma once
 
+#include <chrono>
 #include <cstdint>
 #include <optional>
 #include <stdexcept>
@@ -33,6 +34,11 @@ struct FarmStats {
     std::uint64_t bytes_desired = 0;           // the desired far field, once to each rank
     double here_ms = 0.0;                      // rank 0 tracing its own shares
     double wait_ms = 0.0;                      // rank 0 waiting on the others' shares
+    // Rank 0's own work between one batch's end and the next one's start (the search's
+    // bookkeeping: the serial part that bounds how far more ranks help), and the points of
+    // the batches that followed such a gap.
+    double between_ms = 0.0;
+    std::uint64_t points_after_gaps = 0;
 };
 
 // Rank 0's side. `control` (may be null) is the search's: a stop asked while waiting on
@@ -68,6 +74,7 @@ class Farm {
     // Messages in flight stay alive here until the run ends.
     std::vector<std::vector<unsigned char>> sent_;
     FarmStats stats_;
+    std::optional<std::chrono::steady_clock::time_point> last_batch_end_;
     bool lost_ = false;
 };
 
