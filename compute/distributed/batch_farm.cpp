@@ -156,7 +156,9 @@ std::vector<CandidateResult> Farm::trace(const StageBatch& b) {
     if (control_ && !pending.empty()) control_->stop_note.store(note_.c_str());
 
     const auto t_here = std::chrono::steady_clock::now();
-    std::vector<CandidateResult> here = b.trace_here(b.points.subspan(0, first[1]));
+    // Fewer points than ranks leave rank 0 none (the shares are ranks' last-first).
+    std::vector<CandidateResult> here;
+    if (first[1] > 0) here = b.trace_here(b.points.subspan(0, first[1]));
     const double here_ms = ms_since(t_here);
     stats_.here_ms += here_ms;
     stats_.points_here += first[1];

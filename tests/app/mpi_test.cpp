@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <regex>
 #include <string>
 #include <vector>
 
@@ -69,9 +70,13 @@ int error_lines(const std::string& out) {
 
 // Two output folders of the same search: the same rows, the same best reflector (its
 // parameters, its scene file) and the same final l2 and far field of it.
+// `rows`: how many candidates the search must have (0: as many as one process has).
 void expect_same_search(const std::string& one, const std::string& many, std::size_t rows) {
     const std::vector<std::string> a = history_rows(one), b = history_rows(many);
-    EXPECT_EQ(a.size(), rows + 1); // and the header
+    if (rows > 0) {
+        EXPECT_EQ(a.size(), rows + 1); // and the header
+    }
+    EXPECT_GT(a.size(), 2u); // a search, not a header
     ASSERT_EQ(a.size(), b.size());
     for (std::size_t k = 0; k < a.size(); ++k)
         EXPECT_EQ(a[k], b[k]) << "history row " << k;
@@ -85,28 +90,58 @@ void expect_same_search(const std::string& one, const std::string& many, std::si
     EXPECT_EQ(read_text(one + "/farfield.npy"), read_text(many + "/farfield.npy"));
 }
 
-TEST(Mpi, GridSearchOnThreeRanksWritesWhatOneProcessWrites) {
-    const std::string one = fresh_dir("grid1"), many = fresh_dir("grid3");
-    const std::string args = "optimize " + kMirror + " --method grid --out ";
-    const Result a = one_process(args + one);
+// The search of `args` in one process and on three ranks, into two folders: the same
+// search, the ranks' note counting every traced candidate (some of them on ranks 1 and 2).
+void expect_three_ranks_as_one(const std::string& name, const std::string& args, std::size_t rows) {
+    const std::string one = fresh_dir(name + "1"), many = fresh_dir(name + "3");
+    const Result a = one_process(args + " --out " + one);
     ASSERT_EQ(a.code, 0) << a.out;
-    const Result b = ranks(3, args + many);
+    const Result b = ranks(3, args + " --out " + many);
     ASSERT_EQ(b.code, 0) << b.out;
-    // Ranks 1 and 2 traced shares (the note says how many): not all on rank 0.
-    EXPECT_NE(b.out.find("fird: note: 3 ranks:"), std::string::npos) << b.out;
-    EXPECT_EQ(b.out.find("0 candidates traced on ranks 1-2"), std::string::npos) << b.out;
-    expect_same_search(one, many, 169); // the 13 x 13 lattice
+    std::smatch m;
+    ASSERT_TRUE(std::regex_search(
+        b.out, m,
+        std::regex("fird: note: 3 ranks: \\d+ batches, (\\d+) candidates traced on ranks "
+                   "1-2 and (\\d+) on rank 0")))
+        << b.out;
+    EXPECT_GT(std::stoul(m[1]), 0u);
+    expect_same_search(one, many, rows);
+    // Traced in batches: all a grid's; the points a method asks for alone (a population's
+    // lone candidate, auto's refine) on rank 0 outside them.
+    EXPECT_LE(std::stoul(m[1]) + std::stoul(m[2]), history_rows(one).size() - 1);
+}
+
+TEST(Mpi, GridSearchOnThreeRanksWritesWhatOneProcessWrites) {
+    // The 13 x 13 lattice.
+    expect_three_ranks_as_one("grid", "optimize " + kMirror + " --method grid", 169);
 }
 
 // CMA-ES over nine heights (pagmo's generations, each one batch split among the ranks).
 TEST(Mpi, PopulationSearchOnThreeRanksWritesWhatOneProcessWrites) {
-    const std::string one = fresh_dir("cmaes1"), many = fresh_dir("cmaes3");
-    const std::string args = "optimize " + kFreeform + " --method cmaes --max-evals 60 --out ";
-    const Result a = one_process(args + one);
-    ASSERT_EQ(a.code, 0) << a.out;
-    const Result b = ranks(3, args + many);
-    ASSERT_EQ(b.code, 0) << b.out;
-    expect_same_search(one, many, 60);
+    expect_three_ranks_as_one("cmaes", "optimize " + kFreeform + " --method cmaes --max-evals 60",
+                              60);
+}
+
+// auto: its stages' lattice polls (a neighbourhood a batch) split among the ranks.
+TEST(Mpi, AutoSearchOnThreeRanksWritesWhatOneProcessWrites) {
+    expect_three_ranks_as_one("auto", "optimize " + kMirror, 0);
+}
+
+// A search over the source's place: every point has its own source, so a rank sets it for
+// each of its points (the rayset made again), as the search does alone.
+TEST(Mpi, ASearchThatMovesTheSourceOnThreeRanksWritesWhatOneProcessWrites) {
+    std::string text =
+        read_text(std::string(FIRD_SOURCE_DIR) + "/scenes/test/focused_paraboloid_search.toml");
+    const std::size_t from = text.find("[reflector.optimize]"), to = text.find("[trace]");
+    ASSERT_NE(from, std::string::npos);
+    ASSERT_NE(to, std::string::npos);
+    text.replace(from, to - from,
+                 "[reflector.optimize]\nfx = { min = 2.0, max = 4.0, step = 0.5 }\n\n"
+                 "[source.optimize]\nx_mm = { min = -1.0, max = 1.0, step = 0.25 }\n\n");
+    const std::string scene = ::testing::TempDir() + "/fird_mpi_source.toml";
+    std::ofstream(scene) << text;
+    // The 5 x 9 lattice of fx and the source's x.
+    expect_three_ranks_as_one("source", "optimize " + scene + " --method grid", 45);
 }
 
 // The last rank exits (code 3) after 40 candidates: mpirun ends the job (SIGTERM to rank 0,
