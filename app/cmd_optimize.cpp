@@ -28,6 +28,7 @@
 #if FIRD_HAVE_MPI
 #include "distributed/batch_farm.hpp"
 #include "distributed/job.hpp"
+#include "distributed/search_shares.hpp"
 #endif
 
 namespace fird::app {
@@ -118,7 +119,7 @@ int serve_search(const GlobalOptions& global, const Args& a) {
     const Scene scene = load_scene(a.scene);
     const auto ctx = vk::Context::create(context_options(global));
     PointTracer tracer(ctx, scene);
-    const int code = distributed::serve_batches(*global.job, tracer);
+    const int code = distributed::serve_shares(*global.job, distributed::search_worker(tracer));
     if (ctx.validation_errors() > 0)
         throw std::runtime_error("Vulkan validation errors were reported (see above)");
     return code;
@@ -218,10 +219,10 @@ int run_optimize(const GlobalOptions& global, const Args& a, const CLI::App& cmd
                         : fmt::format("; {}/history.csv keeps the candidates so far: fird "
                                       "optimize {} --resume {} continues",
                                       out, a.scene, out);
-        farm.emplace(*global.job, settings.backend, &control,
+        farm.emplace(*global.job, &control,
                      cmd.count("--rank-timeout") ? std::optional(a.rank_timeout) : std::nullopt,
                      after_loss);
-        request.settings.distributed = farm->tracing();
+        request.settings.distributed = distributed::search_tracing(*farm, settings.backend);
     }
 #endif
     SearchOutcome outcome;
@@ -243,7 +244,8 @@ int run_optimize(const GlobalOptions& global, const Args& a, const CLI::App& cmd
     progress.finish();
 #if FIRD_HAVE_MPI
     if (farm)
-        std::fprintf(stderr, "fird: note: %s\n", farm->summary(outcome.result.time_s).c_str());
+        std::fprintf(stderr, "fird: note: %s\n",
+                     farm->summary(outcome.result.time_s, "candidates").c_str());
 #endif
     const SearchResult& r = outcome.result;
     for (const FlatDirection& d : r.flat_directions)

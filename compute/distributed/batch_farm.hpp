@@ -1,21 +1,21 @@
-// A search's batches traced across the ranks of an MPI job: rank 0 runs the search and
-// hands each other rank a share of every batch (Objective::evaluate_all's points); the
-// other ranks trace their shares with the same stage, seed and desired far field and send
-// back only numbers. What crosses the network: per batch, the stage's fidelity and the
-// points' parameter vectors out, three numbers per point back; once per run, the desired
-// far field (each rank would otherwise trace the start and the target again, and on other
-// devices might not get the very same numbers).
+// Lists of independent work shared among the ranks of an MPI job: rank 0 splits a list into
+// contiguous shares, sends each other rank its share's request, works the first share itself
+// and reads the others' answers; the other ranks answer requests until rank 0 says the run is
+// over. What a request and an answer hold is the command's (search_shares.hpp,
+// tolerance_shares.hpp): parameters out, numbers back. Before a rank's first share it gets the
+// run's setup once (the desired far field).
 #pragma once
 
 #include <chrono>
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "distributed/job.hpp"
-#include "optimize/point_trace.hpp"
+#include "distributed/message.hpp"
 #include "optimize/search_types.hpp"
 
 namespace fird::distributed {
@@ -29,58 +29,73 @@ struct RankLost : std::runtime_error {
 
 struct FarmStats {
     std::uint64_t batches = 0;
-    std::uint64_t points_here = 0, points_elsewhere = 0;
-    std::uint64_t bytes_out = 0, bytes_in = 0; // batches and results
-    std::uint64_t bytes_desired = 0;           // the desired far field, once to each rank
-    double here_ms = 0.0;                      // rank 0 tracing its own shares
+    std::uint64_t items_here = 0, items_elsewhere = 0;
+    std::uint64_t bytes_out = 0, bytes_in = 0; // requests and answers
+    std::uint64_t bytes_setup = 0;             // the setup, once to each rank
+    double here_ms = 0.0;                      // rank 0 working its own shares
     double wait_ms = 0.0;                      // rank 0 waiting on the others' shares
     // Rank 0's own work between one batch's end and the next one's start (the search's
-    // bookkeeping: the serial part that bounds how far more ranks help), and the points of
+    // bookkeeping: the serial part that bounds how far more ranks help), and the items of
     // the batches that followed such a gap.
     double between_ms = 0.0;
-    std::uint64_t points_after_gaps = 0;
+    std::uint64_t items_after_gaps = 0;
 };
 
-// Rank 0's side. `control` (may be null) is the search's: a stop asked while waiting on
-// ranks ends the wait, and its stop_note names the ranks waited on while a batch is out.
-// `rank_timeout_s`: the longest wait on a rank for a batch's share; unset: 60 s plus ten
-// times what rank 0 took for its own share of that batch. `after_loss` ends each RankLost
-// line (where the search's record is kept, how to continue it).
+// One list shared out: `request` writes the message for items [first, last), `here` works
+// rank 0's share, `answer` reads a rank's reply for its share.
+struct ShareOut {
+    std::size_t items = 0;
+    std::function<Bytes(std::size_t first, std::size_t last)> request;
+    std::function<void(std::size_t first, std::size_t last)> here;
+    std::function<void(std::size_t first, std::size_t last, Reader& reply)> answer;
+};
+
+// Rank 0's side. `control` (may be null): a stop asked while waiting on ranks ends the wait,
+// and its stop_note names the ranks waited on while a batch is out. `rank_timeout_s`: the
+// longest wait on a rank for a share; unset: 60 s plus ten times what rank 0 took for its
+// own share of that batch. `after_loss` ends each RankLost line (where the record is kept,
+// how to continue).
 class Farm {
   public:
-    Farm(const Job& job, Backend backend, SearchControl* control,
-         std::optional<double> rank_timeout_s, std::string after_loss);
+    Farm(const Job& job, SearchControl* control, std::optional<double> rank_timeout_s,
+         std::string after_loss);
     // Tells the other ranks the run is over (not after a lost rank: the job is aborted).
     ~Farm();
     Farm(const Farm&) = delete;
     Farm& operator=(const Farm&) = delete;
 
-    // The hook for SearchSettings::distributed.
-    DistributedTrace tracing();
-    std::vector<CandidateResult> trace(const StageBatch& batch);
+    int ranks() const { return job_->size(); }
+    // Sent to each rank before its first share (and not again).
+    void set_setup(Bytes setup) { setup_ = std::move(setup); }
+    bool has_setup() const { return setup_.has_value(); }
+    void share(const ShareOut& work);
     const FarmStats& stats() const { return stats_; }
-    // One line: ranks, points traced elsewhere, bytes per point, rank 0's waiting share of
-    // `elapsed_s`.
-    std::string summary(double elapsed_s) const;
+    // One line: ranks, items worked elsewhere, bytes per item, rank 0's waiting share of
+    // `elapsed_s`; `items` names them ("candidates").
+    std::string summary(double elapsed_s, const std::string& items) const;
 
   private:
     const Job* job_;
-    Backend backend_;
     SearchControl* control_;
     std::optional<double> rank_timeout_s_;
     std::string after_loss_;
-    std::string note_; // control_->stop_note while a batch is out
-    std::vector<bool> desired_sent_;
-    // Messages in flight stay alive here until the run ends.
-    std::vector<std::vector<unsigned char>> sent_;
+    std::optional<Bytes> setup_;
+    std::vector<bool> setup_sent_;
+    std::vector<Bytes> sent_; // messages in flight stay alive here until answered
+    std::string note_;        // control_->stop_note while a batch is out
     FarmStats stats_;
     std::optional<std::chrono::steady_clock::time_point> last_batch_end_;
     bool lost_ = false;
 };
 
-// A rank other than 0: traces the shares rank 0 sends until it says the run is over.
-// Returns the process's exit code. A share that fails is answered with its error (rank 0
-// ends the run with it).
-int serve_batches(const Job& job, PointTracer& tracer);
+// A rank other than 0: what it does with the run's setup and with each share's request.
+struct ShareWorker {
+    std::function<void(const Bytes& setup)> setup;
+    std::function<Bytes(const Bytes& request)> work;
+};
+
+// Answers rank 0's requests until it says the run is over; returns the exit code. A share
+// that fails is answered with its error (rank 0 ends the run with it).
+int serve_shares(const Job& job, const ShareWorker& worker);
 
 } // namespace fird::distributed

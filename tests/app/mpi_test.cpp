@@ -144,15 +144,16 @@ TEST(Mpi, ASearchThatMovesTheSourceOnThreeRanksWritesWhatOneProcessWrites) {
     expect_three_ranks_as_one("source", "optimize " + scene + " --method grid", 45);
 }
 
-// The last rank exits (code 3) after 40 candidates: mpirun ends the job (SIGTERM to rank 0,
-// then SIGKILL). Rank 0 stops waiting, names the rank it waited on and leaves its history;
-// --resume in one process traces the rest and ends as an uninterrupted search.
+// The last rank exits (code 3) after two shares (of 16 candidates each): mpirun ends the
+// job (SIGTERM to rank 0, then SIGKILL). Rank 0 stops waiting, names the rank it waited on
+// and leaves its history; --resume in one process traces the rest and ends as an
+// uninterrupted search.
 TEST(Mpi, ARankThatDiesEndsTheRunAndResumeOnOneProcessEndsAsUninterrupted) {
     const std::string whole = fresh_dir("whole"), cut = fresh_dir("died");
     const Result w = one_process("optimize " + kMirror + " --method grid --out " + whole);
     ASSERT_EQ(w.code, 0) << w.out;
     const Result r = ranks(3, "optimize " + kMirror + " --method grid --out " + cut,
-                           "FIRD_TEST_RANK_EXIT_AFTER=40");
+                           "FIRD_TEST_RANK_EXIT_AFTER=2");
     EXPECT_NE(r.code, 0) << r.out;
     EXPECT_EQ(error_lines(r.out), 1) << r.out;
     // The ranks it waited on when mpirun stopped it: rank 2 among them (rank 1 too, when
@@ -175,12 +176,12 @@ TEST(Mpi, ARankThatDiesEndsTheRunAndResumeOnOneProcessEndsAsUninterrupted) {
     expect_same_search(whole, cut, 169);
 }
 
-// The last rank stops answering after 40 candidates: rank 0's bounded wait ends the run.
+// The last rank stops answering after two shares: rank 0's bounded wait ends the run.
 TEST(Mpi, ARankThatHangsEndsTheRunAfterTheRankTimeout) {
     const std::string cut = fresh_dir("hung");
     const Result r =
         ranks(3, "optimize " + kMirror + " --method grid --rank-timeout 2 --out " + cut,
-              "FIRD_TEST_RANK_HANG_AFTER=40");
+              "FIRD_TEST_RANK_HANG_AFTER=2");
     EXPECT_EQ(r.code, 1) << r.out;
     EXPECT_EQ(error_lines(r.out), 1) << r.out;
     EXPECT_NE(r.out.find("fird: error: rank 2 did not answer within 2 s (--rank-timeout)"),
