@@ -40,7 +40,7 @@ std::uint32_t local_rank(const fird::distributed::Job*) {
 
 // The subcommands that run across the ranks of an MPI job; the others refuse more than one.
 bool runs_distributed(const std::string& subcommand) {
-    return subcommand == "optimize";
+    return subcommand == "optimize" || subcommand == "tolerance";
 }
 
 int fird_main(int argc, char** argv, const fird::distributed::Job* job) {
@@ -97,7 +97,8 @@ int fird_main(int argc, char** argv, const fird::distributed::Job* job) {
             if (reports)
                 std::fprintf(stderr,
                              "fird: error: fird %s runs in one process; under mpirun or srun "
-                             "only fird optimize shares its work among ranks (-np 1 here)\n",
+                             "only fird optimize and fird tolerance share their work among ranks "
+                             "(-np 1 here)\n",
                              subcommand.c_str());
             return 2;
         }

@@ -144,6 +144,31 @@ TEST(Mpi, ASearchThatMovesTheSourceOnThreeRanksWritesWhatOneProcessWrites) {
     expect_three_ranks_as_one("source", "optimize " + scene + " --method grid", 45);
 }
 
+// fird tolerance: the realisations after the nominal one shared among the ranks (each its
+// draws from the seed and its number, a perturbed mesh of its own): the same rows and the
+// same spreads as one process.
+TEST(Mpi, ToleranceOnThreeRanksWritesWhatOneProcessWrites) {
+    const std::string one = fresh_dir("tolerance1"), many = fresh_dir("tolerance3");
+    const std::string args = "tolerance " + std::string(FIRD_SOURCE_DIR) +
+                             "/scenes/test/focused_paraboloid_search.toml --realisations 4 "
+                             "--source-shift-mm 0.2 --reflectance-sd 0.02 --surface-rms-mm 0.05 "
+                             "--surface-correlation-mm 5 --rays 2e4 --out ";
+    const Result a = one_process(args + one);
+    ASSERT_EQ(a.code, 0) << a.out;
+    const Result b = ranks(3, args + many);
+    ASSERT_EQ(b.code, 0) << b.out;
+    EXPECT_NE(b.out.find("realisations traced on ranks 1-2"), std::string::npos) << b.out;
+    // The nominal, then 4 joint and 4 for each of the three tolerances: 17 rows and a header.
+    const std::string csv = read_text(one + "/tolerance.csv");
+    EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 18);
+    EXPECT_EQ(csv, read_text(many + "/tolerance.csv"));
+    auto ja = nlohmann::json::parse(read_text(one + "/tolerance.json"));
+    auto jb = nlohmann::json::parse(read_text(many + "/tolerance.json"));
+    ja.erase("time_s");
+    jb.erase("time_s");
+    EXPECT_EQ(ja, jb);
+}
+
 // The last rank exits (code 3) after two shares (of 16 candidates each): mpirun ends the
 // job (SIGTERM to rank 0, then SIGKILL). Rank 0 stops waiting, names the rank it waited on
 // and leaves its history; --resume in one process traces the rest and ends as an
