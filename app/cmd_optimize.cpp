@@ -29,6 +29,7 @@
 #include "distributed/batch_farm.hpp"
 #include "distributed/job.hpp"
 #include "distributed/search_shares.hpp"
+#include "shared_work.hpp"
 #endif
 
 namespace fird::app {
@@ -226,27 +227,17 @@ int run_optimize(const GlobalOptions& global, const Args& a, const CLI::App& cmd
     }
 #endif
     SearchOutcome outcome;
+    const auto search = [&] {
+        const InterruptScope interrupts(control);
+        outcome = run_search(ctx, scene, request);
+        return outcome.result.time_s;
+    };
 #if FIRD_HAVE_MPI
-    try {
-        const InterruptScope interrupts(control);
-        outcome = run_search(ctx, scene, request);
-    } catch (const distributed::RankLost&) {
-        // The signal handler said it already (the process may not live to say it again).
-        if (control.noted.load()) return 1;
-        throw;
-    }
+    if (const auto code = run_shared(farm, control, "candidates", search)) return *code;
 #else
-    {
-        const InterruptScope interrupts(control);
-        outcome = run_search(ctx, scene, request);
-    }
+    search();
 #endif
     progress.finish();
-#if FIRD_HAVE_MPI
-    if (farm)
-        std::fprintf(stderr, "fird: note: %s\n",
-                     farm->summary(outcome.result.time_s, "candidates").c_str());
-#endif
     const SearchResult& r = outcome.result;
     for (const FlatDirection& d : r.flat_directions)
         std::fprintf(stderr, "fird: note: %s: %s\n", scene.path.c_str(), describe(d).c_str());

@@ -19,6 +19,7 @@
 #include "distributed/job.hpp"
 #include "distributed/tolerance_shares.hpp"
 #include "interrupt.hpp"
+#include "shared_work.hpp"
 #endif
 
 namespace fird::app {
@@ -155,15 +156,11 @@ void register_tolerance(CLI::App& app, const GlobalOptions& global, std::functio
                 };
             ToleranceResult result;
 #if FIRD_HAVE_MPI
-            try {
-                result = run_tolerance(ctx, scene, r);
-            } catch (const distributed::RankLost&) {
-                if (control.noted.load()) return 1; // the signal handler said it already
-                throw;
-            }
-            if (farm)
-                std::fprintf(stderr, "fird: note: %s\n",
-                             farm->summary(result.time_s, "realisations").c_str());
+            if (const auto code = run_shared(farm, control, "realisations", [&] {
+                    result = run_tolerance(ctx, scene, r);
+                    return result.time_s;
+                }))
+                return *code;
 #else
             result = run_tolerance(ctx, scene, r);
 #endif

@@ -40,7 +40,7 @@ std::uint32_t local_rank(const fird::distributed::Job*) {
 
 // The subcommands that run across the ranks of an MPI job; the others refuse more than one.
 bool runs_distributed(const std::string& subcommand) {
-    return subcommand == "optimize" || subcommand == "tolerance";
+    return subcommand == "optimize" || subcommand == "tolerance" || subcommand == "calibrate";
 }
 
 int fird_main(int argc, char** argv, const fird::distributed::Job* job) {
@@ -95,11 +95,12 @@ int fird_main(int argc, char** argv, const fird::distributed::Job* job) {
     if (ranks(job) > 1) {
         if (!runs_distributed(subcommand)) {
             if (reports)
-                std::fprintf(stderr,
-                             "fird: error: fird %s runs in one process; under mpirun or srun "
-                             "only fird optimize and fird tolerance share their work among ranks "
-                             "(-np 1 here)\n",
-                             subcommand.c_str());
+                std::fprintf(
+                    stderr,
+                    "fird: error: fird %s runs in one process; under mpirun or srun "
+                    "only fird optimize, calibrate rays and tolerance share their work among ranks "
+                    "(-np 1 here)\n",
+                    subcommand.c_str());
             return 2;
         }
         if (global.device_name.empty()) global.local_rank = local_rank(job);

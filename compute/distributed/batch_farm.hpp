@@ -65,9 +65,14 @@ class Farm {
     Farm& operator=(const Farm&) = delete;
 
     int ranks() const { return job_->size(); }
-    // Sent to each rank before its first share (and not again).
-    void set_setup(Bytes setup) { setup_ = std::move(setup); }
-    bool has_setup() const { return setup_.has_value(); }
+    // The run's desired far field (null: none), sent to each rank before its first share
+    // and not again; the first one given stays.
+    void set_setup_once(const FarField* desired) {
+        if (setup_) return;
+        Writer w;
+        w.put(desired);
+        setup_ = std::move(w.bytes);
+    }
     void share(const ShareOut& work);
     const FarmStats& stats() const { return stats_; }
     // One line: ranks, items worked elsewhere, bytes per item, rank 0's waiting share of

@@ -7,11 +7,7 @@ namespace fird::distributed {
 
 DistributedTrace search_tracing(Farm& farm, Backend backend) {
     return {.processes = std::size_t(farm.ranks()), .trace = [&farm, backend](const StageBatch& b) {
-                if (!farm.has_setup()) {
-                    Writer setup;
-                    setup.put(&b.desired);
-                    farm.set_setup(std::move(setup.bytes));
-                }
+                farm.set_setup_once(&b.desired);
                 std::vector<CandidateResult> results(b.points.size());
                 farm.share({.items = b.points.size(),
                             .request =

@@ -38,11 +38,7 @@ DistributedRealisations tolerance_tracing(Farm& farm) {
     return {.processes = std::size_t(farm.ranks()),
             .trace = [&farm](std::span<const RealisationKey> keys, const FarField* desired,
                              const RealisationTracer& here) {
-                if (!farm.has_setup()) {
-                    Writer setup;
-                    setup.put(desired);
-                    farm.set_setup(std::move(setup.bytes));
-                }
+                farm.set_setup_once(desired);
                 std::vector<RealisationResult> rows(keys.size());
                 farm.share({.items = keys.size(),
                             .request =

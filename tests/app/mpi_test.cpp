@@ -169,6 +169,31 @@ TEST(Mpi, ToleranceOnThreeRanksWritesWhatOneProcessWrites) {
     EXPECT_EQ(ja, jb);
 }
 
+// fird calibrate rays (Table 1): each row's runs shared among the ranks in pairs (the
+// replicate estimate needs a pair's two far fields), summed in the runs' order on rank 0:
+// the same table as one process, less the rows' times.
+TEST(Mpi, TableOneOnThreeRanksWritesWhatOneProcessWrites) {
+    const std::string one = fresh_dir("table1_1"), many = fresh_dir("table1_3");
+    const std::string args =
+        "calibrate rays " + kMirror + " --counts 1e3,1e4 --runs 7 --json --out ";
+    const Result a = one_process(args + one);
+    ASSERT_EQ(a.code, 0) << a.out;
+    const Result b = ranks(3, args + many);
+    ASSERT_EQ(b.code, 0) << b.out;
+    EXPECT_NE(b.out.find("pairs of runs traced on ranks 1-2"), std::string::npos) << b.out;
+    auto ja = nlohmann::json::parse(a.out.substr(a.out.find('{')));
+    auto jb = nlohmann::json::parse(b.out.substr(b.out.find('{')));
+    ASSERT_EQ(ja["rows"].size(), 2u);
+    ASSERT_EQ(jb["rows"].size(), 2u);
+    for (auto* j : {&ja, &jb}) {
+        j->erase("time_s");
+        for (auto& row : (*j)["rows"])
+            row.erase("time_s");
+    }
+    EXPECT_EQ(ja["rows"][0]["replicate_pairs"], 3); // runs (0, 1), (2, 3), (4, 5); 6 alone
+    EXPECT_EQ(ja, jb);
+}
+
 // The last rank exits (code 3) after two shares (of 16 candidates each): mpirun ends the
 // job (SIGTERM to rank 0, then SIGKILL). Rank 0 stops waiting, names the rank it waited on
 // and leaves its history; --resume in one process traces the rest and ends as an
@@ -226,6 +251,11 @@ TEST(Mpi, BadOptionsAreOneLineUsageErrors) {
     EXPECT_EQ(r.code, 2) << r.out;
     EXPECT_EQ(error_lines(r.out), 1) << r.out;
     EXPECT_NE(r.out.find("fird trace runs in one process"), std::string::npos) << r.out;
+    r = ranks(2, "calibrate semivariogram " + kMirror);
+    EXPECT_EQ(r.code, 2) << r.out;
+    EXPECT_EQ(error_lines(r.out), 1) << r.out;
+    EXPECT_NE(r.out.find("fird calibrate semivariogram runs in one process"), std::string::npos)
+        << r.out;
     // In one process the option is checked the same way.
     r = one_process("optimize " + kMirror + " --rank-timeout -1");
     EXPECT_EQ(r.code, 2) << r.out;
