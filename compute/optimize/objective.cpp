@@ -141,7 +141,8 @@ void Objective::prefetch(std::span<const std::vector<double>> xs) {
     // The reference backend traces a batch one candidate after another: tracing ahead
     // would only delay a stop or a pause by up to a chunk of seconds-long traces. A batch
     // shares one rayset: candidates that move the source are traced one at a time.
-    // Other processes trace their shares of a batch each with their own rays and source.
+    // Shared among processes (SearchSettings::distributed), the batch goes ahead whatever
+    // the backend: each process traces its share, one at a time where the source moves.
     const bool distributed = bool(settings_.distributed.trace);
     if (!distributed && (settings_.backend == Backend::Reference || space_.moves_source())) return;
     // The history index each x will take, as operator() assigns them in turn.
