@@ -2,6 +2,7 @@
 // smallest useful step per parameter (the semivariogram, Figure 8).
 #include <cstdio>
 #include <map>
+#include <optional>
 
 #include <fmt/format.h>
 
@@ -14,6 +15,13 @@
 #include "progress.hpp"
 #include "vk/context.hpp"
 
+#if FIRD_HAVE_MPI
+#include "distributed/batch_farm.hpp"
+#include "distributed/calibration_shares.hpp"
+#include "distributed/job.hpp"
+#include "shared_work.hpp"
+#endif
+
 namespace fird::app {
 
 namespace {
@@ -22,6 +30,7 @@ struct RaysArgs {
     std::string scene, counts = "1e3,1e4,1e5,1e6,1e7", desired_rays, out;
     std::uint32_t runs = 100;
     std::uint64_t seed = 1;
+    std::optional<double> rank_timeout_s; // --rank-timeout (under mpirun)
     bool json = false;
 };
 
@@ -55,12 +64,31 @@ int run_rays(const GlobalOptions& global, const RaysArgs& a) {
         .counts = parse_counts("--counts", a.counts, 4e9), .runs = a.runs, .seed = a.seed};
     if (!a.desired_rays.empty())
         o.desired_rays = parse_count("--desired-rays", a.desired_rays, 4e9);
+    if (a.rank_timeout_s && !(*a.rank_timeout_s > 0.0))
+        throw UsageError("--rank-timeout must be more than 0 s");
     const Scene scene = load_scene_with_target(a.scene);
     const auto ctx = make_context(global);
+#if FIRD_HAVE_MPI
+    // A rank other than 0 traces the pairs of runs rank 0 sends it.
+    if (global.job && global.job->rank() > 0) {
+        const int code =
+            distributed::serve_shares(*global.job, distributed::calibration_worker(ctx, scene, o));
+        check_validation(ctx);
+        return code;
+    }
+#endif
     ProgressLine progress;
     SearchControl control;
     RaysTable table;
-    {
+#if FIRD_HAVE_MPI
+    // Under mpirun: each row's pairs of runs shared among the ranks.
+    std::optional<distributed::Farm> farm;
+    if (global.job && global.job->distributed()) {
+        farm.emplace(*global.job, &control, a.rank_timeout_s, std::string());
+        o.distributed = distributed::calibration_tracing(*farm);
+    }
+#endif
+    const auto calibrate = [&] {
         const InterruptScope interrupts(control);
         table = calibrate_rays(
             ctx, scene, o, &control, [&](std::size_t c, std::uint32_t run, double l2) {
@@ -68,7 +96,13 @@ int run_rays(const GlobalOptions& global, const RaysArgs& a) {
                     "calibrate rays: {:.0e} rays, run {} of {}, l2 {:.4g} lm | {}",
                     double(o.counts[c]), run + 1, o.runs, l2, clock_time(progress.elapsed_s())));
             });
-    }
+        return table.time_s;
+    };
+#if FIRD_HAVE_MPI
+    if (const auto code = run_shared(farm, control, "pairs of runs", calibrate)) return *code;
+#else
+    calibrate();
+#endif
     progress.finish();
     check_validation(ctx);
     if (!a.out.empty()) write_rays_table(a.out, table, scene.name);
@@ -80,6 +114,11 @@ int run_rays(const GlobalOptions& global, const RaysArgs& a) {
 }
 
 int run_semivariogram(const GlobalOptions& global, const SemivariogramArgs& a) {
+#if FIRD_HAVE_MPI
+    if (global.job && global.job->distributed())
+        throw UsageError("fird calibrate semivariogram runs in one process; under mpirun or srun "
+                         "only calibrate rays shares its runs among ranks (-np 1 here)");
+#endif
     SemivariogramOptions o{.points = a.points,
                            .rays = parse_count("--rays", a.rays, 4e9),
                            .seed = a.seed,
@@ -156,6 +195,9 @@ void register_calibrate(CLI::App& app, const GlobalOptions& global, std::functio
         ->check(CLI::NonNegativeNumber);
     rays->add_flag("--json", r->json, "Print one JSON object");
     rays->add_option("--out", r->out, "Write table1.csv, table1.md, table1.png here");
+    rays->add_option("--rank-timeout", r->rank_timeout_s,
+                     "Under mpirun or srun: the longest wait (s) on a rank for its share of a "
+                     "row's runs (default: 60 s plus ten times rank 0's own share)");
     rays->callback([&global, &run, r] { run = [&global, r] { return run_rays(global, *r); }; });
 
     auto* sv = cmd->add_subcommand("semivariogram",

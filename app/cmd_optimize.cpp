@@ -25,6 +25,13 @@
 #include "resume_record.hpp"
 #include "vk/context.hpp"
 
+#if FIRD_HAVE_MPI
+#include "distributed/batch_farm.hpp"
+#include "distributed/job.hpp"
+#include "distributed/search_shares.hpp"
+#include "shared_work.hpp"
+#endif
+
 namespace fird::app {
 
 namespace {
@@ -32,7 +39,7 @@ namespace {
 struct Args {
     std::string scene, method, rays, out, resume, backend;
     std::uint64_t max_evals = 0, seed = 0;
-    double threshold = -1.0;
+    double threshold = -1.0, rank_timeout = 0.0;
     bool json = false, refine = false;
 };
 
@@ -106,7 +113,26 @@ void write_best_part(const std::string& out, const Scene& scene, const SearchRes
     }
 }
 
+#if FIRD_HAVE_MPI
+// A rank other than 0 of an MPI job: traces the shares of the search's batches that rank 0
+// sends it (the same scene, read from the same path), until rank 0 says the search is over.
+int serve_search(const GlobalOptions& global, const Args& a) {
+    const Scene scene = load_scene(a.scene);
+    const auto ctx = vk::Context::create(context_options(global));
+    PointTracer tracer(ctx, scene);
+    const int code = distributed::serve_shares(*global.job, distributed::search_worker(tracer));
+    if (ctx.validation_errors() > 0)
+        throw std::runtime_error("Vulkan validation errors were reported (see above)");
+    return code;
+}
+#endif
+
 int run_optimize(const GlobalOptions& global, const Args& a, const CLI::App& cmd) {
+    if (cmd.count("--rank-timeout") && !(a.rank_timeout > 0.0))
+        throw UsageError("--rank-timeout must be more than 0 s");
+#if FIRD_HAVE_MPI
+    if (global.job && global.job->rank() > 0) return serve_search(global, a);
+#endif
     const Scene scene = load_scene(a.scene);
     // No [reflector.optimize], or a press's limit nothing in the box meets: refused before
     // any work (the device is not even opened).
@@ -184,11 +210,34 @@ int run_optimize(const GlobalOptions& global, const Args& a, const CLI::App& cmd
     };
     SearchControl control;
     request.control = &control;
+#if FIRD_HAVE_MPI
+    // Under mpirun: the batches' shares go to the other ranks (the history is rank 0's).
+    std::optional<distributed::Farm> farm;
+    if (global.job && global.job->distributed()) {
+        // The history is flushed per candidate: the search continues from it on any number
+        // of ranks.
+        const std::string after_loss =
+            out.empty() ? std::string()
+                        : fmt::format("; {}/history.csv keeps the candidates so far: fird "
+                                      "optimize {} --resume {} continues",
+                                      out, a.scene, out);
+        farm.emplace(*global.job, &control,
+                     cmd.count("--rank-timeout") ? std::optional(a.rank_timeout) : std::nullopt,
+                     after_loss);
+        request.settings.distributed = distributed::search_tracing(*farm, settings.backend);
+    }
+#endif
     SearchOutcome outcome;
-    {
+    const auto search = [&] {
         const InterruptScope interrupts(control);
         outcome = run_search(ctx, scene, request);
-    }
+        return outcome.result.time_s;
+    };
+#if FIRD_HAVE_MPI
+    if (const auto code = run_shared(farm, control, "candidates", search)) return *code;
+#else
+    search();
+#endif
     progress.finish();
     const SearchResult& r = outcome.result;
     for (const FlatDirection& d : r.flat_directions)
@@ -269,6 +318,10 @@ void register_optimize(CLI::App& app, const GlobalOptions& global, std::function
                     "Write history.csv, progress.png, best.toml, the best far field, and the best "
                     "reflector as reflector.step / .stl with manufacturability.json / .png here");
     cmd->add_option("--resume", a->resume, "Continue the search recorded in this --out directory");
+    cmd->add_option("--rank-timeout", a->rank_timeout,
+                    "Under mpirun or srun: the longest wait (s) on a rank for its share of a "
+                    "batch before the search ends naming it (default: 60 s plus ten times rank "
+                    "0's own share)");
     cmd->callback([&global, &run, a, cmd] {
         run = [&global, a, cmd] { return run_optimize(global, *a, *cmd); };
     });

@@ -14,6 +14,14 @@
 #include "tolerance/tolerance.hpp"
 #include "vk/context.hpp"
 
+#if FIRD_HAVE_MPI
+#include "distributed/batch_farm.hpp"
+#include "distributed/job.hpp"
+#include "distributed/tolerance_shares.hpp"
+#include "interrupt.hpp"
+#include "shared_work.hpp"
+#endif
+
 namespace fird::app {
 
 namespace {
@@ -45,6 +53,7 @@ void register_tolerance(CLI::App& app, const GlobalOptions& global, std::functio
             reflectance_sd;
         std::string backend = "gpu";
         std::uint64_t seed = 1;
+        double rank_timeout = 0.0;
         bool json = false;
     };
     auto a = std::make_shared<Args>();
@@ -65,8 +74,13 @@ void register_tolerance(CLI::App& app, const GlobalOptions& global, std::functio
         ->check(CLI::IsMember({"gpu", "cpu"}));
     cmd->add_flag("--json", a->json, "Print one JSON object");
     cmd->add_option("--out", a->out, "Write tolerance.csv, tolerance.json and tolerance.png here");
-    cmd->callback([&global, &run, a] {
-        run = [&global, a] {
+    cmd->add_option("--rank-timeout", a->rank_timeout,
+                    "Under mpirun or srun: the longest wait (s) on a rank for its share of the "
+                    "realisations (default: 60 s plus ten times rank 0's own share)");
+    cmd->callback([&global, &run, a, cmd] {
+        run = [&global, a, cmd] {
+            if (cmd->count("--rank-timeout") && !(a->rank_timeout > 0.0))
+                throw UsageError("--rank-timeout must be more than 0 s");
             TraceOverrides o;
             if (!a->rays.empty()) o.rays = parse_count("--rays", a->rays, 1e10);
             const Scene scene = apply_overrides(load_scene(a->scene), o);
@@ -99,19 +113,57 @@ void register_tolerance(CLI::App& app, const GlobalOptions& global, std::functio
             if (active_tolerances(t).empty())
                 throw UsageError("no tolerance given: --source-shift-mm, --source-tilt-deg, "
                                  "--surface-rms-mm, --reflectance-sd or a [tolerance] table");
+#if FIRD_HAVE_MPI
+            // A rank other than 0 traces the shares of the realisations rank 0 sends it.
+            if (global.job && global.job->rank() > 0) {
+                const auto ctx = vk::Context::create(context_options(global));
+                const ToleranceRun mine{.tolerances = t,
+                                        .seed = a->seed,
+                                        .backend = a->backend == "gpu" ? Backend::Fast
+                                                                       : Backend::Reference};
+                const int code = distributed::serve_shares(
+                    *global.job, distributed::tolerance_worker(ctx, scene, mine));
+                if (ctx.validation_errors() > 0)
+                    throw std::runtime_error("Vulkan validation errors were reported (see above)");
+                return code;
+            }
+#endif
             if (!a->out.empty()) create_output_directory(a->out); // unwritable: before tracing
             const auto ctx = vk::Context::create(context_options(global));
             ToleranceRun r{.tolerances = t,
                            .seed = a->seed,
                            .backend = a->backend == "gpu" ? Backend::Fast : Backend::Reference,
                            .scratch_dir = a->out};
+#if FIRD_HAVE_MPI
+            // Under mpirun: the realisations' shares go to the other ranks.
+            SearchControl control;
+            std::optional<distributed::Farm> farm;
+            std::optional<InterruptScope> interrupts; // mpirun's SIGTERM, when a rank dies
+            if (global.job && global.job->distributed()) {
+                farm.emplace(*global.job, &control,
+                             cmd->count("--rank-timeout") ? std::optional(a->rank_timeout)
+                                                          : std::nullopt,
+                             std::string());
+                r.distributed = distributed::tolerance_tracing(*farm);
+                interrupts.emplace(control);
+            }
+#endif
             if (!a->json)
                 r.progress = [](const RealisationResult& row, std::size_t done, std::size_t total) {
                     std::fprintf(stderr, "\r%zu / %zu realisations (%s)   ", done, total,
                                  row.kind.c_str());
                     if (done == total) std::fprintf(stderr, "\n");
                 };
-            const ToleranceResult result = run_tolerance(ctx, scene, r);
+            ToleranceResult result;
+#if FIRD_HAVE_MPI
+            if (const auto code = run_shared(farm, control, "realisations", [&] {
+                    result = run_tolerance(ctx, scene, r);
+                    return result.time_s;
+                }))
+                return *code;
+#else
+            result = run_tolerance(ctx, scene, r);
+#endif
             if (ctx.validation_errors() > 0)
                 throw std::runtime_error("Vulkan validation errors were reported (see above)");
             if (!a->out.empty()) write_tolerance_outputs(a->out, scene, result);

@@ -5,6 +5,7 @@ namespace fird::app {
 vk::ContextOptions context_options(const GlobalOptions& g) {
     return {.validation = g.validation,
             .device_name = g.device_name,
+            .local_rank = g.local_rank,
             .max_device_memory_bytes = std::uint64_t(g.max_device_memory_mb * 1048576.0),
             .max_batch_rays = g.max_batch_rays};
 }

@@ -2,6 +2,9 @@
 
 #include <atomic>
 #include <csignal>
+#include <cstring>
+
+#include <unistd.h>
 
 namespace fird::app {
 
@@ -12,7 +15,14 @@ namespace {
 std::atomic<SearchControl*> g_target{nullptr};
 
 extern "C" void on_interrupt(int) {
-    if (SearchControl* c = g_target.load()) c->stop.store(true);
+    SearchControl* c = g_target.load();
+    if (!c) return;
+    c->stop.store(true);
+    // write(2) and strlen are async-signal-safe; the note outlives the handler's call.
+    if (const char* note = c->stop_note.load()) {
+        (void)!write(STDERR_FILENO, note, std::strlen(note));
+        c->noted.store(true);
+    }
 }
 
 } // namespace

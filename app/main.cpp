@@ -9,14 +9,49 @@
 #include "commands.hpp"
 #include "parse.hpp"
 #include "version.hpp"
-#include "vk/check.hpp"
 
-int main(int argc, char** argv) {
+#if FIRD_HAVE_MPI
+#include "distributed/job.hpp"
+#endif
+
+namespace {
+
+#if FIRD_HAVE_MPI
+int rank(const fird::distributed::Job* job) {
+    return job ? job->rank() : 0;
+}
+int ranks(const fird::distributed::Job* job) {
+    return job ? job->size() : 1;
+}
+std::uint32_t local_rank(const fird::distributed::Job* job) {
+    return job ? job->local_rank() : 0;
+}
+#else
+int rank(const fird::distributed::Job*) {
+    return 0;
+}
+int ranks(const fird::distributed::Job*) {
+    return 1;
+}
+std::uint32_t local_rank(const fird::distributed::Job*) {
+    return 0;
+}
+#endif
+
+// The subcommands that run across the ranks of an MPI job; the others refuse more than one.
+bool runs_distributed(const std::string& subcommand) {
+    return subcommand == "optimize" || subcommand == "tolerance" || subcommand == "calibrate";
+}
+
+int fird_main(int argc, char** argv, const fird::distributed::Job* job) {
     CLI::App app{"FIRD: fast inverse reflector design workbench", "fird"};
     app.require_subcommand(1);
     app.set_version_flag("--version", fird::app::program_version(),
                          "Print the program's version (and the git commit built) and exit");
     fird::app::GlobalOptions global;
+    global.job = job;
+    // Every rank parses the same command line: rank 0 alone reports what is wrong with it.
+    const bool reports = rank(job) == 0;
     app.add_option("--device", global.device_name,
                    "Vulkan device to use (case-insensitive substring of its name)");
     app.add_option("--max-device-memory", global.max_device_memory_mb,
@@ -49,26 +84,57 @@ int main(int argc, char** argv) {
                 message = "unknown subcommand '" + word + "'";
             break;
         }
+        if (!reports) return 2;
         std::fprintf(stderr, "fird: error: %s\n", message.c_str());
         std::fprintf(stderr, "usage: fird [--device NAME] [--validation] SUBCOMMAND ... "
                              "(fird --help lists subcommands)\n");
         return 2;
+    }
+    const std::string subcommand =
+        app.get_subcommands().empty() ? "" : app.get_subcommands()[0]->get_name();
+    if (ranks(job) > 1) {
+        if (!runs_distributed(subcommand)) {
+            if (reports)
+                std::fprintf(
+                    stderr,
+                    "fird: error: fird %s runs in one process; under mpirun or srun "
+                    "only fird optimize, calibrate rays and tolerance share their work among ranks "
+                    "(-np 1 here)\n",
+                    subcommand.c_str());
+            return 2;
+        }
+        if (global.device_name.empty()) global.local_rank = local_rank(job);
     }
     if (const char* env = std::getenv("FIRD_VALIDATION"); env && std::string(env) == "1")
         global.validation = true;
     try {
         return run();
     } catch (const fird::app::UsageError& e) {
+        if (!reports) return 2;
         std::fprintf(stderr, "fird: error: %s\n", e.what());
         std::fprintf(stderr, "usage: see fird %s --help\n",
                      app.get_subcommands().empty() ? ""
                                                    : app.get_subcommands()[0]->get_name().c_str());
         return 2;
-    } catch (const fird::vk::NoDeviceError& e) {
-        std::fprintf(stderr, "fird: error: %s\n", e.what());
-        return 1;
     } catch (const std::exception& e) {
-        std::fprintf(stderr, "fird: error: %s\n", e.what());
+        // A rank other than 0 names itself: its error ends the whole job.
+        if (reports)
+            std::fprintf(stderr, "fird: error: %s\n", e.what());
+        else
+            std::fprintf(stderr, "fird: error: rank %d: %s\n", rank(job), e.what());
         return 1;
     }
+}
+
+} // namespace
+
+int main(int argc, char** argv) {
+#if FIRD_HAVE_MPI
+    fird::distributed::Job job(argc, argv);
+    const int code = fird_main(argc, argv, &job);
+    job.end(code); // a failure aborts the job: the other ranks may be waiting on this one
+    return code;
+#else
+    return fird_main(argc, argv, nullptr);
+#endif
 }

@@ -14,6 +14,7 @@ packages=(
   libtomlplusplus-dev libcli11-dev nlohmann-json3-dev libfmt-dev libnlopt-cxx-dev nettle-dev
   libpagmo-dev
   libvtk9-dev
+  openmpi-bin libopenmpi-dev
   libocct-data-exchange-dev libocct-modeling-algorithms-dev libocct-modeling-data-dev
   libocct-foundation-dev gmsh
   libgtest-dev libgmock-dev libbenchmark-dev libeigen3-dev

@@ -121,32 +121,47 @@ RaysTable calibrate_rays(const vk::Context& ctx, const Scene& scene, const RaysT
     // Independent rays: E[l2^2] = flux^2 sum p (1 - p) (1/n + 1/N), p from the desired.
     const double multinomial = multinomial_noise_lm2_times_rays(
         desired.farfield, scene.source.flux_lm, scene.optimize.metric);
-    const ReflectorDesc reflector = desired_reflector(scene);
     for (std::size_t c = 0; c < o.counts.size(); ++c) {
         const auto tc = std::chrono::steady_clock::now();
         Fidelity f = scene_fidelity(scene);
         f.rays = o.counts[c];
-        Evaluator evaluator(ctx, scene, f); // pipelines and buffers once per count
-        evaluator.set_desired(desired.farfield);
+        // Pipelines and buffers once per count (made when this process first traces a pair).
+        std::optional<Evaluator> evaluator;
+        const RunPairTracer here = [&](std::size_t, std::span<const std::uint32_t> firsts) {
+            if (!evaluator) {
+                evaluator.emplace(ctx, scene, f);
+                evaluator->set_desired(desired.farfield);
+            }
+            return trace_run_pairs(*evaluator, scene, o, c, firsts);
+        };
         double sum = 0.0, sum2 = 0.0, pair_sum2 = 0.0;
         RaysRow row{.rays = o.counts[c], .runs = o.runs};
-        FarField first; // of the pair the next run completes
-        for (std::uint32_t run = 0; run < o.runs; ++run) {
+        std::vector<std::uint32_t> firsts;
+        for (std::uint32_t run = 0; run < o.runs; run += 2)
+            firsts.push_back(run);
+        // A pair at a time here; across processes a few for each per exchange.
+        const std::size_t chunk = o.distributed.trace ? 4 * o.distributed.processes : 1;
+        for (std::size_t k = 0; k < firsts.size(); k += chunk) {
             check_stop(control);
-            evaluator.set_seed(stream_seed(o.seed, kRunStreams * (c + 1) + run, avoid_seed(scene)));
-            const double l2 = *evaluator.evaluate(reflector).l2_lm;
-            sum += l2;
-            sum2 += l2 * l2;
-            // Runs 2k and 2k + 1 are independent traces of one reflector: half their squared
-            // l2 estimates V_n without a trace more (the far fields are read back only here).
-            if (run % 2 == 0 && run + 1 < o.runs) {
-                first = evaluator.farfield();
-            } else if (run % 2 == 1) {
-                const double d = farfield_distance(first, evaluator.farfield(), evaluator.metric());
-                pair_sum2 += d * d;
-                ++row.replicate_pairs;
+            const auto part = std::span(firsts).subspan(k, std::min(chunk, firsts.size() - k));
+            const std::vector<RunPair> pairs =
+                o.distributed.trace ? o.distributed.trace(c, part, desired.farfield, here)
+                                    : here(c, part);
+            // Summed in the runs' order, whichever process traced them.
+            for (std::size_t p = 0; p < pairs.size(); ++p) {
+                const auto add = [&](std::uint32_t run, double l2) {
+                    sum += l2;
+                    sum2 += l2 * l2;
+                    if (on_run) on_run(c, run, l2);
+                };
+                add(part[p], pairs[p].first_l2_lm);
+                if (pairs[p].second_l2_lm) add(part[p] + 1, *pairs[p].second_l2_lm);
+                if (pairs[p].between_l2_lm) {
+                    const double d = *pairs[p].between_l2_lm;
+                    pair_sum2 += d * d;
+                    ++row.replicate_pairs;
+                }
             }
-            if (on_run) on_run(c, run, l2);
         }
         row.mean_l2 = sum / o.runs;
         row.var_l2 = o.runs > 1 ? std::max(0.0, (sum2 - sum * row.mean_l2) / (o.runs - 1)) : 0.0;
@@ -164,6 +179,29 @@ RaysTable calibrate_rays(const vk::Context& ctx, const Scene& scene, const RaysT
     if (table.rows.size() >= 2) table.slope = least_squares_slope(table.rows);
     table.time_s = seconds_since(t0);
     return table;
+}
+
+std::vector<RunPair> trace_run_pairs(Evaluator& evaluator, const Scene& scene,
+                                     const RaysTableOptions& o, std::size_t c,
+                                     std::span<const std::uint32_t> first_runs) {
+    const ReflectorDesc reflector = desired_reflector(scene);
+    const auto trace_run = [&](std::uint32_t run) {
+        evaluator.set_seed(stream_seed(o.seed, kRunStreams * (c + 1) + run, avoid_seed(scene)));
+        return *evaluator.evaluate(reflector).l2_lm;
+    };
+    std::vector<RunPair> pairs;
+    for (const std::uint32_t run : first_runs) {
+        RunPair p{.first_l2_lm = trace_run(run)};
+        // Runs 2k and 2k + 1 are independent traces of one reflector: half their squared
+        // l2 estimates V_n without a trace more (the far fields are read back only here).
+        if (run + 1 < o.runs) {
+            const FarField first = evaluator.farfield();
+            p.second_l2_lm = trace_run(run + 1);
+            p.between_l2_lm = farfield_distance(first, evaluator.farfield(), evaluator.metric());
+        }
+        pairs.push_back(p);
+    }
+    return pairs;
 }
 
 namespace {

@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <functional>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -20,12 +21,40 @@
 
 namespace fird {
 
+// Two runs of a Table 1 row, 2k and 2k + 1 (or the last run alone): each one's l2 and, for
+// a pair, the l2 between their two far fields (independent traces of one reflector: the
+// replicate estimate of the noise).
+struct RunPair {
+    double first_l2_lm = 0.0;
+    std::optional<double> second_l2_lm, between_l2_lm;
+};
+// Traces the pairs that begin at runs `first_runs` of the row of count index `c`.
+using RunPairTracer =
+    std::function<std::vector<RunPair>(std::size_t c, std::span<const std::uint32_t> first_runs)>;
+
+// Traces a row's pairs across processes (fird calibrate rays under mpirun:
+// compute/distributed): given them, the desired far field and `here`, which traces a share
+// in this process; answers them in order, whichever process traced them. Empty: all here.
+struct DistributedRuns {
+    std::size_t processes = 1;
+    std::function<std::vector<RunPair>(std::size_t c, std::span<const std::uint32_t> first_runs,
+                                       const FarField& desired, const RunPairTracer& here)>
+        trace;
+};
+
 struct RaysTableOptions {
     std::vector<std::uint64_t> counts{1000, 10000, 100000, 1000000, 10000000};
     std::uint32_t runs = 100;
     std::uint64_t desired_rays = 0; // the desired far field's (0: 10 x the largest count)
     std::uint64_t seed = 1;
+    DistributedRuns distributed;
 };
+
+// The pairs beginning at `first_runs` of row `c`, traced with `evaluator` (at that row's
+// fidelity, the desired far field set) as calibrate_rays traces them.
+std::vector<RunPair> trace_run_pairs(Evaluator& evaluator, const Scene& scene,
+                                     const RaysTableOptions& options, std::size_t c,
+                                     std::span<const std::uint32_t> first_runs);
 
 struct RaysRow {
     std::uint64_t rays = 0;

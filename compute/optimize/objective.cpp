@@ -9,6 +9,8 @@
 
 #include <fmt/format.h>
 
+#include "optimize/point_trace.hpp"
+
 namespace fird {
 
 Objective::Objective(const vk::Context& ctx, const Scene& scene, ParameterSpace space,
@@ -121,7 +123,9 @@ std::vector<double> Objective::evaluate_all(const std::vector<std::vector<double
     std::vector<double> out;
     out.reserve(xs.size());
     // A chunk a submission's worth: an interruption waits for one chunk at most.
-    const std::size_t chunk = FastTracer::kMaxBatchCandidates;
+    // Across processes, a submission's worth for each.
+    const std::size_t chunk =
+        FastTracer::kMaxBatchCandidates * std::max<std::size_t>(settings_.distributed.processes, 1);
     for (std::size_t first = 0; first < xs.size(); first += chunk) {
         const std::size_t n = std::min(chunk, xs.size() - first);
         prefetch(std::span(xs).subspan(first, n));
@@ -137,27 +141,40 @@ void Objective::prefetch(std::span<const std::vector<double>> xs) {
     // The reference backend traces a batch one candidate after another: tracing ahead
     // would only delay a stop or a pause by up to a chunk of seconds-long traces. A batch
     // shares one rayset: candidates that move the source are traced one at a time.
-    if (settings_.backend == Backend::Reference || space_.moves_source()) return;
+    // Shared among processes (SearchSettings::distributed), the batch goes ahead whatever
+    // the backend: each process traces its share, one at a time where the source moves.
+    const bool distributed = bool(settings_.distributed.trace);
+    if (!distributed && (settings_.backend == Backend::Reference || space_.moves_source())) return;
     // The history index each x will take, as operator() assigns them in turn.
     std::uint64_t index = history_.size();
     std::set<std::vector<double>> seen;
     std::vector<std::vector<double>> keys;
-    std::vector<ReflectorDesc> reflectors;
     for (const std::vector<double>& x : xs) {
         if (stage_memo_.contains(x) || !seen.insert(x).second) continue; // answered from the memo
         if (index >= settings_.max_evaluations) break;
         // Replayed, or traced ahead already: an index of the history, no trace.
         if (index++ < replay_.size() || prefetched_.contains(x)) continue;
-        ReflectorDesc r = space_.reflector(scene_.reflector, x);
-        if (!candidate_feasibility(scene_, r).feasible) continue;
+        const Feasibility f =
+            space_.moves_source()
+                ? candidate_feasibility(space_.candidate(scene_, x),
+                                        space_.reflector(scene_.reflector, x))
+                : candidate_feasibility(scene_, space_.reflector(scene_.reflector, x));
+        if (!f.feasible) continue;
         keys.push_back(x);
-        reflectors.push_back(std::move(r));
     }
-    if (reflectors.size() < 2) return; // traced when asked for, as before
+    if (keys.size() < 2) return; // traced when asked for, as before
     // Should the batch fail (a lost device, a broken energy balance), none of its points is
     // recorded, where one at a time the earlier ones would have been: a resumed search
     // traces them again.
-    std::vector<CandidateResult> results = stage_evaluator().evaluate_batch(reflectors);
+    const auto trace_here = [this](std::span<const std::vector<double>> points) {
+        return trace_points(stage_evaluator(), scene_, space_, points);
+    };
+    std::vector<CandidateResult> results =
+        distributed ? settings_.distributed.trace(StageBatch{.fidelity = stage().fidelity,
+                                                             .desired = desired_,
+                                                             .points = keys,
+                                                             .trace_here = trace_here})
+                    : trace_here(keys);
     for (std::size_t k = 0; k < keys.size(); ++k)
         prefetched_.emplace(keys[k], std::move(results[k]));
 }

@@ -7,6 +7,7 @@
 #include <functional>
 #include <map>
 #include <optional>
+#include <span>
 #include <string>
 #include <utility>
 #include <vector>
@@ -22,6 +23,24 @@ namespace fird {
 enum class StopReason { None, Threshold, Converged, MaxEvaluations, Exhausted, Interrupted };
 const char* stop_reason_name(StopReason reason);
 
+// A batch of one stage's points to trace (Objective::evaluate_all's), handed to
+// DistributedTrace. `trace_here` traces a share of them in this process, as the search
+// would alone (the stage's evaluator, optimize/point_trace.hpp).
+struct StageBatch {
+    const Fidelity& fidelity;
+    const FarField& desired; // on the scene's grid; the same for the whole search
+    std::span<const std::vector<double>> points;
+    std::function<std::vector<CandidateResult>(std::span<const std::vector<double>>)> trace_here;
+};
+
+// Traces a stage's batches across processes (fird optimize under mpirun:
+// compute/distributed). `trace` answers each point's l2_lm, farfield_lm and wall_ms, in the
+// points' order, whichever process traced it. Empty: every point is traced here.
+struct DistributedTrace {
+    std::size_t processes = 1; // evaluate_all hands over a device batch per process
+    std::function<std::vector<CandidateResult>(const StageBatch&)> trace;
+};
+
 // The scene's [optimize] with the command line's overrides applied.
 struct SearchSettings {
     SearchMethod method = SearchMethod::Auto;
@@ -36,6 +55,8 @@ struct SearchSettings {
     // optimize --backend): the fast path, or the CPU reference (a search judged wholly
     // by another tracer, at the reference's speed).
     Backend backend = Backend::Fast;
+    // Where batches of candidates are traced: here, or across the ranks of an MPI job.
+    DistributedTrace distributed;
 };
 
 // The scene's [optimize] resolved against its [trace] (the defaults filled in).
@@ -45,6 +66,11 @@ SearchSettings search_settings(const Scene& scene);
 struct SearchControl {
     std::atomic<bool> stop{false};
     std::atomic<bool> pause{false};
+    // A line the signal handler writes at once when asked to stop, and sets noted: under
+    // mpirun a rank's death brings SIGTERM and then, within milliseconds, SIGKILL, too soon
+    // for the search to say why it ends (set while rank 0 waits on other ranks).
+    std::atomic<const char*> stop_note{nullptr};
+    std::atomic<bool> noted{false};
 };
 
 struct Candidate {

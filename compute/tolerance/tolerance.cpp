@@ -147,6 +147,67 @@ Spread spread_of(std::vector<double> v) {
     return {percentile(v, 0.5), percentile(v, 0.05), percentile(v, 0.95)};
 }
 
+namespace {
+
+// The perturbed mesh's file: one per process (ranks on a node share the scratch folder),
+// removed when the realisations are traced.
+struct ScratchMesh {
+    std::string path;
+    explicit ScratchMesh(const std::string& dir)
+        : path((std::filesystem::path(dir.empty() ? std::filesystem::temp_directory_path().string()
+                                                  : dir) /
+                fmt::format("fird_tolerance_{}.obj", ::getpid()))
+                   .string()) {}
+    ~ScratchMesh() {
+        std::error_code ec;
+        std::filesystem::remove(path, ec);
+    }
+    ScratchMesh(const ScratchMesh&) = delete;
+    ScratchMesh& operator=(const ScratchMesh&) = delete;
+};
+
+// One realisation traced as an independent evaluation; its far field into `farfield` if given.
+RealisationResult trace_realisation(const vk::Context& ctx, const Scene& scene,
+                                    const ToleranceRun& run, const std::string& kind,
+                                    std::uint64_t r, const ToleranceDraw& d,
+                                    const FarField* desired, const std::string& mesh_path,
+                                    FarField* farfield = nullptr) {
+    RealisationResult row{.kind = kind, .realisation = r, .draw = d};
+    const Scene s =
+        perturbed_scene(scene, run.tolerances, d, run.seed, r, mesh_path, row.surface_rms_mm);
+    row.feasible = candidate_feasibility(s, s.reflector).feasible;
+    Evaluator ev(ctx, s, scene_fidelity(s), run.backend);
+    if (desired) ev.set_desired(*desired);
+    const CandidateResult result = ev.evaluate(s.reflector);
+    row.l2_lm = result.l2_lm;
+    row.efficiency = result.farfield_lm / s.source.flux_lm;
+    FarField traced = ev.farfield();
+    const BeamMetrics beam = beam_metrics(traced);
+    row.peak_cd = beam.peak_cd;
+    row.beam_angle_deg = beam.beam_angle_deg;
+    if (farfield) *farfield = std::move(traced);
+    return row;
+}
+
+} // namespace
+
+std::vector<RealisationResult> trace_realisations(const vk::Context& ctx, const Scene& scene,
+                                                  const ToleranceRun& run,
+                                                  std::span<const RealisationKey> keys,
+                                                  const FarField* desired) {
+    const ScratchMesh mesh(run.scratch_dir);
+    std::vector<RealisationResult> rows;
+    for (const RealisationKey& k : keys) {
+        const ToleranceDraw d =
+            k.kind == "joint"
+                ? draw_tolerances(run.tolerances, scene, run.seed, k.realisation)
+                : draw_tolerances(run.tolerances, scene, run.seed, k.realisation, k.kind);
+        rows.push_back(
+            trace_realisation(ctx, scene, run, k.kind, k.realisation, d, desired, mesh.path));
+    }
+    return rows;
+}
+
 ToleranceResult run_tolerance(const vk::Context& ctx, const Scene& scene, const ToleranceRun& run) {
     const auto t0 = std::chrono::steady_clock::now();
     const ToleranceDesc& tol = run.tolerances;
@@ -159,56 +220,48 @@ ToleranceResult run_tolerance(const vk::Context& ctx, const Scene& scene, const 
     out.tolerances = tol;
     out.seed = run.seed;
     out.active = active_tolerances(tol);
-    const std::string scratch =
-        run.scratch_dir.empty() ? std::filesystem::temp_directory_path().string() : run.scratch_dir;
-    const std::string mesh_path =
-        (std::filesystem::path(scratch) / fmt::format("fird_tolerance_{}.obj", ::getpid()))
-            .string();
-    struct Remove {
-        std::string path;
-        ~Remove() {
-            std::error_code ec;
-            std::filesystem::remove(path, ec);
-        }
-    } remove_mesh{mesh_path};
 
     std::optional<FarField> desired;
     const std::size_t total = 1 + tol.realisations * (1 + out.active.size());
     std::size_t done = 0;
-    const auto evaluate = [&](const std::string& kind, std::uint64_t r, const ToleranceDraw& d) {
-        RealisationResult row{.kind = kind, .realisation = r, .draw = d};
-        const Scene s = perturbed_scene(scene, tol, d, run.seed, r, mesh_path, row.surface_rms_mm);
-        row.feasible = candidate_feasibility(s, s.reflector).feasible;
-        Evaluator ev(ctx, s, scene_fidelity(s), run.backend);
-        if (desired) ev.set_desired(*desired);
-        const CandidateResult result = ev.evaluate(s.reflector);
-        row.l2_lm = result.l2_lm;
-        row.efficiency = result.farfield_lm / s.source.flux_lm;
-        FarField farfield = ev.farfield();
-        const BeamMetrics beam = beam_metrics(farfield);
-        row.peak_cd = beam.peak_cd;
-        row.beam_angle_deg = beam.beam_angle_deg;
-        if (run.progress) run.progress(row, ++done, total);
-        return std::pair{row, std::move(farfield)};
-    };
     // The nominal luminaire (traced as every realisation is), then the desired far field:
     // the scene's own target (a reflector traced as written, or a luminaire file scaled to
     // the nominal luminaire's flux).
-    const auto [nominal, nominal_farfield] =
-        evaluate("nominal", 0, draw_tolerances(ToleranceDesc{}, scene, run.seed, 0));
-    out.nominal = nominal;
+    FarField nominal_farfield;
+    {
+        const ScratchMesh mesh(run.scratch_dir);
+        out.nominal = trace_realisation(ctx, scene, run, "nominal", 0,
+                                        draw_tolerances(ToleranceDesc{}, scene, run.seed, 0),
+                                        nullptr, mesh.path, &nominal_farfield);
+    }
+    if (run.progress) run.progress(out.nominal, ++done, total);
     if (scene.target.kind != TargetDesc::Kind::None) {
         desired =
-            desired_farfield(ctx, scene, nominal.efficiency * scene.source.flux_lm, run.backend)
+            desired_farfield(ctx, scene, out.nominal.efficiency * scene.source.flux_lm, run.backend)
                 .farfield;
         out.nominal.l2_lm = farfield_distance(nominal_farfield, *desired, scene.optimize.metric);
     }
+    std::vector<RealisationKey> keys;
     for (std::uint64_t r = 0; r < tol.realisations; ++r)
-        out.rows.push_back(evaluate("joint", r, draw_tolerances(tol, scene, run.seed, r)).first);
+        keys.push_back({"joint", r});
     for (const std::string& name : out.active)
         for (std::uint64_t r = 0; r < tol.realisations; ++r)
-            out.rows.push_back(
-                evaluate(name, r, draw_tolerances(tol, scene, run.seed, r, name)).first);
+            keys.push_back({name, r});
+    const FarField* compared = desired ? &*desired : nullptr;
+    const RealisationTracer here = [&](std::span<const RealisationKey> ks) {
+        return trace_realisations(ctx, scene, run, ks, compared);
+    };
+    // One at a time here; across processes a few for each per exchange (the progress
+    // follows each exchange).
+    const std::size_t chunk = run.distributed.trace ? 4 * run.distributed.processes : 1;
+    for (std::size_t first = 0; first < keys.size(); first += chunk) {
+        const auto part = std::span(keys).subspan(first, std::min(chunk, keys.size() - first));
+        for (RealisationResult& row :
+             run.distributed.trace ? run.distributed.trace(part, compared, here) : here(part)) {
+            out.rows.push_back(std::move(row));
+            if (run.progress) run.progress(out.rows.back(), ++done, total);
+        }
+    }
     out.ranked_by = desired ? "l2" : "efficiency";
     for (const RealisationResult& row : out.rows)
         out.infeasible += row.feasible ? 0 : 1;

@@ -7,7 +7,9 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -67,6 +69,26 @@ struct ToleranceResult {
     double time_s = 0.0;
 };
 
+// A realisation to trace after the nominal one: its kind ("joint" or a tolerance's name)
+// and number; its draws follow from them and the run's seed.
+struct RealisationKey {
+    std::string kind;
+    std::uint64_t realisation = 0;
+};
+using RealisationTracer =
+    std::function<std::vector<RealisationResult>(std::span<const RealisationKey>)>;
+
+// Traces the realisations across processes (fird tolerance under mpirun:
+// compute/distributed): given them, the desired far field (null: none) and `here`, which
+// traces a share in this process; answers their rows in order, whichever process traced
+// them. Empty: all traced here.
+struct DistributedRealisations {
+    std::size_t processes = 1;
+    std::function<std::vector<RealisationResult>(
+        std::span<const RealisationKey>, const FarField* desired, const RealisationTracer& here)>
+        trace;
+};
+
 struct ToleranceRun {
     ToleranceDesc tolerances;
     std::uint64_t seed = 1;
@@ -74,7 +96,15 @@ struct ToleranceRun {
     std::string scratch_dir; // perturbed meshes are written (and removed) here
     // Called after each realisation (progress).
     std::function<void(const RealisationResult&, std::size_t done, std::size_t total)> progress;
+    DistributedRealisations distributed;
 };
+
+// Realisations of `run` traced in this process against `desired` (null: no target), each as
+// run_tolerance traces it (a perturbed mesh written to, and removed from, the scratch folder).
+std::vector<RealisationResult> trace_realisations(const vk::Context& ctx, const Scene& scene,
+                                                  const ToleranceRun& run,
+                                                  std::span<const RealisationKey> keys,
+                                                  const FarField* desired);
 
 ToleranceResult run_tolerance(const vk::Context& ctx, const Scene& scene, const ToleranceRun& run);
 

@@ -348,6 +348,15 @@ Context Context::create(const ContextOptions& options) {
             best_rank = type_rank(p.deviceType);
         }
     }
+    if (best >= 0 && wanted.empty() && options.local_rank) {
+        std::vector<std::size_t> alike; // the usable devices of the best kind, in order
+        for (std::size_t i = 0; i < devices.size(); ++i) {
+            VkPhysicalDeviceProperties p;
+            vkGetPhysicalDeviceProperties(devices[i], &p);
+            if (s->devices[i].usable && type_rank(p.deviceType) == best_rank) alike.push_back(i);
+        }
+        best = static_cast<int>(alike[*options.local_rank % alike.size()]);
+    }
     if (best < 0) {
         std::string names;
         for (const auto& d : s->devices)

@@ -6,6 +6,7 @@
 #include <functional>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -24,6 +25,9 @@ struct ContextOptions {
     bool validation = false;
     // Choose the device whose name contains this text (case-insensitive); empty: best.
     std::string device_name;
+    // Without a device_name: a rank of an MPI job opens the device of its rank on the node
+    // (this modulo the count of usable devices of the best kind; ranks beyond share them).
+    std::optional<std::uint32_t> local_rank;
     // Extra instance extensions (a window system's surface extensions, from ui).
     std::vector<std::string> instance_extensions;
     // Extra device extensions (VK_KHR_swapchain, from ui).

@@ -1,0 +1,264 @@
+// fird optimize across the ranks of an MPI job (mpirun --oversubscribe -np 3 on this
+// machine's one device) against the same command in one process: each candidate's rays
+// depend on its stage and seed only, so the history, the best reflector and the final l2
+// must be the very same numbers, not merely close. And the faults: a rank that dies or
+// hangs ends the run with one line naming it, and --resume on one rank ends where an
+// uninterrupted run ends. Registered only in a build with MPI (FIRD_BUILD_MPI).
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <regex>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "run_fird.hpp"
+
+namespace {
+
+using fird::test::Result;
+using fird::test::run_fird;
+
+const std::string kMirror = std::string(FIRD_SOURCE_DIR) + "/scenes/test/mirror_search.toml";
+const std::string kFreeform = std::string(FIRD_SOURCE_DIR) + "/scenes/test/freeform_search.toml";
+
+// Open MPI refuses root without these (CI runs as root in a container); the shared-memory
+// transport's single-copy mechanism needs ptrace rights a container may not grant.
+const std::string kMpiEnv = "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 "
+                            "OMPI_MCA_btl_vader_single_copy_mechanism=none";
+
+Result one_process(const std::string& args) {
+    return run_fird("timeout 120", args);
+}
+
+Result ranks(int n, const std::string& args, const std::string& env = "") {
+    return run_fird(kMpiEnv + " " + env + " timeout 120 " + FIRD_MPIEXEC + " --oversubscribe -np " +
+                        std::to_string(n),
+                    args);
+}
+
+std::string fresh_dir(const std::string& name) {
+    const std::string dir = ::testing::TempDir() + "/fird_mpi_" + name;
+    std::filesystem::remove_all(dir);
+    return dir;
+}
+
+std::string read_text(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+// The history's rows less their last column (a row's wall time, ms).
+std::vector<std::string> history_rows(const std::string& dir) {
+    std::ifstream in(dir + "/history.csv");
+    std::vector<std::string> rows;
+    for (std::string line; std::getline(in, line);)
+        rows.push_back(line.substr(0, line.rfind(',')));
+    return rows;
+}
+
+int error_lines(const std::string& out) {
+    int n = 0;
+    for (std::size_t at = out.find("fird: error:"); at != std::string::npos;
+         at = out.find("fird: error:", at + 1))
+        ++n;
+    return n;
+}
+
+// Two output folders of the same search: the same rows, the same best reflector (its
+// parameters, its scene file) and the same final l2 and far field of it.
+// `rows`: how many candidates the search must have (0: as many as one process has).
+void expect_same_search(const std::string& one, const std::string& many, std::size_t rows) {
+    const std::vector<std::string> a = history_rows(one), b = history_rows(many);
+    if (rows > 0) {
+        EXPECT_EQ(a.size(), rows + 1); // and the header
+    }
+    EXPECT_GT(a.size(), 2u); // a search, not a header
+    ASSERT_EQ(a.size(), b.size());
+    for (std::size_t k = 0; k < a.size(); ++k)
+        EXPECT_EQ(a[k], b[k]) << "history row " << k;
+    const auto ja = nlohmann::json::parse(read_text(one + "/search.json"));
+    const auto jb = nlohmann::json::parse(read_text(many + "/search.json"));
+    EXPECT_EQ(ja["best_parameters"], jb["best_parameters"]);
+    EXPECT_EQ(ja["best_l2"], jb["best_l2"]);
+    EXPECT_EQ(ja["final_l2"], jb["final_l2"]);
+    EXPECT_EQ(ja["evaluations"], jb["evaluations"]);
+    EXPECT_EQ(read_text(one + "/best.toml"), read_text(many + "/best.toml"));
+    EXPECT_EQ(read_text(one + "/farfield.npy"), read_text(many + "/farfield.npy"));
+}
+
+// The search of `args` in one process and on three ranks, into two folders: the same
+// search, the ranks' note counting every traced candidate (some of them on ranks 1 and 2).
+void expect_three_ranks_as_one(const std::string& name, const std::string& args, std::size_t rows) {
+    const std::string one = fresh_dir(name + "1"), many = fresh_dir(name + "3");
+    const Result a = one_process(args + " --out " + one);
+    ASSERT_EQ(a.code, 0) << a.out;
+    const Result b = ranks(3, args + " --out " + many);
+    ASSERT_EQ(b.code, 0) << b.out;
+    std::smatch m;
+    ASSERT_TRUE(std::regex_search(
+        b.out, m,
+        std::regex("fird: note: 3 ranks: \\d+ batches, (\\d+) candidates traced on ranks "
+                   "1-2 and (\\d+) on rank 0")))
+        << b.out;
+    EXPECT_GT(std::stoul(m[1]), 0u);
+    expect_same_search(one, many, rows);
+    // Traced in batches: all a grid's; the points a method asks for alone (a population's
+    // lone candidate, auto's refine) on rank 0 outside them.
+    EXPECT_LE(std::stoul(m[1]) + std::stoul(m[2]), history_rows(one).size() - 1);
+}
+
+TEST(Mpi, GridSearchOnThreeRanksWritesWhatOneProcessWrites) {
+    // The 13 x 13 lattice.
+    expect_three_ranks_as_one("grid", "optimize " + kMirror + " --method grid", 169);
+}
+
+// CMA-ES over nine heights (pagmo's generations, each one batch split among the ranks).
+TEST(Mpi, PopulationSearchOnThreeRanksWritesWhatOneProcessWrites) {
+    expect_three_ranks_as_one("cmaes", "optimize " + kFreeform + " --method cmaes --max-evals 60",
+                              60);
+}
+
+// auto: its stages' lattice polls (a neighbourhood a batch) split among the ranks.
+TEST(Mpi, AutoSearchOnThreeRanksWritesWhatOneProcessWrites) {
+    expect_three_ranks_as_one("auto", "optimize " + kMirror, 0);
+}
+
+// A search over the source's place: every point has its own source, so a rank sets it for
+// each of its points (the rayset made again), as the search does alone.
+TEST(Mpi, ASearchThatMovesTheSourceOnThreeRanksWritesWhatOneProcessWrites) {
+    std::string text =
+        read_text(std::string(FIRD_SOURCE_DIR) + "/scenes/test/focused_paraboloid_search.toml");
+    const std::size_t from = text.find("[reflector.optimize]"), to = text.find("[trace]");
+    ASSERT_NE(from, std::string::npos);
+    ASSERT_NE(to, std::string::npos);
+    text.replace(from, to - from,
+                 "[reflector.optimize]\nfx = { min = 2.0, max = 4.0, step = 0.5 }\n\n"
+                 "[source.optimize]\nx_mm = { min = -1.0, max = 1.0, step = 0.25 }\n\n");
+    const std::string scene = ::testing::TempDir() + "/fird_mpi_source.toml";
+    std::ofstream(scene) << text;
+    // The 5 x 9 lattice of fx and the source's x.
+    expect_three_ranks_as_one("source", "optimize " + scene + " --method grid", 45);
+}
+
+// fird tolerance: the realisations after the nominal one shared among the ranks (each its
+// draws from the seed and its number, a perturbed mesh of its own): the same rows and the
+// same spreads as one process.
+TEST(Mpi, ToleranceOnThreeRanksWritesWhatOneProcessWrites) {
+    const std::string one = fresh_dir("tolerance1"), many = fresh_dir("tolerance3");
+    const std::string args = "tolerance " + std::string(FIRD_SOURCE_DIR) +
+                             "/scenes/test/focused_paraboloid_search.toml --realisations 4 "
+                             "--source-shift-mm 0.2 --reflectance-sd 0.02 --surface-rms-mm 0.05 "
+                             "--surface-correlation-mm 5 --rays 2e4 --out ";
+    const Result a = one_process(args + one);
+    ASSERT_EQ(a.code, 0) << a.out;
+    const Result b = ranks(3, args + many);
+    ASSERT_EQ(b.code, 0) << b.out;
+    EXPECT_NE(b.out.find("realisations traced on ranks 1-2"), std::string::npos) << b.out;
+    // The nominal, then 4 joint and 4 for each of the three tolerances: 17 rows and a header.
+    const std::string csv = read_text(one + "/tolerance.csv");
+    EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 18);
+    EXPECT_EQ(csv, read_text(many + "/tolerance.csv"));
+    auto ja = nlohmann::json::parse(read_text(one + "/tolerance.json"));
+    auto jb = nlohmann::json::parse(read_text(many + "/tolerance.json"));
+    ja.erase("time_s");
+    jb.erase("time_s");
+    EXPECT_EQ(ja, jb);
+}
+
+// fird calibrate rays (Table 1): each row's runs shared among the ranks in pairs (the
+// replicate estimate needs a pair's two far fields), summed in the runs' order on rank 0:
+// the same table as one process, less the rows' times.
+TEST(Mpi, TableOneOnThreeRanksWritesWhatOneProcessWrites) {
+    const std::string one = fresh_dir("table1_1"), many = fresh_dir("table1_3");
+    const std::string args =
+        "calibrate rays " + kMirror + " --counts 1e3,1e4 --runs 7 --json --out ";
+    const Result a = one_process(args + one);
+    ASSERT_EQ(a.code, 0) << a.out;
+    const Result b = ranks(3, args + many);
+    ASSERT_EQ(b.code, 0) << b.out;
+    EXPECT_NE(b.out.find("pairs of runs traced on ranks 1-2"), std::string::npos) << b.out;
+    auto ja = nlohmann::json::parse(a.out.substr(a.out.find('{')));
+    auto jb = nlohmann::json::parse(b.out.substr(b.out.find('{')));
+    ASSERT_EQ(ja["rows"].size(), 2u);
+    ASSERT_EQ(jb["rows"].size(), 2u);
+    for (auto* j : {&ja, &jb}) {
+        j->erase("time_s");
+        for (auto& row : (*j)["rows"])
+            row.erase("time_s");
+    }
+    EXPECT_EQ(ja["rows"][0]["replicate_pairs"], 3); // runs (0, 1), (2, 3), (4, 5); 6 alone
+    EXPECT_EQ(ja, jb);
+}
+
+// The last rank exits (code 3) after two shares (of 16 candidates each): mpirun ends the
+// job (SIGTERM to rank 0, then SIGKILL). Rank 0 stops waiting, names the rank it waited on
+// and leaves its history; --resume in one process traces the rest and ends as an
+// uninterrupted search.
+TEST(Mpi, ARankThatDiesEndsTheRunAndResumeOnOneProcessEndsAsUninterrupted) {
+    const std::string whole = fresh_dir("whole"), cut = fresh_dir("died");
+    const Result w = one_process("optimize " + kMirror + " --method grid --out " + whole);
+    ASSERT_EQ(w.code, 0) << w.out;
+    const Result r = ranks(3, "optimize " + kMirror + " --method grid --out " + cut,
+                           "FIRD_TEST_RANK_EXIT_AFTER=2");
+    EXPECT_NE(r.code, 0) << r.out;
+    EXPECT_EQ(error_lines(r.out), 1) << r.out;
+    // The ranks it waited on when mpirun stopped it: rank 2 among them (rank 1 too, when
+    // it had not answered yet).
+    const std::size_t line = r.out.find("fird: error: the run was stopped");
+    ASSERT_NE(line, std::string::npos) << r.out;
+    const std::string text = r.out.substr(line, r.out.find('\n', line) - line);
+    EXPECT_TRUE(text.find("waited on rank 2;") != std::string::npos ||
+                text.find("waited on rank 1, 2;") != std::string::npos)
+        << text;
+    EXPECT_NE(text.find(cut + "/history.csv keeps the candidates so far: fird optimize " + kMirror +
+                        " --resume " + cut + " continues"),
+              std::string::npos)
+        << text;
+    const std::size_t kept = history_rows(cut).size();
+    EXPECT_GT(kept, 1u);
+    EXPECT_LT(kept, 170u);
+    const Result resumed = one_process("optimize " + kMirror + " --resume " + cut);
+    ASSERT_EQ(resumed.code, 0) << resumed.out;
+    expect_same_search(whole, cut, 169);
+}
+
+// The last rank stops answering after two shares: rank 0's bounded wait ends the run.
+TEST(Mpi, ARankThatHangsEndsTheRunAfterTheRankTimeout) {
+    const std::string cut = fresh_dir("hung");
+    const Result r =
+        ranks(3, "optimize " + kMirror + " --method grid --rank-timeout 2 --out " + cut,
+              "FIRD_TEST_RANK_HANG_AFTER=2");
+    EXPECT_EQ(r.code, 1) << r.out;
+    EXPECT_EQ(error_lines(r.out), 1) << r.out;
+    EXPECT_NE(r.out.find("fird: error: rank 2 did not answer within 2 s (--rank-timeout)"),
+              std::string::npos)
+        << r.out;
+    EXPECT_GT(history_rows(cut).size(), 1u);
+}
+
+// Bad input under mpirun: one line from rank 0, exit 2.
+TEST(Mpi, BadOptionsAreOneLineUsageErrors) {
+    Result r = ranks(2, "optimize " + kMirror + " --rank-timeout 0");
+    EXPECT_EQ(r.code, 2) << r.out;
+    EXPECT_EQ(error_lines(r.out), 1) << r.out;
+    EXPECT_NE(r.out.find("fird: error: --rank-timeout must be more than 0 s"), std::string::npos)
+        << r.out;
+    r = ranks(2, "trace " + kMirror);
+    EXPECT_EQ(r.code, 2) << r.out;
+    EXPECT_EQ(error_lines(r.out), 1) << r.out;
+    EXPECT_NE(r.out.find("fird trace runs in one process"), std::string::npos) << r.out;
+    r = ranks(2, "calibrate semivariogram " + kMirror);
+    EXPECT_EQ(r.code, 2) << r.out;
+    EXPECT_EQ(error_lines(r.out), 1) << r.out;
+    EXPECT_NE(r.out.find("fird calibrate semivariogram runs in one process"), std::string::npos)
+        << r.out;
+    // In one process the option is checked the same way.
+    r = one_process("optimize " + kMirror + " --rank-timeout -1");
+    EXPECT_EQ(r.code, 2) << r.out;
+}
+
+} // namespace
