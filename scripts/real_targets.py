@@ -91,19 +91,14 @@ heights_mm = {{ min = -6.0, max = 20.0, step = 0.1 }}
 
 
 def bspline(n):
-    # The start: the same paraboloid sampled at the control points (a B-spline's control
-    # heights are not its heights: close enough for a start).
-    heights = []
-    for j in range(n):
-        for i in range(n):
-            x = -30.0 + 60.0 * i / (n - 1)
-            y = -20.0 + 40.0 * j / (n - 1)
-            heights.append(round(min(0.0, -10.0 + (x * x + y * y) / 50.0), 3))
+    # A flat start at -10 mm (the paraboloid's control points would not do: the source
+    # clearance check bounds a B-spline by its control heights' hull, and a paraboloid's
+    # rim heights then reach the source).
     return f"""
 [reflector]
 family = "bspline"
 grid = [{n}, {n}]
-heights_mm = {heights}
+heights_mm = -10.0
 
 [reflector.optimize]
 heights_mm = {{ min = -20.0, max = 0.0, step = 0.1 }}

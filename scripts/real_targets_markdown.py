@@ -34,6 +34,8 @@ for name in sorted(os.listdir(out)):
     best = j.get("best_parameters") or {}
     start = scene["reflector"].get("heights_mm")
     moved = "-"
+    if isinstance(start, (int, float)) and best:
+        start = [float(start)] * len([k for k in best if k.startswith("h_")])
     if isinstance(start, list) and best:
         keys = sorted(k for k in best if k.startswith("h_"))
         if len(keys) == len(start):

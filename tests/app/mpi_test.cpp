@@ -136,7 +136,7 @@ TEST(Mpi, ASearchThatMovesTheSourceOnThreeRanksWritesWhatOneProcessWrites) {
     ASSERT_NE(from, std::string::npos);
     ASSERT_NE(to, std::string::npos);
     text.replace(from, to - from,
-                 "[reflector.optimize]\nfx = { min = 2.0, max = 4.0, step = 0.5 }\n\n"
+                 "[reflector.optimize]\nfx = { min = 2.5, max = 4.5, step = 0.5 }\n\n"
                  "[source.optimize]\nx_mm = { min = -1.0, max = 1.0, step = 0.25 }\n\n");
     const std::string scene = ::testing::TempDir() + "/fird_mpi_source.toml";
     std::ofstream(scene) << text;
