@@ -204,9 +204,10 @@ int run_optimize(const GlobalOptions& global, const Args& a, const CLI::App& cmd
             eta =
                 " | ETA " + clock_time(elapsed / double(c.index + 1) * double(grid - c.index - 1));
         progress.show(fmt::format(
-            "optimize: {} evaluations ({} infeasible) | {} {:.0e} rays | best l2 {:.5g} lm | {}{}",
-            c.index + 1, infeasible, s.name, double(s.fidelity.rays), best, clock_time(elapsed),
-            eta));
+            "optimize: {} evaluations ({} infeasible) | {} {:.0e} rays | best {} {:.5g} {} | {}{}",
+            c.index + 1, infeasible, s.name, double(s.fidelity.rays),
+            metric_name(scene.optimize.metric), best, metric_unit(scene.optimize.metric),
+            clock_time(elapsed), eta));
     };
     SearchControl control;
     request.control = &control;

@@ -34,8 +34,9 @@ void farfield_panel(Frame& f) {
     ImGui::Text("obtained %.3f lm", f.snapshot->obtained_lm);
     if (ff.desired) {
         ImGui::SameLine();
-        ImGui::Text("| desired %.3f lm | l2 %.5g lm", f.snapshot->desired_lm,
-                    ff.l2_lm.value_or(0.0));
+        const FarFieldMetric metric = f.snapshot->traced.scene.optimize.metric;
+        ImGui::Text("| desired %.3f lm | %s %.5g %s", f.snapshot->desired_lm, metric_name(metric),
+                    ff.l2_lm.value_or(0.0), metric_unit(metric));
     }
     // The maps in the columns that keep each readable; below their least height they keep
     // it and the panel scrolls.

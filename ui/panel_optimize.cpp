@@ -115,7 +115,10 @@ void search_status(const WorkbenchState& s, const SearchProgress& p) {
     }
     if (const Candidate* c = best_candidate(p); c && c->stage < p.stages.size()) {
         const Fidelity& fid = p.stages[c->stage].fidelity;
-        ImGui::TextWrapped("best so far: l2 %.5g lm at %s (%ux%u far field, stage %s)", c->l2_lm,
+        const FarFieldMetric metric =
+            s.editor.scene ? s.editor.scene->optimize.metric : FarFieldMetric::L2;
+        ImGui::TextWrapped("best so far: %s %.5g %s at %s (%ux%u far field, stage %s)",
+                           metric_name(metric), c->l2_lm, metric_unit(metric),
                            rays_text(fid.rays).c_str(), fid.farfield_w, fid.farfield_h,
                            p.stages[c->stage].name.c_str());
     }

@@ -6,8 +6,6 @@
 #include <fmt/format.h>
 
 #include "io/scene_file.hpp"
-#include "model/design_parameters.hpp"
-#include "optimize/parameter_space.hpp"
 #include "panels.hpp"
 #include "photometry/photometry_file.hpp"
 #include "run_directory.hpp"
@@ -26,14 +24,15 @@ bool open_scene(WorkbenchState& s, const std::string& given) {
     try {
         Scene scene = load_scene(path);
         s.editor.parameters = scene.reflector.parameters;
-        // A free control height (a bspline's or a profile's h_<k>) needs no value in the
-        // scene: its slider starts where the search would (the heights it moves).
-        if (!scene.reflector.optimize.empty()) {
-            const ParameterSpace space = parameter_space(scene);
-            for (std::size_t k = 0; k < space.size(); ++k)
-                if (!is_source_parameter(space.names[k]))
-                    s.editor.parameters.emplace(space.names[k], space.start[k]);
-        }
+        // A free control height (a bspline's or a profile's h_<k>, a point group) needs no
+        // value in the scene: its slider starts at the height itself, so the surface shown
+        // is the file's (a row, column or ring group keeps its heights until moved).
+        const BSplineDesc& grid = scene.reflector.bspline;
+        for (const auto& [name, range] : scene.reflector.optimize)
+            if (const auto g = grid.groups.find(name);
+                g != grid.groups.end() && g->second.kind == ControlGroup::Kind::Point)
+                s.editor.parameters.emplace(
+                    name, grid.heights_mm[std::size_t(g->second.j) * grid.nx + g->second.i]);
         s.editor.scene = std::move(scene);
         s.editor.path = path;
         s.editor.error.clear();

@@ -527,6 +527,12 @@ ReflectorDesc read_reflector(const TableReader& t, const std::string& scene_path
                 continue;
             }
             if (r.family == Family::Profile && name == "heights_mm") {
+                for (const auto& [h, group] : r.bspline.groups)
+                    if (opt.has(h))
+                        opt.fail(opt.find("heights_mm"), "heights_mm",
+                                 fmt::format("frees every height, so it cannot be combined with "
+                                             "{} (both would bound the same height)",
+                                             h));
                 const ParameterRange range = read_range(opt, name);
                 for (const auto& [h, group] : r.bspline.groups)
                     r.optimize[h] = range;

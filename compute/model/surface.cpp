@@ -275,7 +275,8 @@ struct RawBounds {
             const double t0 = std::max(0.0, r_lo / f.spacing - i);
             const double t1 = std::min(1.0, std::min(r_hi, end) / f.spacing - i);
             const auto root = [&](double t) {
-                if (t > t0 && t < t1) include((i + t) * f.spacing);
+                // Inclusive: an extreme on a knot is t = 1 of one span and t = 0 of the next.
+                if (t >= t0 && t <= t1) include((i + t) * f.spacing);
             };
             if (std::abs(A) < 1e-300) {
                 if (B != 0.0) root(-C / B);

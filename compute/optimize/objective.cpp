@@ -31,10 +31,17 @@ void Objective::begin_stage(const std::string& name, const Fidelity& fidelity) {
         fidelity.farfield_w == desired_.width && fidelity.farfield_h == desired_.height
             ? desired_
             : coarsen_farfield(desired_, fidelity.farfield_w, fidelity.farfield_h);
-    double sum = 0.0;
-    for (double v : coarse.lm)
-        sum += v * v;
-    stage_desired_norm_lm_ = std::sqrt(sum);
+    // ||desired|| and the most a far field of the source's flux can measure, in the metric:
+    // a weighted norm of lumens summing to F is at most F sqrt(largest weight) (all of it
+    // in one cell of the heaviest row), 1 for l2.
+    const FarFieldMetric metric = scene_.optimize.metric;
+    stage_desired_norm_lm_ = farfield_distance(
+        coarse, FarField{coarse.width, coarse.height, std::vector<double>(coarse.lm.size(), 0.0)},
+        metric);
+    double heaviest = 0.0;
+    for (std::uint32_t row = 0; row < coarse.height; ++row)
+        heaviest = std::max(heaviest, metric_cell_weight(metric, row, coarse.width, coarse.height));
+    stage_flux_bound_ = scene_.source.flux_lm * std::sqrt(heaviest);
 }
 
 const Candidate* Objective::stage_best() const {
@@ -49,7 +56,7 @@ std::uint64_t Objective::remaining() const {
 
 double Objective::penalty(const Feasibility& f) const {
     const double dz = scene_.holder.max_mm.z - scene_.holder.min_mm.z;
-    return (stage_desired_norm_lm_ + scene_.source.flux_lm) *
+    return (stage_desired_norm_lm_ + stage_flux_bound_) *
            (1.0 + std::max(0.0, -f.clearance_mm) / dz + f.violation);
 }
 

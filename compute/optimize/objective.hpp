@@ -56,7 +56,8 @@ class Objective {
     std::uint64_t evaluations() const { return history_.size(); }
     std::uint64_t remaining() const;
     // The score of an infeasible candidate: above any traced l2 (l2 <= ||desired|| + the
-    // source's flux), growing with how deep the surface cuts the source or how far it
+    // largest norm the source's flux can have in the metric: the flux itself for l2),
+    // growing with how deep the surface cuts the source or how far it
     // breaks a press's constraint, so model-based methods are pushed back to the feasible
     // side.
     double penalty(const Feasibility& feasibility) const;
@@ -89,7 +90,8 @@ class Objective {
     std::unique_ptr<Evaluator> evaluator_;
     // Traced by prefetch() and not yet asked for (x -> its result), this stage's only.
     std::map<std::vector<double>, CandidateResult> prefetched_;
-    double stage_desired_norm_lm_ = 0.0;
+    double stage_desired_norm_lm_ = 0.0; // in the scene's metric
+    double stage_flux_bound_ = 0.0;      // the largest metric norm of the source's flux
     bool threshold_applies_ = false;
 };
 

@@ -152,9 +152,11 @@ ProgressCharts progress_charts(const SearchResult& r) {
     const plot::Axis evaluations{.label = "evaluation", .min = 0.0, .max = std::max(10.0, last)};
     // Every candidate's l2, coloured by stage, and each stage's best so far.
     plot::Chart& l2 = out.l2;
-    l2 = {.title = fmt::format("Search progress ({}): l2 of each reflector tested", r.method),
+    l2 = {.title =
+              fmt::format("Search progress ({}): {} of each reflector tested", r.method, r.metric),
           .x = evaluations,
-          .y = {"l2 to the desired far field (lm)", plot::Scale::Log}};
+          .y = {fmt::format("{} to the desired far field ({})", r.metric, r.metric_unit),
+                plot::Scale::Log}};
     for (std::size_t s = 0; s < r.stages.size(); ++s) {
         plot::Series points{.kind = plot::Series::Kind::Points,
                             .label = stage_label(r.stages[s]),
@@ -176,13 +178,15 @@ ProgressCharts progress_charts(const SearchResult& r) {
     if (r.final_l2_lm)
         l2.marks.push_back({.vertical = false,
                             .value = *r.final_l2_lm,
-                            .label = fmt::format("final l2 {:.4g} lm (fresh rays)", *r.final_l2_lm),
+                            .label = fmt::format("final {} {:.4g} {} (fresh rays)", r.metric,
+                                                 *r.final_l2_lm, r.metric_unit),
                             .colour = plot::kInk});
     if (r.noise_floor_l2_lm)
-        l2.marks.push_back({.vertical = false,
-                            .value = *r.noise_floor_l2_lm,
-                            .label = fmt::format("noise floor {:.4g} lm", *r.noise_floor_l2_lm),
-                            .colour = {0.5, 0.5, 0.5}});
+        l2.marks.push_back(
+            {.vertical = false,
+             .value = *r.noise_floor_l2_lm,
+             .label = fmt::format("noise floor {:.4g} {}", *r.noise_floor_l2_lm, r.metric_unit),
+             .colour = {0.5, 0.5, 0.5}});
     // Each parameter: every candidate's value (grey) and the best so far (the path).
     for (std::size_t k = 0; k < r.names.size(); ++k) {
         plot::Chart p{.title = r.names[k], .x = evaluations, .y = {r.names[k]}, .legend = false};
@@ -239,8 +243,8 @@ std::string best_scene_toml(const Scene& scene, const SearchResult& r) {
     if (!best.source.file.empty())
         best.source.file = fs::absolute(best.source.resolved_path).string();
     std::string text = fmt::format(
-        "# {}: the best reflector of fird optimize ({}, l2 {:.6g} lm at evaluation {})\n",
-        scene.name, r.method, r.best_l2_lm, r.best ? *r.best : 0);
+        "# {}: the best reflector of fird optimize ({}, {} {:.6g} {} at evaluation {})\n",
+        scene.name, r.method, r.metric, r.best_l2_lm, r.metric_unit, r.best ? *r.best : 0);
     return text + scene_to_toml(best);
 }
 

@@ -33,11 +33,15 @@ ConfirmNoise stage_noise(Objective& f, const std::vector<double>& x, double l2_l
     const std::uint64_t avoid =
         f.scene().target.kind == TargetDesc::Kind::Reflector ? f.scene().target.seed : ~0ull;
     const auto [a, b] = f.noise_pair(x, stream_seed(f.settings().seed, kStageNoiseStream, avoid));
+    // In the scene's metric: each cell's squared difference weighted (w = 1 for l2), the
+    // variance of S = sum w d^2 then 2 sum w^2 v^2, so s4 sums (w d^2)^2.
+    const FarFieldMetric metric = f.scene().optimize.metric;
     double s2 = 0.0, s4 = 0.0;
     for (std::size_t i = 0; i < a.lm.size(); ++i) {
+        const double w = metric_cell_weight(metric, std::uint32_t(i / a.width), a.width, a.height);
         const double d2 = (double(a.lm[i]) - double(b.lm[i])) * (double(a.lm[i]) - double(b.lm[i]));
-        s2 += d2;
-        s4 += d2 * d2;
+        s2 += w * d2;
+        s4 += w * w * d2 * d2;
     }
     const double noise = std::sqrt(s2);
     const double relative_sd = s2 > 0.0 ? std::sqrt(2.0 / 3.0 * s4) / (2.0 * s2) : 0.0;

@@ -137,7 +137,10 @@ Photometrics photometrics(const FarField& f, double source_flux_lm) {
             const double cd = patches.cd(r0, c0, count);
             if (cd <= p.peak_cd) continue;
             p.peak_cd = cd;
-            p.peak_gamma_deg = patches.gamma_centre_deg(r0);
+            // A cap is a ring about its pole: its direction is the pole's.
+            p.peak_gamma_deg = !patches.cap(r0) ? patches.gamma_centre_deg(r0)
+                               : r0 == 0        ? 0.0
+                                                : 180.0;
             const double phi_deg = -180.0 + 360.0 * (c0 + 0.5 * count) / f.width;
             p.peak_c_deg = patches.cap(r0) ? 0.0 : std::fmod(360.0 - phi_deg, 360.0);
         }

@@ -392,6 +392,53 @@ max_bounces = 1
         expect_refused(base, c, "free.toml");
 }
 
+// The profile family's heights: read from an array or one number with its count, each a
+// parameter h_<k>; bad input refused naming the key.
+TEST(SceneFile, AProfilesHeightsAreParametersAndBadInputIsRefusedNamingTheKey) {
+    const std::string base = R"(
+[source]
+type = "point"
+center_mm = [0.0, 0.0, -1.0]
+flux_lm = 100.0
+[holder]
+min_mm = [-20.0, -20.0, -12.0]
+max_mm = [20.0, 20.0, 0.0]
+[reflector]
+family = "profile"
+z0 = -8.0
+cx = 0.0
+cy = 0.0
+radius_mm = 15.0
+heights_mm = 1.0
+grid = 4
+h_2 = 1.5
+[reflector.optimize]
+heights_mm = { min = 0.0, max = 6.0, step = 0.5 }
+[trace]
+rays = 1000
+max_bounces = 1
+)";
+    const Scene s = parse_scene(base, "profile.toml");
+    EXPECT_EQ(s.reflector.bspline.heights_mm, std::vector<double>(4, 1.0));
+    EXPECT_EQ(s.reflector.bspline.ny, 1);
+    EXPECT_EQ(s.reflector.parameters.at("h_2"), 1.5);
+    ASSERT_EQ(s.reflector.optimize.size(), 4u);
+    EXPECT_EQ(s.reflector.optimize.at("h_3"), (ParameterRange{0.0, 6.0, 0.5}));
+    const std::vector<BadCase> bad{
+        {"grid = 4\n", "", "[reflector] heights_mm: is one number, so `grid` must give"},
+        {"heights_mm = 1.0\ngrid = 4", "heights_mm = [1.0]",
+         "[reflector] heights_mm: must hold between 2 and 1024 heights"},
+        {"heights_mm = 1.0\ngrid = 4", "heights_mm = [1.0, 2.0, 3.0]\ngrid = 4",
+         "[reflector] grid: must equal the number of heights_mm"},
+        {"radius_mm = 15.0", "radius_mm = 0.0", "[reflector] radius_mm: must be > 0"},
+        {"heights_mm = { min = 0.0, max = 6.0, step = 0.5 }",
+         "heights_mm = { min = 0.0, max = 6.0, step = 0.5 }\nh_1 = { min = 0.0, max = 2.0, step "
+         "= 0.5 }",
+         "[reflector.optimize] heights_mm: frees every height, so it cannot be combined with h_1"}};
+    for (const BadCase& c : bad)
+        expect_refused(base, c, "profile.toml");
+}
+
 TEST(SceneFile, MissingFileIsAClearError) {
     EXPECT_THROW((void)load_scene("/nonexistent/scene.toml"), SceneError);
 }

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "optimize/objective.hpp"
 #include "optimize/parameter_space.hpp"
 #include "optimize/press_constraints.hpp"
 #include "search_fixture.hpp"
@@ -55,6 +56,30 @@ TEST(PressConstraints, ALimitNothingInTheBoxMeetsIsRefused) {
     // Loosened past the gentlest corner (0.1, 0.1: 8.05 degrees), it stands.
     s.reflector.constraints.max_slope_deg = 8.1;
     EXPECT_NO_THROW(refuse_unmeetable_constraints(s, parameter_space(s)));
+}
+
+// An infeasible candidate scores above every far field the source's flux can make, in the
+// scene's metric: under candela_l2 (weights up to 1 / (4 pi omega) of the polar cells), the
+// worst far field - all the flux in one polar cell - lies sqrt(weight) F from an empty one,
+// far beyond the flux F itself (the lumen bound), and the penalty must stay above it.
+TEST_F(VulkanTest, AnInfeasibleCandidateScoresAboveAnyFarFieldInTheSearchsMetric) {
+    for (const FarFieldMetric metric : {FarFieldMetric::L2, FarFieldMetric::CandelaL2}) {
+        Scene s = scene("mirror_search.toml");
+        s.optimize.metric = metric;
+        const Fidelity fid = scene_fidelity(s);
+        const std::size_t cells = std::size_t(fid.farfield_w) * fid.farfield_h;
+        // A desired far field of half the flux spread evenly.
+        const FarField desired{fid.farfield_w, fid.farfield_h,
+                               std::vector<double>(cells, 0.5 * s.source.flux_lm / double(cells))};
+        Objective f(ctx(), s, parameter_space(s), desired, SearchSettings{}, nullptr, {}, {});
+        f.begin_stage("s", fid);
+        FarField worst{fid.farfield_w, fid.farfield_h, std::vector<double>(cells, 0.0)};
+        worst.lm[0] = s.source.flux_lm; // a cell of the first (polar) row
+        const FarField empty{fid.farfield_w, fid.farfield_h, std::vector<double>(cells, 0.0)};
+        const double penalty = f.penalty(Feasibility{.feasible = false});
+        EXPECT_GT(penalty, farfield_distance(worst, desired, metric)) << metric_name(metric);
+        EXPECT_GT(penalty, farfield_distance(empty, desired, metric)) << metric_name(metric);
+    }
 }
 
 using PressSearch = VulkanTest;
