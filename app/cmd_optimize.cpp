@@ -157,7 +157,7 @@ int run_optimize(const GlobalOptions& global, const Args& a, const CLI::App& cmd
         settings = resumed.settings;
         depends_on = std::move(resumed.depends_on);
         request.replay = read_history((std::filesystem::path(out) / "history.csv").string(),
-                                      parameter_space(scene).names, scene.optimize.metric);
+                                      parameter_space(scene).names, scene.optimize);
     } else {
         if (!a.method.empty()) settings.method = *method_from_name(a.method);
         if (!a.rays.empty()) settings.rays = parse_counts("--rays", a.rays, 4e9);
@@ -186,7 +186,7 @@ int run_optimize(const GlobalOptions& global, const Args& a, const CLI::App& cmd
             write_text_file(path("options.json"),
                             settings_json(settings, scene, ctx.summary()).dump(2) + "\n");
         history = std::make_unique<HistoryWriter>(path("history.csv"), parameter_space(scene).names,
-                                                  !a.resume.empty(), scene.optimize.metric);
+                                                  !a.resume.empty(), scene.optimize);
     }
     ProgressLine progress;
     const std::uint64_t grid = parameter_space(scene).lattice_size();
@@ -261,9 +261,18 @@ int run_optimize(const GlobalOptions& global, const Args& a, const CLI::App& cmd
             std::string params;
             for (const auto& [k, v] : r.best_parameters)
                 params += fmt::format(" {}={:.6g}", k, v);
-            std::printf("best:%s (l2 %.6g lm at evaluation %llu)\n", params.c_str(), r.best_l2_lm,
-                        static_cast<unsigned long long>(*r.best));
+            std::printf("%s", fmt::format("best:{} ({} {:.6g} {} at evaluation {})\n", params,
+                                          r.metric, r.best_l2_lm, r.metric_unit, *r.best)
+                                  .c_str());
         }
+        if (r.smoothness_weight > 0.0 && r.best_bending_energy)
+            std::printf("%s",
+                        fmt::format("smoothness: bending energy {:.6g} (start {:.6g}), "
+                                    "penalty {:.6g} {} at weight {:g}\n",
+                                    *r.best_bending_energy, r.start_bending_energy.value_or(0.0),
+                                    r.smoothness_weight * *r.best_bending_energy, r.metric_unit,
+                                    r.smoothness_weight)
+                            .c_str());
         for (const ConstraintAtOptimum& c : r.constraints)
             std::printf("%s",
                         fmt::format("constraint {}: {:.4g} against {:g}, {}{}\n", c.name, c.value,

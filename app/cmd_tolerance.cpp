@@ -175,7 +175,10 @@ void register_tolerance(CLI::App& app, const GlobalOptions& global, std::functio
             std::printf("%s: %llu realisations, %.1f s\n", scene.name.c_str(),
                         static_cast<unsigned long long>(t.realisations), result.time_s);
             if (j.contains("l2"))
-                std::printf("l2 to the target: %s\n", spread_text(j["l2"], " lm").c_str());
+                std::printf(
+                    "%s to the target: %s\n", j["metric"].get<std::string>().c_str(),
+                    spread_text(j["l2"], (" " + j["metric_unit"].get<std::string>()).c_str())
+                        .c_str());
             std::printf("efficiency: %s\n", spread_text(j["efficiency"], "").c_str());
             std::printf("peak intensity: %s\n", spread_text(j["peak_cd"], " cd").c_str());
             std::printf("beam angle: %s\n", spread_text(j["beam_angle_deg"], " deg").c_str());

@@ -44,7 +44,7 @@ const Candidate* best_candidate(const SearchProgress& p) {
     const Candidate* best = nullptr;
     for (const Candidate& c : p.history)
         if (c.feasible &&
-            (!best || c.stage > best->stage || (c.stage == best->stage && c.l2_lm < best->l2_lm)))
+            (!best || c.stage > best->stage || (c.stage == best->stage && c.score < best->score)))
             best = &c;
     return best;
 }
@@ -121,6 +121,14 @@ void search_status(const WorkbenchState& s, const SearchProgress& p) {
                            metric_name(metric), c->l2_lm, metric_unit(metric),
                            rays_text(fid.rays).c_str(), fid.farfield_w, fid.farfield_h,
                            p.stages[c->stage].name.c_str());
+        // The penalty the search adds ([optimize] smoothness), beside the l2.
+        const double weight = s.editor.scene ? s.editor.scene->optimize.smoothness : 0.0;
+        if (weight > 0.0)
+            ImGui::TextWrapped("%s", fmt::format("smoothness: bending energy {:.4g}, penalty "
+                                                 "{:.4g} {} (weight {:g})",
+                                                 c->smoothness, weight * c->smoothness,
+                                                 metric_unit(metric), weight)
+                                         .c_str());
     }
 }
 

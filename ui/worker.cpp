@@ -193,8 +193,8 @@ void Worker::run(const SearchJob& job) {
             ++search_.generation;
         }
         if (c.stage != best_stage) best_stage = c.stage, best = HUGE_VAL;
-        if (!c.feasible || !(c.l2_lm < best)) return;
-        best = c.l2_lm;
+        if (!c.feasible || !(c.score < best)) return;
+        best = c.score;
         // The current best in the viewport, now and then (a low-ray view).
         const auto now = std::chrono::steady_clock::now();
         if (std::chrono::duration<double>(now - last_view).count() < kBestViewEvery_s) return;

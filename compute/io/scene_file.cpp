@@ -645,7 +645,7 @@ TargetDesc read_target(const TableReader& t, const ReflectorDesc& reflector,
 }
 
 OptimizeSettings read_optimize(const TableReader& t) {
-    t.allow_only({"method", "metric", "rays", "threshold_lm", "max_evaluations"});
+    t.allow_only({"method", "metric", "rays", "threshold_lm", "max_evaluations", "smoothness"});
     OptimizeSettings o;
     if (t.has("metric"))
         o.metric = t.choice("metric", {"l2", "candela_l2"}, "l2") == "candela_l2"
@@ -666,6 +666,10 @@ OptimizeSettings read_optimize(const TableReader& t) {
         t.fail(t.find("threshold_lm"), "threshold_lm", "must be >= 0 (0: never stop early)");
     if (t.has("max_evaluations"))
         o.max_evaluations = std::uint64_t(t.integer("max_evaluations", 1, 100'000'000));
+    o.smoothness = t.number_or("smoothness", 0.0);
+    if (o.smoothness < 0.0)
+        t.fail(t.find("smoothness"), "smoothness",
+               "must be >= 0 (the weight of the bending energy; 0: no penalty)");
     return o;
 }
 
@@ -717,6 +721,10 @@ Scene parse_scene(const std::string& text, const std::string& path) {
     s.trace = read_trace(top.sub("trace"), file_rays, subsample.has_value());
     if (top.has("target")) s.target = read_target(top.sub("target"), s.reflector, s.trace, path);
     if (top.has("optimize")) s.optimize = read_optimize(top.sub("optimize"));
+    if (s.optimize.smoothness > 0.0 && s.reflector.family == Family::Mesh)
+        top.sub("optimize")
+            .fail(top.sub("optimize").find("smoothness"), "smoothness",
+                  "a mesh's flat facets have no curvature to penalise");
     if (top.has("tolerance")) s.tolerance = read_tolerance(top.sub("tolerance"), s.source);
     validate_scene(s);
     return s;
@@ -869,6 +877,7 @@ std::string scene_to_toml(const Scene& s) {
                         {"metric", metric_name(o.metric)},
                         {"threshold_lm", o.threshold_lm},
                         {"max_evaluations", std::int64_t(o.max_evaluations)}};
+        if (o.smoothness > 0.0) opt.insert("smoothness", o.smoothness);
         if (!o.rays.empty()) {
             toml::array rays;
             for (std::uint64_t n : o.rays)

@@ -16,14 +16,22 @@ constexpr double kDeg = 180.0 / std::numbers::pi;
 // smallest radius the differences resolve is the step over it (20 steps).
 constexpr double kKinkTurn = 0.05;
 
-// The larger principal curvature, in magnitude, of z = f(x, y) with gradient (p, q) and
-// Hessian [[r, s], [s, t]] (the graph's shape operator: Gaussian K, mean H).
-double largest_curvature(double p, double q, double r, double s, double t) {
+// The mean (H) and Gaussian (K) curvatures of z = f(x, y) with gradient (p, q) and
+// Hessian [[r, s], [s, t]] (the graph's shape operator).
+struct Curvatures {
+    double mean, gauss;
+    // The larger principal curvature in magnitude, |H| + sqrt(H^2 - K).
+    double largest() const {
+        return std::abs(mean) + std::sqrt(std::max(mean * mean - gauss, 0.0));
+    }
+    // k1^2 + k2^2 = (k1 + k2)^2 - 2 k1 k2 = 4 H^2 - 2 K (at least 0 in exact arithmetic).
+    double squared_sum() const { return std::max(4.0 * mean * mean - 2.0 * gauss, 0.0); }
+};
+Curvatures curvatures(double p, double q, double r, double s, double t) {
     const double w = 1.0 + p * p + q * q;
-    const double gauss = (r * t - s * s) / (w * w);
-    const double mean =
-        ((1.0 + q * q) * r - 2.0 * p * q * s + (1.0 + p * p) * t) / (2.0 * std::pow(w, 1.5));
-    return std::abs(mean) + std::sqrt(std::max(mean * mean - gauss, 0.0));
+    return {.mean = ((1.0 + q * q) * r - 2.0 * p * q * s + (1.0 + p * p) * t) /
+                    (2.0 * std::pow(w, 1.5)),
+            .gauss = (r * t - s * s) / (w * w)};
 }
 
 // The derivative along one axis of the analytic gradient at t (in [lo, hi]): central
@@ -146,6 +154,10 @@ PressMeasures press_measures(const Surface& surface, const PressOptions& options
                           std::max(2, int(std::ceil(wy / step - 1e-9)) + 1), options);
 }
 
+double search_bending_energy(const Surface& surface) {
+    return press_measures(surface, PressOptions{.curvature = true, .stride = 4}).bending_energy;
+}
+
 PressMeasures press_measures(const Surface& surface, int nx, int ny, const PressOptions& options) {
     const Holder& h = surface.holder();
     PressMeasures m;
@@ -190,7 +202,10 @@ PressMeasures press_measures(const Surface& surface, int nx, int ny, const Press
             }
             if (faceted || !options.curvature) continue;
             const Hessian hs = hessian(surface, x, y, e);
-            curvature[k] = largest_curvature(g.x, g.y, hs.r, hs.s, hs.t);
+            const Curvatures c = curvatures(g.x, g.y, hs.r, hs.s, hs.t);
+            curvature[k] = c.largest();
+            // The bending energy's element: k1^2 + k2^2 over the surface's own area.
+            m.bending_energy += weight * std::sqrt(1.0 + norm * norm) * c.squared_sum();
             // Below the differences' rounding (a few ulps of the gradient over the step) a
             // curvature is noise: a plane has none.
             if (curvature[k] <= 8.0 * std::numeric_limits<double>::epsilon() * (1.0 + norm) / e)
@@ -202,9 +217,10 @@ PressMeasures press_measures(const Surface& surface, int nx, int ny, const Press
         }
     m.depth_mm = highest - lowest;
     m.max_slope_deg = std::max(max_slope, 0.0);
-    if (faceted || !options.curvature)
+    if (faceted || !options.curvature) {
         m.min_radius_mm = std::nan("");
-    else if (max_curvature * e > kKinkTurn) {
+        m.bending_energy = std::nan("");
+    } else if (max_curvature * e > kKinkTurn) {
         // The gradient turns by more over the difference step than any curvature it can
         // resolve: a kink (the fluted cup's apex, a cup of power below 2), radius 0.
         m.kink = true;

@@ -54,6 +54,13 @@ struct PressMeasures {
     bool kink = false;
     // As slope_error_deg, for the curvature 1 / radius (0 at a kink: no bound is meant).
     double curvature_error_per_mm = 0.0;
+    // The bending energy: the integral of k1^2 + k2^2 (the principal curvatures) over the
+    // unclamped surface's area, dimensionless (a sphere's cap of any radius covering a
+    // solid angle w: 2 w). The clamp's flats and the kink where they meet the family are
+    // left out (that bend is the holder's, not the part's). A kink inside grows it with the
+    // grid (a curvature of 1 / e over a band of the grid's width). NaN for a mesh, or
+    // without curvature.
+    double bending_energy = 0.0;
     double depth_mm = 0.0; // highest minus lowest point of the surface
     double area_mm2 = 0.0; // the whole surface, the clamp's flats included
     double unclamped_area_mm2 = 0.0;
@@ -79,6 +86,12 @@ PressMeasures press_measures(const Surface& surface, const PressOptions& options
 // The same on a grid of `nx` x `ny` samples (tests use coarser and finer grids).
 PressMeasures press_measures(const Surface& surface, int nx, int ny,
                              const PressOptions& options = {});
+
+// The bending energy as a search's smoothness penalty takes it ([optimize] smoothness):
+// on every 4th sample of the press grid (128 intervals along the holder's longer side), a
+// sixteenth of the full grid's work. Converges as the square of the interval on a smooth
+// surface (press_measures_test.cpp measures it).
+double search_bending_energy(const Surface& surface);
 
 // One constraint of [reflector.constraints] against its measure.
 struct ConstraintCheck {

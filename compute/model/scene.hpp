@@ -191,6 +191,11 @@ struct OptimizeSettings {
     FarFieldMetric metric = FarFieldMetric::L2;
     double threshold_lm = 0.0;              // stop once l2 falls below (0: never)
     std::uint64_t max_evaluations = 100000; // candidates, infeasible ones included
+    // The weight of an optional smoothness penalty: a search minimises the metric plus
+    // smoothness x the reflector's bending energy (press_measures.hpp: the integral of the
+    // squared principal curvatures over the unclamped surface, dimensionless), so the
+    // weight is in the metric's unit. 0: none (smoothness is then a choice of grid).
+    double smoothness = 0.0;
     bool operator==(const OptimizeSettings&) const = default;
 };
 

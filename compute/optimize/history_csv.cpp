@@ -32,16 +32,20 @@ double number(const std::string& path, std::size_t line, const std::string& cell
 
 } // namespace
 
-std::string history_header(const std::vector<std::string>& names, FarFieldMetric metric) {
-    return fmt::format("index,stage,stage_name,rays,farfield_w,farfield_h,{},{}_{},feasible,ms",
-                       fmt::join(names, ","), metric_name(metric), metric_unit(metric));
+std::string history_header(const std::vector<std::string>& names,
+                           const OptimizeSettings& optimize) {
+    return fmt::format("index,stage,stage_name,rays,farfield_w,farfield_h,{},{}_{}{},feasible,ms",
+                       fmt::join(names, ","), metric_name(optimize.metric),
+                       metric_unit(optimize.metric),
+                       optimize.smoothness > 0.0 ? ",smoothness" : "");
 }
 
 HistoryWriter::HistoryWriter(const std::string& path, const std::vector<std::string>& names,
-                             bool append, FarFieldMetric metric)
-    : path_(path), file_(std::fopen(path.c_str(), append ? "a" : "w")) {
+                             bool append, const OptimizeSettings& optimize)
+    : path_(path), file_(std::fopen(path.c_str(), append ? "a" : "w")),
+      smoothness_(optimize.smoothness > 0.0) {
     if (!file_) throw std::runtime_error(fmt::format("{}: cannot open for writing", path));
-    if (!append) std::fprintf(file_, "%s\n", history_header(names, metric).c_str());
+    if (!append) std::fprintf(file_, "%s\n", history_header(names, optimize).c_str());
     std::fflush(file_);
 }
 
@@ -55,15 +59,16 @@ void HistoryWriter::write(const Candidate& c, const StageSummary& s) {
                                   s.fidelity.farfield_w, s.fidelity.farfield_h);
     for (double v : c.x)
         row += fmt::format(",{:.17g}", v);
-    row += c.feasible ? fmt::format(",{:.17g},1", c.l2_lm) : std::string(",,0");
-    row += fmt::format(",{:.3f}\n", c.ms);
+    row += c.feasible ? fmt::format(",{:.17g}", c.l2_lm) : std::string(",");
+    if (smoothness_) row += c.feasible ? fmt::format(",{:.17g}", c.smoothness) : std::string(",");
+    row += fmt::format(",{},{:.3f}\n", c.feasible ? 1 : 0, c.ms);
     // One write and a flush per row: a killed search loses at most the row being written.
     if (std::fputs(row.c_str(), file_) < 0 || std::fflush(file_) != 0)
         throw std::runtime_error(fmt::format("{}: write failed", path_));
 }
 
 std::vector<Candidate> read_history(const std::string& path, const std::vector<std::string>& names,
-                                    FarFieldMetric metric) {
+                                    const OptimizeSettings& optimize) {
     std::ifstream in(path, std::ios::binary);
     if (!in) throw std::runtime_error(fmt::format("{}: cannot open", path));
     std::stringstream ss;
@@ -81,11 +86,16 @@ std::vector<Candidate> read_history(const std::string& path, const std::vector<s
     std::stringstream lines(text);
     std::string line;
     std::getline(lines, line);
-    if (line != history_header(names, metric))
+    const bool smoothness = optimize.smoothness > 0.0;
+    if (line != history_header(names, optimize))
         throw std::runtime_error(fmt::format(
-            "{}:1: the header does not match this search's parameters ({}) and metric ({})", path,
-            fmt::join(names, ", "), metric_name(metric)));
-    const std::size_t columns = 9 + names.size();
+            "{}:1: the header does not match this search's parameters ({}), metric ({}) and "
+            "smoothness penalty ({})",
+            path, fmt::join(names, ", "), metric_name(optimize.metric),
+            smoothness ? "weighted" : "none"));
+    // The columns after the parameters: the metric, the smoothness, feasible, ms.
+    const std::size_t metric_at = 6 + names.size(), feasible_at = metric_at + 1 + smoothness;
+    const std::size_t columns = feasible_at + 2;
     std::vector<Candidate> out;
     for (std::size_t n = 2; std::getline(lines, line); ++n) {
         const auto cells = split(line);
@@ -99,13 +109,15 @@ std::vector<Candidate> read_history(const std::string& path, const std::vector<s
         c.stage = std::uint32_t(number(path, n, cells[1]));
         for (std::size_t k = 0; k < names.size(); ++k)
             c.x.push_back(number(path, n, cells[6 + k]));
-        const std::string& feasible = cells[7 + names.size()];
+        const std::string& feasible = cells[feasible_at];
         if (feasible != "0" && feasible != "1")
             throw std::runtime_error(fmt::format("{}:{}: feasible must be 0 or 1", path, n));
         c.feasible = feasible == "1";
-        c.l2_lm = c.feasible ? number(path, n, cells[6 + names.size()])
-                             : std::numeric_limits<double>::quiet_NaN();
-        c.ms = number(path, n, cells[8 + names.size()]);
+        constexpr double nan = std::numeric_limits<double>::quiet_NaN();
+        c.l2_lm = c.feasible ? number(path, n, cells[metric_at]) : nan;
+        c.smoothness = !c.feasible ? nan : smoothness ? number(path, n, cells[metric_at + 1]) : 0.0;
+        c.score = candidate_score(c.l2_lm, c.smoothness, optimize);
+        c.ms = number(path, n, cells[feasible_at + 1]);
         c.replayed = true;
         out.push_back(std::move(c));
     }

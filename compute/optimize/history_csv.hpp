@@ -13,13 +13,15 @@ namespace fird {
 
 // Columns: index, stage (its number), stage_name, rays, farfield_w, farfield_h, one per
 // parameter (by name), l2_lm (candela_l2_cd under that metric; empty when infeasible),
-// feasible (1 or 0), ms. Numbers are
+// smoothness (the bending energy, only with an [optimize] smoothness weight; empty when
+// infeasible), feasible (1 or 0), ms. Numbers are
 // written with 17 significant digits, so a resumed search reads back the very values.
 class HistoryWriter {
   public:
     // Creates the file with its header, or (append) opens an existing one to continue it.
+    // `optimize` says the columns: its metric, and a smoothness column with a weight.
     HistoryWriter(const std::string& path, const std::vector<std::string>& names, bool append,
-                  FarFieldMetric metric = FarFieldMetric::L2);
+                  const OptimizeSettings& optimize = {});
     ~HistoryWriter();
     HistoryWriter(const HistoryWriter&) = delete;
     HistoryWriter& operator=(const HistoryWriter&) = delete;
@@ -28,14 +30,16 @@ class HistoryWriter {
   private:
     std::string path_;
     std::FILE* file_ = nullptr;
+    bool smoothness_ = false;
 };
 
 std::string history_header(const std::vector<std::string>& names,
-                           FarFieldMetric metric = FarFieldMetric::L2);
+                           const OptimizeSettings& optimize = {});
 
-// Reads a history written for these parameter names. A last line without its newline (a
-// row cut short by a kill) is dropped, and the file truncated to the whole rows.
+// Reads a history written for these parameter names and settings (each candidate's score
+// recomputed from its l2 and smoothness). A last line without its newline (a row cut
+// short by a kill) is dropped, and the file truncated to the whole rows.
 std::vector<Candidate> read_history(const std::string& path, const std::vector<std::string>& names,
-                                    FarFieldMetric metric = FarFieldMetric::L2);
+                                    const OptimizeSettings& optimize = {});
 
 } // namespace fird

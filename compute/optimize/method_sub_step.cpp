@@ -57,10 +57,13 @@ void run_refine(Objective& f, std::uint32_t lattice_stage, const ConfirmNoise& n
     report.starts = {best.x};
     (void)run_sub_step(f, best.x, flat);
     const double first_l2 = f.stage_best() ? f.stage_best()->l2_lm : best.l2_lm;
+    // The verdicts name the search's metric and its unit.
+    const char* l2 = metric_name(f.scene().optimize.metric);
+    const char* lm = metric_unit(f.scene().optimize.metric);
     if (first_l2 <= noise.limit_lm) {
-        report.verdict = fmt::format("the refine from the lattice's best ended at l2 {:.6g} lm, "
-                                     "what noise alone leaves (limit {:.6g} lm)",
-                                     first_l2, noise.limit_lm);
+        report.verdict = fmt::format("the refine from the lattice's best ended at {0} {2:.6g} {1}, "
+                                     "what noise alone leaves (limit {3:.6g} {1})",
+                                     l2, lm, first_l2, noise.limit_lm);
         return;
     }
     // The lattice's best misses a perfect fit by `excess` (l2 above the noise limit);
@@ -68,12 +71,12 @@ void run_refine(Objective& f, std::uint32_t lattice_stage, const ConfirmNoise& n
     const double excess = best.l2_lm - noise.limit_lm;
     std::map<std::vector<double>, double> traced;
     for (const Candidate& c : f.history())
-        if (c.stage == lattice_stage && c.feasible) traced[c.x] = c.l2_lm;
+        if (c.stage == lattice_stage && c.feasible) traced[c.x] = c.score;
     std::vector<std::pair<double, std::vector<double>>> near;
     for (const auto& y : lattice_neighbours(space, best.x, std::vector<bool>(space.size(), true),
                                             lattice_moves_together(space.size()))) {
         const auto it = traced.find(y);
-        if (it != traced.end() && it->second - best.l2_lm < excess)
+        if (it != traced.end() && it->second - best.score < excess)
             near.emplace_back(it->second, y);
     }
     std::stable_sort(near.begin(), near.end(),
@@ -83,26 +86,30 @@ void run_refine(Objective& f, std::uint32_t lattice_stage, const ConfirmNoise& n
     if (near.size() > space.size()) near.resize(space.size());
     std::size_t best_start = 0;
     double best_l2 = first_l2;
-    for (const auto& [l2, y] : near) {
+    double best_score = f.stage_best() ? f.stage_best()->score : best.score;
+    for (const auto& [score, y] : near) {
         report.starts.push_back(y);
         (void)run_sub_step(f, y, flat);
-        if (f.stage_best() && f.stage_best()->l2_lm < best_l2)
-            best_l2 = f.stage_best()->l2_lm, best_start = report.starts.size() - 1;
+        if (f.stage_best() && f.stage_best()->score < best_score) {
+            best_score = f.stage_best()->score;
+            best_l2 = f.stage_best()->l2_lm;
+            best_start = report.starts.size() - 1;
+        }
         if (best_l2 <= noise.limit_lm) break;
     }
     if (near.empty())
         report.verdict = fmt::format(
-            "the refine from the lattice's best ended at l2 {:.6g} lm, above what noise alone "
-            "leaves (limit {:.6g} lm); no neighbour's l2 lies within {:.6g} lm (the best's "
+            "the refine from the lattice's best ended at {0} {2:.6g} {1}, above what noise alone "
+            "leaves (limit {3:.6g} {1}); no neighbour's {0} lies within {4:.6g} {1} (the best's "
             "excess over the limit) of the best's, so it was not started again",
-            first_l2, noise.limit_lm, excess);
+            l2, lm, first_l2, noise.limit_lm, excess);
     else
         report.verdict = fmt::format(
-            "the refine from the lattice's best ended at l2 {:.6g} lm, above what noise alone "
-            "leaves (limit {:.6g} lm); started again from {} neighbour(s) whose l2 lies within "
-            "{:.6g} lm (the best's excess over the limit) of the best's: the lowest, l2 {:.6g} "
-            "lm, from {}",
-            first_l2, noise.limit_lm, report.starts.size() - 1, excess, best_l2,
+            "the refine from the lattice's best ended at {0} {2:.6g} {1}, above what noise alone "
+            "leaves (limit {3:.6g} {1}); started again from {4} neighbour(s) whose {0} lies within "
+            "{5:.6g} {1} (the best's excess over the limit) of the best's: the lowest, {0} {6:.6g} "
+            "{1}, from {7}",
+            l2, lm, first_l2, noise.limit_lm, report.starts.size() - 1, excess, best_l2,
             space.text(report.starts[best_start]));
 }
 

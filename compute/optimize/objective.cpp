@@ -9,6 +9,8 @@
 
 #include <fmt/format.h>
 
+#include "model/press_measures.hpp"
+#include "model/surface.hpp"
 #include "optimize/point_trace.hpp"
 
 namespace fird {
@@ -64,9 +66,10 @@ double Objective::operator()(const std::vector<double>& x) {
     if (stages_.empty()) throw std::logic_error("Objective: no stage begun");
     if (const auto it = stage_memo_.find(x); it != stage_memo_.end()) {
         const Candidate& c = history_[it->second];
-        if (c.feasible) return c.l2_lm;
+        if (c.feasible) return c.score;
         const Scene candidate = space_.candidate(scene_, x);
-        return penalty(candidate_feasibility(candidate, candidate.reflector));
+        return infeasible_score(candidate_feasibility(candidate, candidate.reflector),
+                                candidate.reflector);
     }
     if (control_) {
         while (control_->pause.load() && !control_->stop.load())
@@ -90,7 +93,7 @@ double Objective::trace(const std::vector<double>& x) {
     const Feasibility f =
         prefetched_.contains(x) ? Feasibility{} : candidate_feasibility(candidate, reflector);
     c.feasible = f.feasible;
-    c.l2_lm = std::numeric_limits<double>::quiet_NaN();
+    c.l2_lm = c.smoothness = c.score = std::numeric_limits<double>::quiet_NaN();
     if (c.index < replay_.size()) {
         // A resumed search: the recorded candidate must be this one, or the search differs.
         const Candidate& r = replay_[c.index];
@@ -100,6 +103,8 @@ double Objective::trace(const std::vector<double>& x) {
                 "changed since it was recorded)",
                 c.index));
         c.l2_lm = r.l2_lm;
+        c.smoothness = r.smoothness;
+        c.score = r.score;
         c.ms = r.ms;
         c.replayed = true;
     } else if (c.feasible) {
@@ -117,13 +122,15 @@ double Objective::trace(const std::vector<double>& x) {
         if (!std::isfinite(c.l2_lm))
             throw std::runtime_error(fmt::format(
                 "candidate {}: the far field's l2 is not finite ({})", c.index, c.l2_lm));
+        c.smoothness = smoothness_of(reflector);
+        c.score = candidate_score(c.l2_lm, c.smoothness, scene_.optimize);
         // A batch's candidate adds its share of the batch's time to its own checks.
         c.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
                    .count() +
                (batched ? result.wall_ms : 0.0);
     }
     const Candidate& stored = record(std::move(c));
-    return stored.feasible ? stored.l2_lm : penalty(f);
+    return stored.feasible ? stored.score : infeasible_score(f, reflector);
 }
 
 std::vector<double> Objective::evaluate_all(const std::vector<std::vector<double>>& xs) {
@@ -186,6 +193,26 @@ void Objective::prefetch(std::span<const std::vector<double>> xs) {
         prefetched_.emplace(keys[k], std::move(results[k]));
 }
 
+double Objective::infeasible_score(const Feasibility& f, const ReflectorDesc& reflector) const {
+    if (!(scene_.optimize.smoothness > 0.0)) return penalty(f);
+    // Above any feasible score near it: the penalty bounds the l2, the candidate's own
+    // bending energy its share (a shape the family cannot make has none to add).
+    try {
+        return penalty(f) + scene_.optimize.smoothness * smoothness_of(reflector);
+    } catch (const std::exception&) {
+        return penalty(f);
+    }
+}
+
+double Objective::smoothness_of(const ReflectorDesc& reflector) const {
+    if (!(scene_.optimize.smoothness > 0.0)) return 0.0;
+    const double energy = search_bending_energy(Surface::make(reflector, scene_.holder));
+    if (!std::isfinite(energy))
+        throw std::runtime_error(fmt::format(
+            "[optimize] smoothness: the reflector's bending energy is not finite ({})", energy));
+    return energy;
+}
+
 Evaluator& Objective::stage_evaluator() {
     if (!evaluator_) {
         evaluator_ =
@@ -216,9 +243,10 @@ const Candidate& Objective::record(Candidate c) {
         ++s.traced;
         s.traced_ms += c.ms;
     }
-    if (c.feasible && (!s.best || c.l2_lm < s.best_l2_lm)) {
+    if (c.feasible && (!s.best || c.score < s.best_score)) {
         s.best = c.index;
         s.best_l2_lm = c.l2_lm;
+        s.best_score = c.score;
     }
     stage_memo_[c.x] = c.index;
     history_.push_back(std::move(c));

@@ -36,7 +36,9 @@ class Objective {
     // too). The threshold applies on the scene's far-field grid only.
     void begin_stage(const std::string& name, const Fidelity& fidelity);
 
-    // l2 of x at the current stage; an infeasible x is not traced and scores penalty().
+    // The score of x at the current stage: its l2, plus the [optimize] smoothness weight
+    // times its bending energy when there is one; an infeasible x is not traced and scores
+    // penalty().
     // The same x twice in a stage is answered from the first. Throws SearchStopped.
     double operator()(const std::vector<double>& x);
     // operator() of each x in turn (the same history, memo and stop rules, the same
@@ -61,6 +63,9 @@ class Objective {
     // breaks a press's constraint, so model-based methods are pushed back to the feasible
     // side.
     double penalty(const Feasibility& feasibility) const;
+    // What an infeasible candidate scores: penalty(), plus the smoothness weight times its
+    // bending energy when there is a weight (so it stays above its feasible neighbours).
+    double infeasible_score(const Feasibility& feasibility, const ReflectorDesc& reflector) const;
 
     // Two far fields of x at the current stage's fidelity: with the stage's rays (as its
     // candidates are traced) and with the rays of `seed` instead. A measurement of the
@@ -73,6 +78,8 @@ class Objective {
     // memo, not replayed, feasible, within the evaluation budget) into prefetched_.
     void prefetch(std::span<const std::vector<double>> xs);
     Evaluator& stage_evaluator();
+    // The reflector's bending energy with an [optimize] smoothness weight, else 0.
+    double smoothness_of(const ReflectorDesc& reflector) const;
     const Candidate& record(Candidate c);
 
     const vk::Context* ctx_;

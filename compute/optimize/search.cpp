@@ -9,6 +9,7 @@
 
 #include <fmt/format.h>
 
+#include "model/press_measures.hpp"
 #include "model/surface_distance.hpp"
 #include "optimize/methods.hpp"
 #include "optimize/objective.hpp"
@@ -113,7 +114,7 @@ LatticeCheck lattice_check(const Objective& f, const std::optional<ConfirmNoise>
         }
         ++c.polled;
         // An infeasible neighbour is no better: it is never traced (DESIGN.md §2).
-        if (it->second->feasible && it->second->l2_lm < best->l2_lm) ++c.better;
+        if (it->second->feasible && it->second->score < best->score) ++c.better;
     }
     if (c.better > 0)
         c.verdict = fmt::format("{} of the {} neighbours one step away are lower than {} "
@@ -127,10 +128,10 @@ LatticeCheck lattice_check(const Objective& f, const std::optional<ConfirmNoise>
                         c.neighbours, stage.name);
     else if (confirm && singles_missed == 0 && confirm->l2_lm <= confirm->limit_lm)
         c.verdict = fmt::format(
-            "its l2 {:.6g} lm is what noise alone leaves at this fidelity (two independent "
-            "traces of it differ by {:.6g} lm; limit {:.6g} lm), so the {} steps of several "
-            "parameters at once were "
-            "not polled; none of the {} single steps is lower",
+            "its {0} {2:.6g} {1} is what noise alone leaves at this fidelity (two independent "
+            "traces of it differ by {3:.6g} {1}; limit {4:.6g} {1}), so the {5} steps of several "
+            "parameters at once were not polled; none of the {6} single steps is lower",
+            metric_name(f.scene().optimize.metric), metric_unit(f.scene().optimize.metric),
             confirm->l2_lm, confirm->noise_l2_lm, confirm->limit_lm, c.not_polled.size(), c.polled);
     else
         c.verdict =
@@ -294,6 +295,9 @@ SearchOutcome run_search(const vk::Context& ctx, const Scene& scene, const Searc
     r.desired_photometrics = photometrics(out.desired.farfield, scene.source.flux_lm);
     final_eval.set_desired(out.desired.farfield);
     if (start_feasible) r.start_l2_lm = final_eval.compare();
+    r.smoothness_weight = scene.optimize.smoothness;
+    if (r.smoothness_weight > 0.0)
+        r.start_bending_energy = search_bending_energy(Surface::make(start, scene.holder));
 
     Objective f(ctx, scene, space, out.desired.farfield, settings, req.control, req.replay,
                 req.on_candidate);
@@ -354,6 +358,7 @@ SearchOutcome run_search(const vk::Context& ctx, const Scene& scene, const Searc
         if (s->best) {
             r.best = s->best;
             r.best_l2_lm = s->best_l2_lm;
+            r.best_score = s->best_score;
             break;
         }
     if (r.best) {
@@ -362,6 +367,7 @@ SearchOutcome run_search(const vk::Context& ctx, const Scene& scene, const Searc
         const Scene best_scene = space.candidate(scene, x);
         const ReflectorDesc& best = best_scene.reflector;
         r.constraints = constraints_at(scene, space, x);
+        if (r.smoothness_weight > 0.0) r.best_bending_energy = r.history[*r.best].smoothness;
         if (scene.target.kind == TargetDesc::Kind::Reflector)
             r.surface_rms_mm =
                 surface_rms_distance_mm(Surface::make(best, scene.holder),

@@ -103,6 +103,21 @@ nlohmann::json search_json(const SearchResult& r) {
     const auto photometry = [](const std::optional<Photometrics>& p) {
         return p ? photometrics_json(*p) : nlohmann::json(nullptr);
     };
+    nlohmann::json smoothness = nullptr;
+    if (r.smoothness_weight > 0.0) {
+        // The penalty the best pays, and its score on the final fresh-ray l2.
+        const std::optional<double> penalty =
+            r.best_bending_energy
+                ? std::optional<double>(r.smoothness_weight * *r.best_bending_energy)
+                : std::nullopt;
+        smoothness = {{"weight", r.smoothness_weight},
+                      {"start_bending_energy", optional_number(r.start_bending_energy)},
+                      {"best_bending_energy", optional_number(r.best_bending_energy)},
+                      {"best_penalty", optional_number(penalty)},
+                      {"final_score", r.final_l2_lm && penalty
+                                          ? nlohmann::json(*r.final_l2_lm + *penalty)
+                                          : nlohmann::json(nullptr)}};
+    }
     return {{"method", r.method},
             {"backend", r.backend},
             {"metric", r.metric},
@@ -114,6 +129,8 @@ nlohmann::json search_json(const SearchResult& r) {
             {"best_parameters", best},
             {"best_evaluation", r.best ? nlohmann::json(*r.best) : nullptr},
             {"best_l2", r.best ? nlohmann::json(r.best_l2_lm) : nullptr},
+            {"best_score", r.best ? nlohmann::json(r.best_score) : nullptr},
+            {"smoothness", smoothness},
             {"start_l2", optional_number(r.start_l2_lm)},
             {"final_l2", optional_number(r.final_l2_lm)},
             {"noise_floor_l2", optional_number(r.noise_floor_l2_lm)},
@@ -150,12 +167,20 @@ ProgressCharts progress_charts(const SearchResult& r) {
     for (const Candidate& c : r.history)
         last = std::max(last, double(c.index) + 1.0);
     const plot::Axis evaluations{.label = "evaluation", .min = 0.0, .max = std::max(10.0, last)};
-    // Every candidate's l2, coloured by stage, and each stage's best so far.
+    // Every candidate's score (its l2, plus the smoothness penalty when weighted),
+    // coloured by stage, and each stage's best so far.
+    const std::string scored =
+        r.smoothness_weight > 0.0
+            ? fmt::format("{} + {:g} x bending energy", r.metric, r.smoothness_weight)
+            : r.metric;
     plot::Chart& l2 = out.l2;
     l2 = {.title =
-              fmt::format("Search progress ({}): {} of each reflector tested", r.method, r.metric),
+              fmt::format("Search progress ({}): {} of each reflector tested", r.method, scored),
           .x = evaluations,
-          .y = {fmt::format("{} to the desired far field ({})", r.metric, r.metric_unit),
+          .y = {fmt::format("{} ({})",
+                            r.smoothness_weight > 0.0 ? scored
+                                                      : r.metric + " to the desired far field",
+                            r.metric_unit),
                 plot::Scale::Log}};
     for (std::size_t s = 0; s < r.stages.size(); ++s) {
         plot::Series points{.kind = plot::Series::Kind::Points,
@@ -166,21 +191,25 @@ ProgressCharts progress_charts(const SearchResult& r) {
         for (const Candidate& c : r.history) {
             if (c.stage != s || !c.feasible) continue;
             points.x.push_back(double(c.index));
-            points.y.push_back(c.l2_lm);
+            points.y.push_back(c.score);
             points.radius_px.push_back(2.5);
-            running = std::min(running, c.l2_lm);
+            running = std::min(running, c.score);
             best.x.push_back(double(c.index));
             best.y.push_back(running);
         }
         l2.series.push_back(std::move(points));
         l2.series.push_back(std::move(best));
     }
-    if (r.final_l2_lm)
+    if (r.final_l2_lm) {
+        // On the scores' axis: the final l2 plus the best's penalty.
+        const double penalty =
+            r.best_bending_energy ? r.smoothness_weight * *r.best_bending_energy : 0.0;
         l2.marks.push_back({.vertical = false,
-                            .value = *r.final_l2_lm,
-                            .label = fmt::format("final {} {:.4g} {} (fresh rays)", r.metric,
-                                                 *r.final_l2_lm, r.metric_unit),
+                            .value = *r.final_l2_lm + penalty,
+                            .label = fmt::format("final {} {:.4g} {} (fresh rays)", scored,
+                                                 *r.final_l2_lm + penalty, r.metric_unit),
                             .colour = plot::kInk});
+    }
     if (r.noise_floor_l2_lm)
         l2.marks.push_back(
             {.vertical = false,
@@ -205,8 +234,8 @@ ProgressCharts progress_charts(const SearchResult& r) {
             tried.y.push_back(c.x[k]);
             tried.radius_px.push_back(c.feasible ? 2.0 : 1.2);
             if (c.stage != stage) stage = c.stage, best = HUGE_VAL; // l2 of a new stage
-            if (c.feasible && c.l2_lm < best) {
-                best = c.l2_lm;
+            if (c.feasible && c.score < best) {
+                best = c.score;
                 if (!path.x.empty()) {
                     path.x.push_back(double(c.index));
                     path.y.push_back(path.y.back());

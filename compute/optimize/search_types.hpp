@@ -78,18 +78,28 @@ struct Candidate {
     std::uint32_t stage = 0;
     std::vector<double> x; // every optimized parameter, in the space's order
     bool feasible = true;
-    double l2_lm = 0.0;    // NaN when infeasible (never traced)
+    double l2_lm = 0.0; // NaN when infeasible (never traced)
+    // Its bending energy with an [optimize] smoothness weight (else 0), NaN when infeasible.
+    double smoothness = 0.0;
+    // What the search minimises: l2_lm + the weight x smoothness (l2_lm without a weight).
+    double score = 0.0;
     double ms = 0.0;       // wall time of its evaluation
     bool replayed = false; // read from the history of a resumed search, not traced
 };
+
+// l2_lm + smoothness x the weight of `optimize`; l2_lm itself without a weight (to the bit).
+inline double candidate_score(double l2_lm, double smoothness, const OptimizeSettings& optimize) {
+    return optimize.smoothness > 0.0 ? l2_lm + optimize.smoothness * smoothness : l2_lm;
+}
 
 struct StageSummary {
     std::string name;
     Fidelity fidelity;
     std::uint64_t evaluations = 0;
     std::uint64_t infeasible = 0;
-    std::optional<std::uint64_t> best; // index of its best feasible candidate
+    std::optional<std::uint64_t> best; // index of its best feasible candidate (by score)
     double best_l2_lm = 0.0;
+    double best_score = 0.0;
     double traced_ms = 0.0; // wall time of its traced (not replayed) candidates
     std::uint64_t traced = 0;
 };
@@ -152,7 +162,12 @@ struct SearchResult {
     std::optional<double> final_l2_lm;       // the best, fresh rays, scene fidelity
     std::optional<double> noise_floor_l2_lm; // two independent traces of the best
     std::optional<double> surface_rms_mm;    // best against a target reflector, over the holder
-    std::string metric = "l2";               // what every l2 above measures (farfield.hpp)
+    // [optimize] smoothness: its weight, and the bending energy (press_measures.hpp) of the
+    // scene's reflector and of the best, as the search measured it; unset without a weight.
+    double smoothness_weight = 0.0;
+    std::optional<double> start_bending_energy, best_bending_energy;
+    double best_score = 0.0; // what the search minimised at the best (best_l2_lm without a weight)
+    std::string metric = "l2"; // what every l2 above measures (farfield.hpp)
     std::string metric_unit = "lm";
     // The best's far field (fresh rays) and the desired one as a data sheet states them.
     std::optional<Photometrics> photometrics, desired_photometrics;

@@ -110,6 +110,8 @@ nlohmann::json manufacturability_json(const PressMeasures& m, const ConstraintsD
             {"min_radius_at_mm", std::isfinite(m.min_radius_mm) ? xy(m.min_radius_at_mm) : nullptr},
             {"min_radius_is_kink", m.kink},
             {"depth_mm", m.depth_mm},
+            // What an [optimize] smoothness weight penalises (on the full grid here).
+            {"bending_energy", finite_or_null(m.bending_energy)},
             {"area_mm2", m.area_mm2},
             {"unclamped_area_mm2", m.unclamped_area_mm2},
             {"rim_walls", walls},

@@ -263,6 +263,7 @@ ToleranceResult run_tolerance(const vk::Context& ctx, const Scene& scene, const 
         }
     }
     out.ranked_by = desired ? "l2" : "efficiency";
+    out.metric = scene.optimize.metric;
     for (const RealisationResult& row : out.rows)
         out.infeasible += row.feasible ? 0 : 1;
     double widest = -1.0;
@@ -304,6 +305,8 @@ nlohmann::json tolerance_json(const ToleranceResult& r) {
     j["most_sensitive"] =
         r.most_sensitive.empty() ? nlohmann::json(nullptr) : nlohmann::json(r.most_sensitive);
     j["ranked_by"] = r.ranked_by;
+    j["metric"] = metric_name(r.metric);
+    j["metric_unit"] = metric_unit(r.metric);
     j["infeasible"] = r.infeasible;
     j["time_s"] = r.time_s;
     return j;
@@ -313,9 +316,11 @@ void write_tolerance_outputs(const std::string& dir, const Scene& scene, const T
     namespace fs = std::filesystem;
     create_output_directory(dir);
     const auto path = [&](const char* name) { return (fs::path(dir) / name).string(); };
-    std::string csv = "kind,realisation,source_dx_mm,source_dy_mm,source_dz_mm,tilt_x_deg,"
-                      "tilt_y_deg,reflectance,surface_rms_mm,l2_lm,efficiency,peak_cd,"
-                      "beam_angle_deg,feasible\n";
+    // The metric's column is named as in history.csv: l2_lm, or candela_l2_cd.
+    std::string csv =
+        fmt::format("kind,realisation,source_dx_mm,source_dy_mm,source_dz_mm,tilt_x_deg,tilt_y_deg,"
+                    "reflectance,surface_rms_mm,{}_{},efficiency,peak_cd,beam_angle_deg,feasible\n",
+                    metric_name(r.metric), metric_unit(r.metric));
     std::vector<RealisationResult> all{r.nominal};
     all.insert(all.end(), r.rows.begin(), r.rows.end());
     for (const RealisationResult& row : all) {
@@ -332,11 +337,14 @@ void write_tolerance_outputs(const std::string& dir, const Scene& scene, const T
     write_text_file(path("tolerance.json"), tolerance_json(r).dump(2) + "\n");
     // Each kind's realisations sorted: the metric's distribution (a CDF) per tolerance.
     const bool l2 = r.ranked_by == "l2";
-    plot::Chart chart{.title = fmt::format("{}: {} over {} realisations", scene.name,
-                                           l2 ? "l2 to the target" : "efficiency",
-                                           r.tolerances.realisations),
-                      .x = {.label = "share of the realisations"},
-                      .y = {.label = l2 ? "l2 (lm)" : "efficiency"}};
+    plot::Chart chart{
+        .title =
+            fmt::format("{}: {} over {} realisations", scene.name,
+                        l2 ? fmt::format("{} to the target", metric_name(r.metric)) : "efficiency",
+                        r.tolerances.realisations),
+        .x = {.label = "share of the realisations"},
+        .y = {.label = l2 ? fmt::format("{} ({})", metric_name(r.metric), metric_unit(r.metric))
+                          : "efficiency"}};
     std::vector<std::string> kinds{"joint"};
     kinds.insert(kinds.end(), r.active.begin(), r.active.end());
     for (std::size_t k = 0; k < kinds.size(); ++k) {

@@ -63,8 +63,9 @@ struct ToleranceResult {
     RealisationResult nominal;
     std::vector<RealisationResult> rows; // joint, then each tolerance's
     std::vector<std::string> active;
-    std::string most_sensitive;   // the tolerance whose own runs spread the metric most
-    std::string ranked_by;        // "l2" (with a target) or "efficiency"
+    std::string most_sensitive; // the tolerance whose own runs spread the metric most
+    std::string ranked_by;      // "l2" (with a target) or "efficiency"
+    FarFieldMetric metric = FarFieldMetric::L2; // what each l2 measures (the scene's)
     std::uint64_t infeasible = 0; // rows left out of the spreads (ToleranceResult::rows)
     double time_s = 0.0;
 };

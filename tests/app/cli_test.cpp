@@ -19,6 +19,7 @@
 
 #include "io/ray_files_fixture.hpp"
 #include "io/scene_file.hpp"
+#include "model/press_measures.hpp"
 #include "run_fird.hpp"
 
 namespace {
@@ -597,6 +598,67 @@ TEST(CliOptimize, AProfileSearchUnderTheCandelaMetricReportsItsPhotometrics) {
     const fird::Scene best = fird::load_scene(dir + "/best.toml");
     EXPECT_EQ(best.reflector.family, fird::Family::Profile);
     EXPECT_EQ(best.reflector.parameters.at("h_2"), j["best_parameters"]["h_2"].get<double>());
+}
+
+// [optimize] smoothness: the search minimises l2 + weight x bending energy. Its history
+// keeps each candidate's energy; the best is the lowest score of the search's stage
+// (recomputed here from the history's columns); the JSON states the weight, the energies
+// and the penalty; the best's energy is that of best.toml's reflector (measured here).
+TEST(CliOptimize, ASmoothnessWeightedSearchMinimisesItsScoreAndReportsIt) {
+    const std::string dir = ::testing::TempDir() + "/fird_optimize_smoothness";
+    std::filesystem::remove_all(dir);
+    const std::string scene = dir + "_scene.toml";
+    constexpr double weight = 40.0;
+    {
+        std::ifstream in(std::string(FIRD_SOURCE_DIR) + "/scenes/test/profile_dish.toml");
+        std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+        text.replace(text.find("heights_mm = { min"),
+                     std::string("heights_mm = { min = 0.0, max = 6.0, step = 0.05 }").size(),
+                     "h_2 = { min = 0.4, max = 1.2, step = 0.1 }");
+        text.replace(text.find("metric = "), 0, "smoothness = 40.0\n");
+        text += "\n[target]\nseed = 2\nparameters = { h_2 = 1.0 }\n";
+        std::ofstream(scene) << text;
+    }
+    const auto r = run("optimize " + scene + " --method grid --rays 2e4 --json --out " + dir);
+    ASSERT_EQ(r.code, 0) << r.out;
+    const auto j = nlohmann::json::parse(r.out.substr(r.out.find('{')));
+    std::ifstream history(dir + "/history.csv");
+    std::string line;
+    std::getline(history, line);
+    ASSERT_NE(line.find(",h_2,candela_l2_cd,smoothness,feasible,ms"), std::string::npos) << line;
+    double lowest = HUGE_VAL, lowest_energy = 0.0;
+    int lowest_at = -1, rows = 0;
+    while (std::getline(history, line)) {
+        std::vector<std::string> cells;
+        std::stringstream ss(line);
+        for (std::string cell; std::getline(ss, cell, ',');)
+            cells.push_back(cell);
+        ASSERT_EQ(cells.size(), 11u) << line;
+        ++rows;
+        if (cells[9] != "1") continue;
+        const double score = std::stod(cells[7]) + weight * std::stod(cells[8]);
+        EXPECT_GT(std::stod(cells[8]), 0.0) << "a dish bends: " << line;
+        if (score < lowest)
+            lowest = score, lowest_at = std::stoi(cells[0]), lowest_energy = std::stod(cells[8]);
+    }
+    EXPECT_EQ(rows, 9);
+    ASSERT_GE(lowest_at, 0);
+    EXPECT_EQ(j["best_evaluation"].get<int>(), lowest_at);
+    EXPECT_NEAR(j["best_score"].get<double>(), lowest, 1e-12 * lowest);
+    const auto& sm = j["smoothness"];
+    EXPECT_EQ(sm["weight"].get<double>(), weight);
+    EXPECT_EQ(sm["best_bending_energy"].get<double>(), lowest_energy);
+    EXPECT_NEAR(sm["best_penalty"].get<double>(), weight * lowest_energy, 1e-12 * lowest);
+    EXPECT_GT(sm["start_bending_energy"].get<double>(), 0.0);
+    EXPECT_NEAR(sm["final_score"].get<double>(),
+                j["final_l2"].get<double>() + weight * lowest_energy, 1e-9 * lowest);
+    // The energy the search penalised is the best reflector's, as the press measures it.
+    const fird::Scene best = fird::load_scene(dir + "/best.toml");
+    EXPECT_NEAR(fird::search_bending_energy(fird::Surface::make(best.reflector, best.holder)),
+                lowest_energy, 1e-12 * lowest_energy);
+    std::ifstream report(dir + "/manufacturability.json");
+    ASSERT_TRUE(report) << "the best part's report";
+    EXPECT_GT(nlohmann::json::parse(report)["bending_energy"].get<double>(), 0.0);
 }
 
 // A ray file source (the writer's, beside its scene): a search over it runs, and its

@@ -220,5 +220,73 @@ TEST(PressMeasures, EachConstraintIsMetOrBrokenByItsMeasure) {
     EXPECT_TRUE(check_constraints(m, c)[1].met);
 }
 
+// The bending energy of a paraboloid of revolution z = z0 + a r^2 / 2 (a = 1 / 2f):
+// principal curvatures a / w^3 (meridian) and a / w (around), w = sqrt(1 + a^2 r^2), over
+// the area element w dx dy, so its density per dx dy is a^2 (1 / w^5 + 1 / w). The closed
+// form's integral, taken here by Simpson's rule on a far finer grid than the press's, is
+// the answer, with no use of the family's code.
+double paraboloid_bending_density(double a, double r) {
+    const double w = std::sqrt(1.0 + a * a * r * r);
+    return a * a * (1.0 / std::pow(w, 5.0) + 1.0 / w);
+}
+
+// Unclamped over the whole holder: the press grid's trapezoid sum against Simpson's rule
+// on 2000 x 2000 intervals of the closed form. The trapezoid rule's error on the 0.1 mm
+// grid is h^2 / 12 times the integrand's second derivatives (~10 a^4 here) over the
+// 400 mm^2: about 1e-5 of the total; the Hessian's differences add e^2 (1e-6 mm^2) times
+// the third derivatives, far less. 1e-4 of the total bounds both; the search's coarser
+// grid (a 4th of the samples, 0.16 mm) by (1.6)^2 more.
+TEST(PressMeasures, TheBendingEnergyOfAParaboloidIsTheClosedFormsIntegral) {
+    const double f = 10.0, a = 1.0 / (2.0 * f);
+    const Holder h{{-10.0, -10.0, -20.0}, {10.0, 10.0, 0.0}};
+    const Surface s = surface(Family::Paraboloid,
+                              {{"fx", f}, {"fy", f}, {"z0", -10.0}, {"cx", 0.0}, {"cy", 0.0}}, h);
+    constexpr int n = 2000; // Simpson: even
+    const double step = 20.0 / n;
+    const auto simpson = [](int i) { return i == 0 || i == n ? 1.0 : i % 2 ? 4.0 : 2.0; };
+    double expected = 0.0;
+    for (int j = 0; j <= n; ++j)
+        for (int i = 0; i <= n; ++i)
+            expected +=
+                simpson(i) * simpson(j) *
+                paraboloid_bending_density(a, std::hypot(-10.0 + i * step, -10.0 + j * step));
+    expected *= step * step / 9.0;
+    const PressMeasures m = press_measures(s, 201, 201);
+    EXPECT_NEAR(m.bending_energy, expected, 1e-4 * expected);
+    EXPECT_NEAR(search_bending_energy(s), expected, 3e-4 * expected);
+}
+
+// Clamped at the holder's top outside r = R: only the unclamped disc counts (the clamp's
+// flat and its kink are the holder's), 2 pi times the integral of r times the density to
+// R (Simpson, 1e4 intervals). The grid counts a sample wholly in or out where the circle
+// crosses its cell: at most a band one sample wide along the circle, 2 pi R h times the
+// density there, which bounds the difference.
+TEST(PressMeasures, TheBendingEnergyLeavesOutTheClampsFlat) {
+    const double f = 10.0, a = 1.0 / (2.0 * f);
+    const Holder h{{-10.0, -10.0, -20.0}, {10.0, 10.0, -8.0}};
+    const Surface s = surface(Family::Paraboloid,
+                              {{"fx", f}, {"fy", f}, {"z0", -10.0}, {"cx", 0.0}, {"cy", 0.0}}, h);
+    const double rim = std::sqrt(2.0 * 4.0 * f); // -10 + R^2 / 4f = -8
+    constexpr int n = 10000;
+    double expected = 0.0;
+    for (int i = 0; i <= n; ++i) {
+        const double r = rim * i / n, weight = i == 0 || i == n ? 1.0 : i % 2 ? 4.0 : 2.0;
+        expected += weight * 2.0 * std::numbers::pi * r * paraboloid_bending_density(a, r);
+    }
+    expected *= rim / n / 3.0;
+    const PressMeasures m = press_measures(s, 201, 201);
+    const double band = 2.0 * std::numbers::pi * rim * m.dx_mm * paraboloid_bending_density(a, rim);
+    EXPECT_NEAR(m.bending_energy, expected, band);
+}
+
+// A tilted plane bends nowhere: its bending energy is the differences' rounding only.
+TEST(PressMeasures, APlaneHasNoBendingEnergy) {
+    const Holder h{{0.0, 0.0, -20.0}, {10.0, 10.0, 0.0}};
+    const Surface s = surface(
+        Family::Plane, {{"z0", -10.0}, {"sx", 0.3}, {"sy", -0.4}, {"cx", 5.0}, {"cy", 5.0}}, h);
+    // Rounding: curvatures of 1e-16 |g| / e (e = 2e-4 mm) squared over 100 mm^2: 1e-20.
+    EXPECT_LT(press_measures(s, 51, 51).bending_energy, 1e-18);
+}
+
 } // namespace
 } // namespace fird

@@ -337,7 +337,37 @@ INSTANTIATE_TEST_SUITE_P(
                 "[reflector.constraints] max_depth_mm: must be a number"},
         BadCase{"[trace]", "[reflector.constraints]\nmax_draft = 5.0\n[trace]",
                 "[reflector.constraints] max_draft: unknown key"},
+        BadCase{"max_bounces = 2", "max_bounces = 2\n[optimize]\nsmoothness = -0.5",
+                "[optimize] smoothness: must be >= 0"},
+        BadCase{"max_bounces = 2", "max_bounces = 2\n[optimize]\nsmoothness = \"high\"",
+                "[optimize] smoothness: must be a number"},
         BadCase{"fx = 3.0", "fx = 3.0 3.0", "bad.toml:13"}));
+
+// [optimize] smoothness: read, written back, and refused for a mesh (its flat facets have
+// no curvature: the penalty would be the grid's, not the part's) in one line naming it.
+TEST(SceneFile, ASmoothnessWeightReadsRoundTripsAndIsRefusedForAMesh) {
+    const Scene plain = parse_scene(kPointSource + kAfterSource, "plain.toml");
+    EXPECT_EQ(plain.optimize.smoothness, 0.0);
+    EXPECT_EQ(scene_to_toml(plain).find("smoothness"), std::string::npos);
+    const Scene s =
+        parse_scene(kPointSource + kAfterSource + "[optimize]\nsmoothness = 2.5\n", "smooth.toml");
+    EXPECT_EQ(s.optimize.smoothness, 2.5);
+    EXPECT_EQ(parse_scene(scene_to_toml(s), "smooth.toml"), s);
+    const std::string mesh_path = kScenes + "test/mesh_dish.toml";
+    std::ifstream in(mesh_path);
+    const std::string mesh((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    ASSERT_FALSE(mesh.empty());
+    try {
+        (void)parse_scene(mesh + "\n[optimize]\nsmoothness = 1.0\n", mesh_path);
+        ADD_FAILURE() << "a mesh with a smoothness weight was accepted";
+    } catch (const SceneError& e) {
+        const std::string what = e.what();
+        EXPECT_EQ(what.rfind(mesh_path, 0), 0u) << what;
+        EXPECT_NE(what.find("[optimize] smoothness: a mesh's flat facets"), std::string::npos)
+            << what;
+        EXPECT_EQ(what.find('\n'), std::string::npos) << what;
+    }
+}
 
 // A B-spline whose every control height is freed by one line: bad values of heights_mm
 // (in [reflector] or in [reflector.optimize]) are refused in one line naming the key.

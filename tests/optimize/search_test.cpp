@@ -739,6 +739,33 @@ TEST(SearchModel, HistoryRoundTripsAndACutLastRowIsDropped) {
     EXPECT_EQ(ss.str().back(), '\n'); // the cut row is gone from the file too
 }
 
+// With a smoothness weight the history keeps each candidate's bending energy beside its
+// l2, reads both back to the bit and recomputes the score; a history written without the
+// column is refused for a search that has a weight (and the other way round).
+TEST(SearchModel, HistoryKeepsTheBendingEnergyWithASmoothnessWeight) {
+    const std::string path = ::testing::TempDir() + "/history_smoothness.csv";
+    const StageSummary stage{.name = "grid",
+                             .fidelity = {.rays = 10, .farfield_w = 4, .farfield_h = 2}};
+    const OptimizeSettings weighted{.smoothness = 0.75};
+    {
+        HistoryWriter w(path, {"h_0"}, false, weighted);
+        w.write({.index = 0, .x = {0.5}, .l2_lm = 2.0 / 7.0, .smoothness = 1.0 / 3.0}, stage);
+        w.write({.index = 1, .x = {0.6}, .feasible = false, .l2_lm = NAN, .smoothness = NAN},
+                stage);
+    }
+    const auto h = read_history(path, {"h_0"}, weighted);
+    ASSERT_EQ(h.size(), 2u);
+    EXPECT_EQ(h[0].l2_lm, 2.0 / 7.0);
+    EXPECT_EQ(h[0].smoothness, 1.0 / 3.0);
+    EXPECT_EQ(h[0].score, 2.0 / 7.0 + 0.75 * (1.0 / 3.0));
+    EXPECT_FALSE(h[1].feasible);
+    EXPECT_TRUE(std::isnan(h[1].smoothness));
+    EXPECT_THROW(read_history(path, {"h_0"}), std::runtime_error);
+    const std::string plain = ::testing::TempDir() + "/history_plain.csv";
+    { HistoryWriter w(plain, {"h_0"}, false); }
+    EXPECT_THROW(read_history(plain, {"h_0"}, weighted), std::runtime_error);
+}
+
 } // namespace
 } // namespace fird::test
 
