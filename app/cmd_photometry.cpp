@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 
 #include "commands.hpp"
+#include "parse.hpp"
 #include "photometry/photometry_commands.hpp"
 #include "photometry/photometry_file.hpp"
 
@@ -51,11 +52,11 @@ void register_photometry(CLI::App& app, const GlobalOptions&, std::function<int(
     convert
         ->add_option("--c-step", conv->options.c_step_deg,
                      "C-plane step (deg) of a table made from a far field")
-        ->check(CLI::Range(0.01, 180.0));
+        ->check(finite_range(0.01, 180.0));
     convert
         ->add_option("--gamma-step", conv->options.gamma_step_deg,
                      "gamma step (deg) of a table made from a far field")
-        ->check(CLI::Range(0.01, 90.0));
+        ->check(finite_range(0.01, 90.0));
     convert->callback([&run, conv] {
         run = [conv] {
             convert_photometry(conv->in, conv->out, conv->options);

@@ -24,6 +24,7 @@ struct Args {
     std::string scene, out, size = "1280x800", view = "all", camera, parameters, rays;
     std::int64_t pick = -1, quadtree_level = -1;
     std::uint32_t paths = 300;
+    double plane_distance_m = 3.0;
     bool height_colours = false, log = false, json = false;
 };
 
@@ -59,11 +60,12 @@ render::OrbitCamera parse_camera(const std::string& text, render::OrbitCamera c)
 
 int run_screenshot(const GlobalOptions& global, const Args& a) {
     const auto [w, h] = parse_size(a.size);
-    static const std::vector<std::string> views{"viewport", "farfield", "plots", "all",
-                                                "workbench"};
+    static const std::vector<std::string> views{
+        "viewport", "farfield", "plots", "all", "workbench", "polar", "isocandela", "illuminance"};
     if (std::find(views.begin(), views.end(), a.view) == views.end())
-        throw UsageError(
-            fmt::format("--view {}: one of viewport, farfield, plots, all, workbench", a.view));
+        throw UsageError(fmt::format("--view {}: one of viewport, farfield, plots, all, "
+                                     "workbench, polar, isocandela, illuminance",
+                                     a.view));
     if (a.view == "workbench") {
 #ifdef FIRD_HAVE_UI
         std::uint64_t errors = 0;
@@ -121,6 +123,18 @@ int run_screenshot(const GlobalOptions& global, const Args& a) {
         cv.write_png(path("farfield.png"));
         wrote(files.back());
     }
+    // The luminaire views (beside the desired ones): one file each, named as the view.
+    for (const LuminaireView view :
+         {LuminaireView::PolarMap, LuminaireView::Isocandela, LuminaireView::Illuminance}) {
+        const std::string name = luminaire_view_name(view);
+        if (!all && a.view != name) continue;
+        plot::Canvas cv{int(w), int(h)};
+        render::draw_farfield_view(
+            cv, {0, 0, double(w), double(h)}, traced.farfield,
+            {.log_scale = a.log, .luminaire = view, .plane_distance_m = a.plane_distance_m});
+        cv.write_png(path((name + ".png").c_str()));
+        wrote(files.back());
+    }
     if (all || a.view == "plots") {
         plot::Canvas cv{int(w), int(h)};
         render::draw_profile_plots(cv, {0, 0, double(w), double(h)}, traced.farfield);
@@ -146,7 +160,12 @@ void register_screenshot(CLI::App& app, const GlobalOptions& global, std::functi
     cmd->add_option("SCENE", a->scene, "Scene file (TOML)")->required();
     cmd->add_option("--out", a->out, "Output directory")->required();
     cmd->add_option("--size", a->size, "Image size WxH (default 1280x800)");
-    cmd->add_option("--view", a->view, "viewport, farfield, plots, all (default) or workbench");
+    cmd->add_option("--view", a->view,
+                    "viewport, farfield, plots, polar, isocandela, illuminance, all (default) or "
+                    "workbench");
+    cmd->add_option("--plane-distance", a->plane_distance_m,
+                    "Metres from the luminaire to the illuminance view's plane (default 3)")
+        ->check(finite_range(1e-3, 1e4));
     cmd->add_option("--camera", a->camera, "Orbit camera AZ,EL,DIST (deg, deg, mm)");
     cmd->add_option("--parameters", a->parameters, "Reflector values, e.g. fx=15,fy=10");
     cmd->add_option("--rays", a->rays, "Rays to trace (default: the scene's)");

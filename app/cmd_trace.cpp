@@ -23,6 +23,7 @@ void register_trace(CLI::App& app, const GlobalOptions& global, std::function<in
         std::string rays;
         std::uint64_t seed = 0;
         unsigned threads = 0;
+        double plane_distance_m = 3.0;
         bool json = false;
         bool profile = false;
     };
@@ -43,6 +44,9 @@ void register_trace(CLI::App& app, const GlobalOptions& global, std::function<in
                   "Fast path: per bounce, rays, device times, walk steps and leaf tests per ray "
                   "and the SIMD lane utilization (a counting variant of the trace pass)");
     cmd->add_option("--out", a->out, "Write farfield.npy and images to this directory");
+    cmd->add_option("--plane-distance", a->plane_distance_m,
+                    "Metres from the luminaire to the plane of --out's illuminance.png (default 3)")
+        ->check(finite_range(1e-3, 1e4));
     cmd->callback([&global, &run, a, cmd] {
         run = [&global, a, cmd] {
             TraceOverrides o;
@@ -67,7 +71,8 @@ void register_trace(CLI::App& app, const GlobalOptions& global, std::function<in
                              "(counted as lost): the reflector cuts the light source\n",
                              scene.path.c_str(),
                              static_cast<unsigned long long>(e.tally.below_surface));
-            if (!a->out.empty()) write_evaluation_outputs(a->out, scene, e);
+            if (!a->out.empty())
+                write_evaluation_outputs(a->out, scene, e, "fird trace", a->plane_distance_m);
             const auto j = evaluation_json(e);
             if (a->json) {
                 std::printf("%s\n", j.dump(2).c_str());

@@ -17,6 +17,18 @@ double number(const std::string& option, const std::string& text) {
 }
 } // namespace
 
+CLI::Validator finite_range(double lo, double hi) {
+    return CLI::Validator(
+        [lo, hi](std::string& text) -> std::string {
+            const auto v = parse_finite_number(text);
+            if (!v) return fmt::format("'{}' is not a finite number", text);
+            if (!(*v >= lo && *v <= hi))
+                return fmt::format("{} is not in [{:g}, {:g}]", text, lo, hi);
+            return {};
+        },
+        fmt::format("FINITE in [{:g} - {:g}]", lo, hi));
+}
+
 std::vector<std::string> split_list(const std::string& text, char separator) {
     std::vector<std::string> out;
     std::stringstream ss(text);

@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include <CLI/CLI.hpp>
+
 namespace fird::app {
 
 struct UsageError : std::invalid_argument {
@@ -20,6 +22,9 @@ std::vector<std::string> split_list(const std::string& text, char separator = ',
 std::uint64_t parse_count(const std::string& option, const std::string& text, double max = 1e10);
 std::vector<std::uint64_t> parse_counts(const std::string& option, const std::string& text,
                                         double max = 1e10);
+
+// A check for a number option: finite and within [lo, hi] (CLI::Range lets NaN through).
+CLI::Validator finite_range(double lo, double hi);
 
 // NAME=VALUE,NAME=VALUE with finite numbers.
 std::map<std::string, double> parse_assignments(const std::string& option, const std::string& text);

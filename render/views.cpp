@@ -102,6 +102,19 @@ std::optional<FarFieldCellAt> farfield_cell_at(const std::vector<FarFieldViewMap
 
 void draw_farfield_view(plot::Canvas& cv, const plot::Rect& a, const FarFieldContent& c,
                         const FarFieldViewOptions& o) {
+    if (o.luminaire) {
+        if (!(c.obtained.total_lm() > 0.0)) {
+            cv.text(a.x + a.w / 2, a.y + a.h / 2, "no light in the far field", 13.0,
+                    plot::Align::Centre);
+            return;
+        }
+        const CandelaTable obtained = view_table(c.obtained);
+        std::optional<CandelaTable> desired;
+        if (c.desired && c.desired->total_lm() > 0.0) desired = view_table(*c.desired);
+        draw_luminaire_view(cv, a, *o.luminaire, obtained, desired ? &*desired : nullptr,
+                            {.title = c.title, .plane_distance_m = o.plane_distance_m});
+        return;
+    }
     const bool polar = shows_polar(a, o);
     const double maps_w = maps_width(a, o);
     const std::vector<FarFieldMapKind> kinds = shown_maps(c, o);

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "farfield/farfield.hpp"
+#include "photometry/luminaire_pictures.hpp"
 #include "plot/chart.hpp"
 #include "plot/farfield_picture.hpp"
 #include "viewport.hpp"
@@ -29,6 +30,10 @@ struct FarFieldViewOptions {
     std::optional<FarFieldMapKind> only;
     // The maps in this many columns, row by row (the polar curves only beside one column).
     int columns = 1;
+    // Instead of the maps: a luminaire view (polar map, isocandela lines, illuminance on a
+    // plane this far below), beside the desired one and the difference.
+    std::optional<LuminaireView> luminaire;
+    double plane_distance_m = 3.0;
 };
 
 // How an area of w x h pixels shows n maps: in the columns that give each map the most

@@ -50,8 +50,10 @@ void calibration_plots(const CalibrationProgress& c, const std::string& scene) {
             (avail.x - ImGui::GetStyle().ItemSpacing.x * float(columns - 1)) / float(columns);
         for (std::size_t k = 0; k < ps.size(); ++k) {
             if (k % std::size_t(columns) != 0) ImGui::SameLine();
-            chart_widget(fmt::format("##semivariogram{}", k).c_str(),
-                         semivariogram_chart(ps[k], c.semivariogram->rays, scene), ImVec2(w, h));
+            chart_widget(
+                fmt::format("##semivariogram{}", k).c_str(),
+                semivariogram_chart(ps[k], c.semivariogram->rays, scene, c.semivariogram->metric),
+                ImVec2(w, h));
         }
     } else {
         plot::Series runs{

@@ -25,6 +25,19 @@ void farfield_panel(Frame& f) {
     ImGui::SetNextItemWidth(7.0f * ImGui::GetFontSize());
     ImGui::Combo("maps", &s.farfield.maps, shown, 4);
     if (ImGui::IsItemHovered()) ImGui::SetTooltip("one map alone fills the panel");
+    ImGui::SameLine();
+    const char* views[] = {"far field", "polar map", "isocandela", "illuminance"};
+    ImGui::SetNextItemWidth(8.0f * ImGui::GetFontSize());
+    ImGui::Combo("view", &s.farfield.view, views, 4);
+    if (ImGui::IsItemHovered())
+        ImGui::SetTooltip("the equirectangular maps, or what a lighting engineer reads: the "
+                          "intensity around nadir, isocandela lines in C-gamma, the illuminance "
+                          "on a plane below; each beside the desired one and the difference");
+    if (s.farfield.view == 3) { // on its own line: the toolbar is full
+        ImGui::SetNextItemWidth(8.0f * ImGui::GetFontSize());
+        ImGui::SliderFloat("plane", &s.farfield.plane_distance_m, 0.5f, 20.0f, "%.1f m",
+                           ImGuiSliderFlags_Logarithmic);
+    }
     if (!f.snapshot) {
         ImGui::TextDisabled("no trace yet");
         ImGui::End();
@@ -41,7 +54,7 @@ void farfield_panel(Frame& f) {
     // The maps in the columns that keep each readable; below their least height they keep
     // it and the panel scrolls.
     const ImVec2 avail = ImGui::GetContentRegionAvail();
-    const std::size_t n = s.farfield.maps != 0 || !ff.desired ? 1 : 3;
+    const std::size_t n = s.farfield.maps != 0 || !ff.desired || s.farfield.view > 0 ? 1 : 3;
     render::FarFieldViewGrid grid = render::farfield_view_grid(avail.x, avail.y, n);
     const bool scrolls = grid.height > avail.y + 0.5f;
     float w = avail.x;
@@ -63,7 +76,7 @@ void farfield_panel(Frame& f) {
         ImGui::GetWindowDrawList()->AddImage(
             static_cast<ImTextureID>(s.farfield_image.texture.get()), origin,
             ImVec2(origin.x + float(iw), origin.y + float(ih)));
-    if (ImGui::IsItemHovered()) {
+    if (ImGui::IsItemHovered() && s.farfield.view == 0) { // the maps' zoom and readout
         const float wheel = ImGui::GetIO().MouseWheel;
         if (wheel != 0.0f)
             s.farfield.zoom = std::clamp(s.farfield.zoom * std::pow(1.25f, wheel), 1.0f, 8.0f);

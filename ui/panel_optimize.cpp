@@ -121,14 +121,14 @@ void search_status(const WorkbenchState& s, const SearchProgress& p) {
                            metric_name(metric), c->l2_lm, metric_unit(metric),
                            rays_text(fid.rays).c_str(), fid.farfield_w, fid.farfield_h,
                            p.stages[c->stage].name.c_str());
-        // The penalty the search adds ([optimize] smoothness), beside the l2.
-        const double weight = s.editor.scene ? s.editor.scene->optimize.smoothness : 0.0;
-        if (weight > 0.0)
-            ImGui::TextWrapped("%s", fmt::format("smoothness: bending energy {:.4g}, penalty "
-                                                 "{:.4g} {} (weight {:g})",
-                                                 c->smoothness, weight * c->smoothness,
-                                                 metric_unit(metric), weight)
-                                         .c_str());
+        // The penalty the search added ([optimize] smoothness), beside the l2: the
+        // candidate's own score less its l2 (the weight it was searched with).
+        if (c->score > c->l2_lm)
+            ImGui::TextWrapped("%s",
+                               fmt::format("smoothness: bending energy {:.4g}, penalty "
+                                           "{:.4g} {}",
+                                           c->smoothness, c->score - c->l2_lm, metric_unit(metric))
+                                   .c_str());
     }
 }
 
@@ -151,7 +151,12 @@ void progress_plots(const SearchProgress& p) {
     // Rows a small panel can spare: no title (the status above names the method), the
     // stages by name and rays (the status names their grids), one line for the y axis.
     charts.l2.title.clear();
-    charts.l2.y.label = "l2 (lm) of each reflector tested";
+    // The score plotted: the l2, or with a smoothness weight the l2 plus its penalty.
+    const bool weighted = std::any_of(p.history.begin(), p.history.end(), [](const Candidate& c) {
+        return c.feasible && c.score > c.l2_lm;
+    });
+    charts.l2.y.label = weighted ? "score (l2 + smoothness penalty) of each reflector tested"
+                                 : "l2 of each reflector tested";
     for (std::size_t k = 0; k < p.stages.size() && 2 * k < charts.l2.series.size(); ++k)
         charts.l2.series[2 * k].label =
             fmt::format("{} {:.0e}", p.stages[k].name, double(p.stages[k].fidelity.rays));

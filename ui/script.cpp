@@ -24,6 +24,8 @@ const std::map<std::string, std::tuple<ScriptAction::Kind, int, int>>& actions()
         {"set", {K::Set, 2, 2}},
         {"source", {K::Source, 2, 2}},     // KEY VALUE: the scene panel's source editor
         {"material", {K::Material, 2, 2}}, // KEY VALUE: its material and direct light
+        // map, polar, isocandela or illuminance [PLANE_M]: the far-field panel's view
+        {"farfield", {K::FarFieldView, 1, 2}},
         {"trace", {K::Trace, 0, 0}},
         {"optimize", {K::Optimize, 0, 1}},
         {"calibrate", {K::Calibrate, 1, 2}},
@@ -101,6 +103,17 @@ Script parse_script_text(const std::string& text, const std::string& path) {
             if (a.args.size() == 5 && a.args[4] != "left" && a.args[4] != "right")
                 throw std::invalid_argument(fmt::format(
                     "{}:{}: drag's button is left or right, not '{}'", path, n, a.args[4]));
+        }
+        if (kind == K::FarFieldView) {
+            if (a.args[0] != "map" && a.args[0] != "polar" && a.args[0] != "isocandela" &&
+                a.args[0] != "illuminance")
+                throw std::invalid_argument(fmt::format(
+                    "{}:{}: farfield's view is map, polar, isocandela or illuminance, not '{}'",
+                    path, n, a.args[0]));
+            if (a.args.size() == 2 &&
+                !(number(path, n, a.args[1]) >= 0.5 && number(path, n, a.args[1]) <= 20.0))
+                throw std::invalid_argument(fmt::format(
+                    "{}:{}: farfield illuminance's plane is 0.5 to 20 m away", path, n));
         }
         if (kind == K::Resize)
             for (std::size_t k = 0; k < 2; ++k) {
@@ -199,6 +212,14 @@ bool ScriptRunner::step(Frame& f, const ScriptHost& host) {
             if (const std::string error = set_material_field(s, a.args[0], a.args[1]);
                 !error.empty())
                 fail(a, "material: " + error);
+            break;
+        case K::FarFieldView:
+            // As the panel's "view" combo (and its "plane" slider) set it.
+            s.farfield.view = a.args[0] == "map"          ? 0
+                              : a.args[0] == "polar"      ? 1
+                              : a.args[0] == "isocandela" ? 2
+                                                          : 3;
+            if (a.args.size() == 2) s.farfield.plane_distance_m = std::stof(a.args[1]);
             break;
         case K::Trace:
             if (!s.editor.scene) fail(a, "trace: no scene is open");

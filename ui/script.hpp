@@ -23,6 +23,7 @@ struct ScriptAction {
         Set,
         Source,
         Material,
+        FarFieldView,
         Trace,
         Optimize,
         Calibrate,

@@ -153,7 +153,10 @@ render::FarFieldViewOptions farfield_view_options(const WorkbenchState& s,
             .altitude_deg = farfield_band(s, profiles),
             .azimuth_deg = azimuth,
             .only = only,
-            .columns = columns};
+            .columns = columns,
+            .luminaire = s.farfield.view > 0 ? std::optional(LuminaireView(s.farfield.view - 1))
+                                             : std::nullopt,
+            .plane_distance_m = s.farfield.plane_distance_m};
 }
 
 void update_farfield_image(const vk::Context& ctx, WorkbenchState& s,
@@ -170,6 +173,8 @@ void update_farfield_image(const vk::Context& ctx, WorkbenchState& s,
                              o.azimuth_deg ? o.azimuth_deg->second : 0.0,
                              o.only ? double(*o.only) : -1.0,
                              double(o.columns),
+                             o.luminaire ? double(*o.luminaire) : -1.0,
+                             o.plane_distance_m,
                              double(w),
                              double(h)};
     const std::uint64_t key = value_hash(values);

@@ -56,6 +56,9 @@ struct FarFieldState {
     bool log_scale = false;
     float zoom = 1.0f; // 1: the lit band; larger: a narrower window on its brightest part
     int maps = 0;      // shown: 0 all, 1 desired, 2 obtained, 3 difference (one fills the panel)
+    // 0 the equirectangular maps; 1 polar map, 2 isocandela, 3 illuminance (LuminaireView + 1)
+    int view = 0;
+    float plane_distance_m = 3.0f; // the illuminance plane's distance below the luminaire
 };
 
 // A redraw of a view in flight: recorded and submitted without waiting, shown once the
@@ -103,9 +106,9 @@ struct SearchFollow {
     // The source when it started: [source.optimize]'s values (its tilts are relative to
     // this orientation) are applied to it, never to the source shown.
     std::optional<SourceDesc> start_source;
-    bool running = false;                // started and not yet seen to end
-    std::uint64_t generation = 0;        // the worker's search generation before it started
-    double started_s = 0.0;              // ImGui time at its start (what the panel shows)
+    bool running = false;         // started and not yet seen to end
+    std::uint64_t generation = 0; // the worker's search generation before it started
+    double started_s = 0.0;       // ImGui time at its start (what the panel shows)
 };
 
 struct WorkbenchState {

@@ -117,6 +117,7 @@ RaysTable calibrate_rays(const vk::Context& ctx, const Scene& scene, const RaysT
     const DesiredFarField desired =
         calibration_desired(ctx, scene, table.desired_rays, o.seed, &desired_noise_lm2);
     table.desired = desired.description;
+    table.metric = scene.optimize.metric;
     if (photometric) table.desired_rays = 0;
     // Independent rays: E[l2^2] = flux^2 sum p (1 - p) (1/n + 1/N), p from the desired.
     const double multinomial = multinomial_noise_lm2_times_rays(
@@ -296,6 +297,7 @@ SemivariogramResult calibrate_semivariogram(const vk::Context& ctx, const Scene&
     const DesiredFarField desired =
         calibration_desired(ctx, scene, std::max(scene.trace.rays, 10 * o.rays), o.seed);
     result.desired = desired.description;
+    result.metric = scene.optimize.metric;
     Evaluator evaluator(ctx, scene, f);      // one for the whole series: only the rays and
     evaluator.set_desired(desired.farfield); // the height field change between points
     const ReflectorDesc centre = desired_reflector(scene);

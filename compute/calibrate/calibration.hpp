@@ -85,6 +85,9 @@ struct RaysTable {
     SamplerKind sampler = SamplerKind::Stratified; // the scene's: every trace uses it
     NoisePrediction prediction = NoisePrediction::Replicate; // behind predicted_l2
     double slope = 0.0; // of log mean l2 against log rays (-0.5: noise only)
+    // What every l2 measures (the scene's [optimize] metric): the `_lm` columns of
+    // calibration.csv are in its unit.
+    FarFieldMetric metric = FarFieldMetric::L2;
     double time_s = 0.0;
 };
 
@@ -144,6 +147,7 @@ struct SemivariogramResult {
     double noise_variance_l2 = 0.0;
     std::uint32_t noise_runs = 0;
     StepRule step_rule = StepRule::Resolvable;
+    FarFieldMetric metric = FarFieldMetric::L2; // as RaysTable::metric
     double time_s = 0.0;
 };
 

@@ -46,10 +46,12 @@ nlohmann::json resolution_json(const std::vector<ResolutionProbe>& probes) {
 } // namespace
 
 plot::Chart rays_table_chart(const RaysTable& t, const std::string& scene) {
-    plot::Chart c{.title = fmt::format("{}: l2 error against rays (Table 1, {} sampler)", scene,
-                                       sampler_name(t.sampler)),
+    plot::Chart c{.title = fmt::format("{}: {} error against rays (Table 1, {} sampler)", scene,
+                                       metric_name(t.metric), sampler_name(t.sampler)),
                   .x = {"rays", plot::Scale::Log},
-                  .y = {"l2 to the desired far field (lm)", plot::Scale::Log}};
+                  .y = {fmt::format("{} to the desired far field ({})", metric_name(t.metric),
+                                    metric_unit(t.metric)),
+                        plot::Scale::Log}};
     plot::Series band{.kind = plot::Series::Kind::Band,
                       .label = "mean ± one standard deviation",
                       .colour = plot::palette(0)};
@@ -98,6 +100,8 @@ nlohmann::json rays_table_json(const RaysTable& t) {
                         {"replicate_pairs", r.replicate_pairs},
                         {"time_s", r.time_s}});
     return {{"rows", rows},
+            {"metric", metric_name(t.metric)},
+            {"metric_unit", metric_unit(t.metric)},
             {"desired_rays", t.desired_rays ? nlohmann::json(t.desired_rays) : nullptr},
             {"desired", t.desired},
             {"sampler", sampler_name(t.sampler)},
@@ -146,12 +150,12 @@ void write_rays_table(const std::string& dir, const RaysTable& t, const std::str
 }
 
 plot::Chart semivariogram_chart(const ParameterSemivariogram& p, std::uint64_t rays,
-                                const std::string& scene) {
+                                const std::string& scene, FarFieldMetric metric) {
     // Figure 8: points sized by their pair count, the fitted curve, range and nugget.
-    plot::Chart c{.title = fmt::format("{}: semivariogram of l2 along {} ({:.0e} rays)", scene,
-                                       p.parameter, double(rays)),
+    plot::Chart c{.title = fmt::format("{}: semivariogram of {} along {} ({:.0e} rays)", scene,
+                                       metric_name(metric), p.parameter, double(rays)),
                   .x = {"lag h (" + p.parameter + ")", plot::Scale::Linear},
-                  .y = {"γ(h) (lm²)", plot::Scale::Linear}};
+                  .y = {fmt::format("γ(h) ({}²)", metric_unit(metric)), plot::Scale::Linear}};
     plot::Series pts{.kind = plot::Series::Kind::Points,
                      .label = "empirical (size: pairs)",
                      .colour = plot::palette(0)};
@@ -217,6 +221,8 @@ nlohmann::json semivariogram_json(const SemivariogramResult& r) {
                           {"time_s", p.time_s}});
     }
     return {{"parameters", params},
+            {"metric", metric_name(r.metric)},
+            {"metric_unit", metric_unit(r.metric)},
             {"rays", r.rays},
             {"points", r.points},
             {"desired", r.desired},
@@ -246,7 +252,7 @@ void write_semivariograms(const std::string& dir, const SemivariogramResult& r,
                 std::isfinite(q.noise_sd_lm) ? fmt::format("{:.9g}", q.noise_sd_lm) : "",
                 q.differences, q.ties, q.resolved ? 1 : 0);
         plot::write_chart_png(in_dir(dir, "semivariogram_" + p.parameter + ".png"),
-                              semivariogram_chart(p, r.rays, scene));
+                              semivariogram_chart(p, r.rays, scene, r.metric));
     }
     write_text_file(in_dir(dir, "series.csv"), series);
     write_text_file(in_dir(dir, "semivariogram.csv"), sv);

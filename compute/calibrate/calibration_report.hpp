@@ -14,7 +14,7 @@ namespace fird {
 // The charts of the pictures (the workbench draws them live).
 plot::Chart rays_table_chart(const RaysTable& table, const std::string& scene_name);
 plot::Chart semivariogram_chart(const ParameterSemivariogram& p, std::uint64_t rays,
-                                const std::string& scene_name);
+                                const std::string& scene, FarFieldMetric metric);
 
 nlohmann::json rays_table_json(const RaysTable& table);
 std::string rays_table_markdown(const RaysTable& table, const std::string& scene_name);

@@ -12,6 +12,7 @@
 #include "model/energy_balance.hpp"
 #include "photometry/beam_metrics.hpp"
 #include "photometry/farfield_photometry.hpp"
+#include "photometry/luminaire_pictures.hpp"
 #include "photometry/photometry_file.hpp"
 #include "plot/farfield_picture.hpp"
 #include "reference/reference_tracer.hpp"
@@ -181,7 +182,7 @@ nlohmann::json evaluation_json(const Evaluation& e) {
 }
 
 void write_evaluation_outputs(const std::string& dir, const Scene& scene, const Evaluation& e,
-                              const std::string& producer) {
+                              const std::string& producer, double plane_distance_m) {
     namespace fs = std::filesystem;
     create_output_directory(dir);
     const auto path = [&](const char* name) { return (fs::path(dir) / name).string(); };
@@ -201,6 +202,14 @@ void write_evaluation_outputs(const std::string& dir, const Scene& scene, const 
         write_photometry(path("farfield.ies"), table, labels);
         write_photometry(path("farfield.ldt"), table, labels);
     }
+    // What a lighting engineer reads: the polar map, isocandela lines and the illuminance
+    // on a plane, beside the desired ones (photometry/luminaire_pictures.hpp).
+    if (f.total_lm() > 0.0)
+        write_luminaire_views(dir, f,
+                              e.target_farfield && e.target_farfield->total_lm() > 0.0
+                                  ? &*e.target_farfield
+                                  : nullptr,
+                              {.title = scene.name, .plane_distance_m = plane_distance_m});
     if (e.target_farfield) {
         const FarField& t = *e.target_farfield;
         write_npy_f32(path("target.npy"), t.lm, t.height, t.width);

@@ -39,12 +39,14 @@ nlohmann::json evaluation_json(const Evaluation& evaluation);
 nlohmann::json profile_json(const std::vector<BounceProfile>& bounces);
 std::string profile_table(const std::vector<BounceProfile>& bounces);
 
-// farfield.npy (float32, (H, W), lumens), farfield.png, and with a target
-// target.npy / target.png / difference.png.
+// farfield.npy (float32, (H, W), lumens), farfield.png, the luminaire views (polar.png,
+// isocandela.png, illuminance.png on a plane `plane_distance_m` below), and with a target
+// target.npy / target.png / difference.png (the views then beside the desired ones).
 // `producer` names the command in the luminaire files' test label.
 void write_evaluation_outputs(const std::string& directory, const Scene& scene,
                               const Evaluation& evaluation,
-                              const std::string& producer = "fird trace");
+                              const std::string& producer = "fird trace",
+                              double plane_distance_m = 3.0);
 
 // The far field of a photometric [target] (IES / LDT) on the scene's grid, integrated
 // over each cell; scaled to `reflector_farfield_lm` unless [target] absolute = true.

@@ -140,8 +140,8 @@ ExportReport export_search_reflectors(const Scene& scene, const SearchResult& r,
     for (const Candidate& c : r.history) {
         if (!c.feasible) continue;
         if (c.stage != stage) stage = c.stage, best = HUGE_VAL; // l2 of another fidelity
-        if (!(c.l2_lm < best)) continue;
-        best = c.l2_lm;
+        if (!(c.score < best)) continue;                        // what the search ranks by
+        best = c.score;
         ReflectorDesc reflector = scene.reflector;
         for (std::size_t k = 0; k < r.names.size(); ++k)
             reflector.parameters[r.names[k]] = c.x[k];

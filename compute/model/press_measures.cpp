@@ -204,8 +204,11 @@ PressMeasures press_measures(const Surface& surface, int nx, int ny, const Press
             const Hessian hs = hessian(surface, x, y, e);
             const Curvatures c = curvatures(g.x, g.y, hs.r, hs.s, hs.t);
             curvature[k] = c.largest();
-            // The bending energy's element: k1^2 + k2^2 over the surface's own area.
-            m.bending_energy += weight * std::sqrt(1.0 + norm * norm) * c.squared_sum();
+            // The bending energy's element: k1^2 + k2^2 over the surface's own area. A
+            // sample on a kink (the test below) is left out: there the differences read the
+            // jump of the gradient over the step, a curvature of the grid, not of the part.
+            if (curvature[k] * e <= kKinkTurn)
+                m.bending_energy += weight * std::sqrt(1.0 + norm * norm) * c.squared_sum();
             // Below the differences' rounding (a few ulps of the gradient over the step) a
             // curvature is noise: a plane has none.
             if (curvature[k] <= 8.0 * std::numeric_limits<double>::epsilon() * (1.0 + norm) / e)

@@ -57,9 +57,10 @@ struct PressMeasures {
     // The bending energy: the integral of k1^2 + k2^2 (the principal curvatures) over the
     // unclamped surface's area, dimensionless (a sphere's cap of any radius covering a
     // solid angle w: 2 w). The clamp's flats and the kink where they meet the family are
-    // left out (that bend is the holder's, not the part's). A kink inside grows it with the
-    // grid (a curvature of 1 / e over a band of the grid's width). NaN for a mesh, or
-    // without curvature.
+    // left out (that bend is the holder's, not the part's), and so are samples on a kink
+    // (`kink` below: a profile's crease where it turns flat at its radius, a cup's apex of
+    // power below 2), where the differences would read the grid's step, not the part; the
+    // kink itself is what min_radius_mm = 0 reports. NaN for a mesh, or without curvature.
     double bending_energy = 0.0;
     double depth_mm = 0.0; // highest minus lowest point of the surface
     double area_mm2 = 0.0; // the whole surface, the clamp's flats included

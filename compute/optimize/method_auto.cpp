@@ -113,7 +113,9 @@ StopReason run_auto(Objective& f, const std::vector<Fidelity>& stages,
     const std::vector<double> best = confirmed->x;
     const double best_l2 = confirmed->l2_lm;
     confirm = stage_noise(f, best, best_l2);
-    if (best_l2 <= confirm->limit_lm) return single;
+    // At the noise, pairs of steps cannot lower the l2; with a smoothness weight they may
+    // still lower the score (a smoother shape at the same l2), so they are polled.
+    if (best_l2 <= confirm->limit_lm && !(f.scene().optimize.smoothness > 0.0)) return single;
     return run_lattice_descent(f, best, all, together);
 }
 

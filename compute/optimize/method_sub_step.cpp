@@ -60,7 +60,9 @@ void run_refine(Objective& f, std::uint32_t lattice_stage, const ConfirmNoise& n
     // The verdicts name the search's metric and its unit.
     const char* l2 = metric_name(f.scene().optimize.metric);
     const char* lm = metric_unit(f.scene().optimize.metric);
-    if (first_l2 <= noise.limit_lm) {
+    // At the noise the l2 has nothing left to gain; with a smoothness weight the score may
+    // (a smoother shape at the same l2), so the neighbours are still tried.
+    if (first_l2 <= noise.limit_lm && !(f.scene().optimize.smoothness > 0.0)) {
         report.verdict = fmt::format("the refine from the lattice's best ended at {0} {2:.6g} {1}, "
                                      "what noise alone leaves (limit {3:.6g} {1})",
                                      l2, lm, first_l2, noise.limit_lm);
@@ -95,7 +97,7 @@ void run_refine(Objective& f, std::uint32_t lattice_stage, const ConfirmNoise& n
             best_l2 = f.stage_best()->l2_lm;
             best_start = report.starts.size() - 1;
         }
-        if (best_l2 <= noise.limit_lm) break;
+        if (best_l2 <= noise.limit_lm && !(f.scene().optimize.smoothness > 0.0)) break;
     }
     if (near.empty())
         report.verdict = fmt::format(

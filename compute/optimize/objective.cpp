@@ -27,6 +27,8 @@ void Objective::begin_stage(const std::string& name, const Fidelity& fidelity) {
     stages_.push_back({.name = name, .fidelity = fidelity});
     stage_memo_.clear();
     prefetched_.clear();
+    infeasible_energy_.clear();
+    stage_largest_energy_ = 0.0;
     threshold_applies_ = settings_.threshold_lm > 0.0 && fidelity.farfield_w == desired_.width &&
                          fidelity.farfield_h == desired_.height;
     const FarField coarse =
@@ -68,7 +70,7 @@ double Objective::operator()(const std::vector<double>& x) {
         const Candidate& c = history_[it->second];
         if (c.feasible) return c.score;
         const Scene candidate = space_.candidate(scene_, x);
-        return infeasible_score(candidate_feasibility(candidate, candidate.reflector),
+        return infeasible_score(candidate_feasibility(candidate, candidate.reflector), x,
                                 candidate.reflector);
     }
     if (control_) {
@@ -79,7 +81,9 @@ double Objective::operator()(const std::vector<double>& x) {
     if (history_.size() >= settings_.max_evaluations)
         throw SearchStopped{StopReason::MaxEvaluations};
     const double value = trace(x);
-    if (threshold_applies_ && history_.back().feasible && value < settings_.threshold_lm)
+    // The threshold is on the metric (the l2), whatever the smoothness adds to the score.
+    if (threshold_applies_ && history_.back().feasible &&
+        history_.back().l2_lm < settings_.threshold_lm)
         throw SearchStopped{StopReason::Threshold};
     return value;
 }
@@ -130,7 +134,7 @@ double Objective::trace(const std::vector<double>& x) {
                (batched ? result.wall_ms : 0.0);
     }
     const Candidate& stored = record(std::move(c));
-    return stored.feasible ? stored.score : infeasible_score(f, reflector);
+    return stored.feasible ? stored.score : infeasible_score(f, x, reflector);
 }
 
 std::vector<double> Objective::evaluate_all(const std::vector<std::vector<double>>& xs) {
@@ -193,15 +197,22 @@ void Objective::prefetch(std::span<const std::vector<double>> xs) {
         prefetched_.emplace(keys[k], std::move(results[k]));
 }
 
-double Objective::infeasible_score(const Feasibility& f, const ReflectorDesc& reflector) const {
+double Objective::infeasible_score(const Feasibility& f, const std::vector<double>& x,
+                                   const ReflectorDesc& reflector) {
     if (!(scene_.optimize.smoothness > 0.0)) return penalty(f);
-    // Above any feasible score near it: the penalty bounds the l2, the candidate's own
-    // bending energy its share (a shape the family cannot make has none to add).
-    try {
-        return penalty(f) + scene_.optimize.smoothness * smoothness_of(reflector);
-    } catch (const std::exception&) {
-        return penalty(f);
+    // Above every feasible score of the stage: the penalty bounds the l2, and the energy
+    // added is at least the largest a feasible candidate of the stage had (a shape the
+    // family cannot make has none of its own). Measured once per point of a stage.
+    auto it = infeasible_energy_.find(x);
+    if (it == infeasible_energy_.end()) {
+        double energy = 0.0;
+        try {
+            energy = smoothness_of(reflector);
+        } catch (const std::exception&) {
+        }
+        it = infeasible_energy_.emplace(x, energy).first;
     }
+    return penalty(f) + scene_.optimize.smoothness * std::max(it->second, stage_largest_energy_);
 }
 
 double Objective::smoothness_of(const ReflectorDesc& reflector) const {
@@ -243,6 +254,7 @@ const Candidate& Objective::record(Candidate c) {
         ++s.traced;
         s.traced_ms += c.ms;
     }
+    if (c.feasible && c.smoothness > stage_largest_energy_) stage_largest_energy_ = c.smoothness;
     if (c.feasible && (!s.best || c.score < s.best_score)) {
         s.best = c.index;
         s.best_l2_lm = c.l2_lm;

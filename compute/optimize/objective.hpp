@@ -63,9 +63,11 @@ class Objective {
     // breaks a press's constraint, so model-based methods are pushed back to the feasible
     // side.
     double penalty(const Feasibility& feasibility) const;
-    // What an infeasible candidate scores: penalty(), plus the smoothness weight times its
-    // bending energy when there is a weight (so it stays above its feasible neighbours).
-    double infeasible_score(const Feasibility& feasibility, const ReflectorDesc& reflector) const;
+    // What an infeasible candidate x scores: penalty(), plus with a smoothness weight the
+    // weight times the larger of its bending energy and the stage's largest feasible one
+    // (so it stays above every feasible score of the stage).
+    double infeasible_score(const Feasibility& feasibility, const std::vector<double>& x,
+                            const ReflectorDesc& reflector);
 
     // Two far fields of x at the current stage's fidelity: with the stage's rays (as its
     // candidates are traced) and with the rays of `seed` instead. A measurement of the
@@ -100,6 +102,10 @@ class Objective {
     double stage_desired_norm_lm_ = 0.0; // in the scene's metric
     double stage_flux_bound_ = 0.0;      // the largest metric norm of the source's flux
     bool threshold_applies_ = false;
+    // With a smoothness weight: the stage's largest feasible bending energy, and the
+    // energies of its infeasible points (measured once each).
+    double stage_largest_energy_ = 0.0;
+    std::map<std::vector<double>, double> infeasible_energy_;
 };
 
 } // namespace fird

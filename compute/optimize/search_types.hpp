@@ -5,6 +5,7 @@
 #include <atomic>
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <map>
 #include <optional>
 #include <span>
@@ -81,8 +82,9 @@ struct Candidate {
     double l2_lm = 0.0; // NaN when infeasible (never traced)
     // Its bending energy with an [optimize] smoothness weight (else 0), NaN when infeasible.
     double smoothness = 0.0;
-    // What the search minimises: l2_lm + the weight x smoothness (l2_lm without a weight).
-    double score = 0.0;
+    // What the search minimises: l2_lm + the weight x smoothness (l2_lm without a weight);
+    // NaN until the objective sets it, so an unscored candidate is never a best.
+    double score = std::numeric_limits<double>::quiet_NaN();
     double ms = 0.0;       // wall time of its evaluation
     bool replayed = false; // read from the history of a resumed search, not traced
 };

@@ -202,8 +202,9 @@ TEST(Cli, TraceOutWritesNpyPicturesAndLuminaireFiles) {
         run("trace " + std::string(FIRD_SOURCE_DIR) +
             "/scenes/model_b_aluminium.toml --backend cpu --rays 20000 --json --out " + dir);
     ASSERT_EQ(r.code, 0) << r.out;
-    for (const char* name : {"farfield.npy", "farfield.png", "target.npy", "target.png",
-                             "difference.png", "farfield.ies", "farfield.ldt"}) {
+    for (const char* name :
+         {"farfield.npy", "farfield.png", "target.npy", "target.png", "difference.png",
+          "farfield.ies", "farfield.ldt", "polar.png", "isocandela.png", "illuminance.png"}) {
         FILE* f = std::fopen((dir + "/" + name).c_str(), "rb");
         EXPECT_TRUE(f) << name;
         if (f) std::fclose(f);
@@ -491,7 +492,8 @@ TEST(CliOptimize, JsonHasTheContractKeysAndOutHasTheFiles) {
     for (const char* name :
          {"history.csv", "progress.png", "best.toml", "search.json", "options.json", "farfield.png",
           "target.png", "difference.png", "farfield.npy", "reflector.step", "reflector.stl",
-          "manufacturability.json", "manufacturability.png"})
+          "manufacturability.json", "manufacturability.png", "polar.png", "isocandela.png",
+          "illuminance.png"})
         EXPECT_TRUE(std::filesystem::is_regular_file(dir + "/" + name)) << name;
     EXPECT_TRUE(j["constraints"].is_array()); // none in this scene
     // The report is the best reflector's: a plane, its slope atan(hypot(sx, sy)).
@@ -608,14 +610,16 @@ TEST(CliOptimize, ASmoothnessWeightedSearchMinimisesItsScoreAndReportsIt) {
     const std::string dir = ::testing::TempDir() + "/fird_optimize_smoothness";
     std::filesystem::remove_all(dir);
     const std::string scene = dir + "_scene.toml";
-    constexpr double weight = 40.0;
+    // Heavy enough that the smoothest shape wins over the best fit: the lowest score and
+    // the lowest l2 fall on different candidates, so ranking by l2 would be caught.
+    constexpr double weight = 1000.0;
     {
         std::ifstream in(std::string(FIRD_SOURCE_DIR) + "/scenes/test/profile_dish.toml");
         std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
         text.replace(text.find("heights_mm = { min"),
                      std::string("heights_mm = { min = 0.0, max = 6.0, step = 0.05 }").size(),
                      "h_2 = { min = 0.4, max = 1.2, step = 0.1 }");
-        text.replace(text.find("metric = "), 0, "smoothness = 40.0\n");
+        text.replace(text.find("metric = "), 0, "smoothness = 1000.0\n");
         text += "\n[target]\nseed = 2\nparameters = { h_2 = 1.0 }\n";
         std::ofstream(scene) << text;
     }
@@ -626,8 +630,8 @@ TEST(CliOptimize, ASmoothnessWeightedSearchMinimisesItsScoreAndReportsIt) {
     std::string line;
     std::getline(history, line);
     ASSERT_NE(line.find(",h_2,candela_l2_cd,smoothness,feasible,ms"), std::string::npos) << line;
-    double lowest = HUGE_VAL, lowest_energy = 0.0;
-    int lowest_at = -1, rows = 0;
+    double lowest = HUGE_VAL, lowest_energy = 0.0, lowest_l2 = HUGE_VAL;
+    int lowest_at = -1, lowest_l2_at = -1, rows = 0;
     while (std::getline(history, line)) {
         std::vector<std::string> cells;
         std::stringstream ss(line);
@@ -640,9 +644,12 @@ TEST(CliOptimize, ASmoothnessWeightedSearchMinimisesItsScoreAndReportsIt) {
         EXPECT_GT(std::stod(cells[8]), 0.0) << "a dish bends: " << line;
         if (score < lowest)
             lowest = score, lowest_at = std::stoi(cells[0]), lowest_energy = std::stod(cells[8]);
+        if (std::stod(cells[7]) < lowest_l2)
+            lowest_l2 = std::stod(cells[7]), lowest_l2_at = std::stoi(cells[0]);
     }
     EXPECT_EQ(rows, 9);
     ASSERT_GE(lowest_at, 0);
+    EXPECT_NE(lowest_at, lowest_l2_at) << "the weight should move the best off the best fit";
     EXPECT_EQ(j["best_evaluation"].get<int>(), lowest_at);
     EXPECT_NEAR(j["best_score"].get<double>(), lowest, 1e-12 * lowest);
     const auto& sm = j["smoothness"];
@@ -996,11 +1003,13 @@ TEST(CliScreenshot, WritesTheViewsAndRefusesBadValues) {
     const auto r = run("screenshot " + scene + " --out " + dir +
                        " --size 320x200 --rays 2e4 --pick-ray 3 --camera 30,40,120");
     ASSERT_EQ(r.code, 0) << r.out;
-    for (const char* name : {"viewport.png", "farfield.png", "plots.png"})
+    for (const char* name : {"viewport.png", "farfield.png", "plots.png", "polar.png",
+                             "isocandela.png", "illuminance.png"})
         EXPECT_TRUE(std::filesystem::is_regular_file(dir + "/" + name)) << name;
     for (const char* bad :
          {"--size 320", "--size 10x10", "--size axb", "--view sideways", "--camera 1,2",
-          "--camera 0,95,10", "--camera 0,10,-5", "--camera a,b,c", "--pick-ray -1"}) {
+          "--plane-distance 0", "--plane-distance nan", "--camera 0,95,10", "--camera 0,10,-5",
+          "--camera a,b,c", "--pick-ray -1"}) {
         const auto b = run("screenshot " + scene + " --out " + dir + " " + bad);
         EXPECT_EQ(b.code, 2) << bad << ": " << b.out;
     }

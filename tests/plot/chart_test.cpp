@@ -125,7 +125,7 @@ TEST(ProgressCharts, ParameterAxesSpanTheSearchBoxFromTheFirstEvaluation) {
     r.names = {"fx", "z0"};
     r.bounds = {{5.0, 20.0}, {-15.0, -5.0}};
     r.stages = {StageSummary{.name = "explore"}};
-    r.history = {Candidate{.index = 0, .stage = 0, .x = {13.0, -10.0}, .l2_lm = 3.4}};
+    r.history = {Candidate{.index = 0, .stage = 0, .x = {13.0, -10.0}, .l2_lm = 3.4, .score = 3.4}};
     const ProgressCharts charts = progress_charts(r);
     ASSERT_EQ(charts.parameters.size(), 2u);
     for (std::size_t k = 0; k < 2; ++k) {

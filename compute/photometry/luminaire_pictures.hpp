@@ -1,0 +1,38 @@
+// The views a luminaire designer reads, drawn beside the desired ones and their difference
+// (issue 26 item 8): the intensity on a polar map centred on nadir (the beam's axis), the
+// isocandela lines in C-gamma, and the illuminance on a plane across the beam at a given
+// distance. Written by every --out with a far field and drawn by the workbench's far-field
+// panel; the data behind them is photometry/luminaire_views.hpp.
+#pragma once
+
+#include <string>
+
+#include "farfield/farfield.hpp"
+#include "photometry/candela_table.hpp"
+#include "plot/chart.hpp"
+
+namespace fird {
+
+enum class LuminaireView { PolarMap, Isocandela, Illuminance };
+const char* luminaire_view_name(LuminaireView view); // "polar", "isocandela", "illuminance"
+
+struct LuminaireViewOptions {
+    std::string title;             // the scene's name
+    double plane_distance_m = 3.0; // the illuminance plane's distance below the luminaire
+};
+
+// The candela table the views read from a far field: C every 5 deg, gamma every 1 deg
+// (photometrics' patches), or the far field's own steps where it is coarser.
+CandelaTable view_table(const FarField& farfield);
+
+// One view into `area`: the obtained table alone, or (desired given) obtained | desired |
+// difference side by side, the first two on one colour scale.
+void draw_luminaire_view(plot::Canvas& canvas, const plot::Rect& area, LuminaireView view,
+                         const CandelaTable& obtained, const CandelaTable* desired,
+                         const LuminaireViewOptions& options);
+
+// polar.png, isocandela.png and illuminance.png in `dir` (which exists).
+void write_luminaire_views(const std::string& dir, const FarField& obtained,
+                           const FarField* desired, const LuminaireViewOptions& options);
+
+} // namespace fird
