@@ -196,11 +196,14 @@ int run_optimize(const GlobalOptions& global, const Args& a, const CLI::App& cmd
     if (a.resume.empty() && a.start == "tailored") {
         // The desired far field the search will chase, and the profile that makes it from
         // the source's centre (optimize/search_start.hpp).
+        const auto t0 = std::chrono::steady_clock::now();
         request.desired = search_desired(ctx, scene, settings);
         SearchStartPoint start = tailored_start(ctx, scene, request.desired->farfield, settings);
         request.start = std::move(start.x);
         request.start_report = std::move(start.report);
         request.start_report.parameters = parameter_space(scene).named(*request.start);
+        request.start_report.time_s =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     }
     std::unique_ptr<HistoryWriter> history;
     if (!out.empty()) {

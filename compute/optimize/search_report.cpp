@@ -35,9 +35,11 @@ nlohmann::json start_report_json(const StartReport& s) {
     j["rim_polar_deg"] = s.rim_polar_deg;
     j["source_share"] = s.source_share;
     j["reaches_rim"] = s.reaches_rim;
+    j["target_share_left_out"] = s.target_share_left_out;
     j["clamped"] = s.clamped;
     j["quick_metric"] = s.quick_metric;
     j["refused"] = s.refused;
+    j["time_s"] = s.time_s;
     return j;
 }
 
@@ -49,9 +51,11 @@ StartReport start_report_from_json(const nlohmann::json& j) {
     s.rim_polar_deg = j.value("rim_polar_deg", 0.0);
     s.source_share = j.value("source_share", 0.0);
     s.reaches_rim = j.value("reaches_rim", true);
+    s.target_share_left_out = j.value("target_share_left_out", 0.0);
     s.clamped = j.value("clamped", std::vector<std::string>());
     s.quick_metric = j.value("quick_metric", std::map<std::string, double>());
     s.refused = j.value("refused", std::map<std::string, std::string>());
+    s.time_s = j.value("time_s", 0.0);
     return s;
 }
 
@@ -280,8 +284,9 @@ std::string best_scene_toml(const Scene& scene, const SearchResult& r) {
 }
 
 plot::Chart start_profiles_chart(const Scene& scene, const SearchResult& r) {
-    plot::Chart chart{.title = fmt::format("{}: the profile z(r), start {} ({} edge rays)",
-                                           scene.name, r.start.kind, r.start.edge_ray),
+    plot::Chart chart{.title = fmt::format("The profile z(r): the {} start ({} edge rays) and "
+                                           "the best",
+                                           r.start.kind, r.start.edge_ray),
                       .x = {"r (mm) from the axis"},
                       .y = {"z (mm)"}};
     const auto series = [&](const std::string& label, const std::map<std::string, double>& named,

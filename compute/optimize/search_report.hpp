@@ -16,9 +16,9 @@ namespace fird {
 nlohmann::json search_json(const SearchResult& result);
 
 // Where the search began: {"kind", "parameters"} and, for a tailored start, what its making
-// chose ("edge_ray", "rim_polar_deg", "source_share", "reaches_rim", "clamped",
-// "quick_metric", "refused"). options.json records it so --resume starts from the same
-// point; start_report_from_json reads it back.
+// chose and took ("edge_ray", "rim_polar_deg", "source_share", "reaches_rim",
+// "target_share_left_out", "clamped", "quick_metric", "refused", "time_s"). options.json
+// records it so --resume starts from the same point; start_report_from_json reads it back.
 nlohmann::json start_report_json(const StartReport& start);
 StartReport start_report_from_json(const nlohmann::json& j);
 

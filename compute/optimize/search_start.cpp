@@ -107,6 +107,7 @@ SearchStartPoint tailored_start(const vk::Context& ctx, const Scene& scene, cons
             best.report.rim_polar_deg = t.rim_polar_rad * 180.0 / std::numbers::pi;
             best.report.source_share = t.source_share;
             best.report.reaches_rim = t.reaches_rim;
+            best.report.target_share_left_out = t.target_share_left_out;
             best.report.clamped = clamped;
         }
     }

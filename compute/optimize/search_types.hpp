@@ -147,10 +147,14 @@ struct StartReport {
     double rim_polar_deg = 0.0;
     double source_share = 0.0;
     bool reaches_rim = true;
-    std::vector<std::string> clamped; // heights the tailoring put outside their bounds
+    double target_share_left_out = 0.0; // the target's share below the horizon, not mapped
+    std::vector<std::string> clamped;   // heights the tailoring put outside their bounds
     // Each edge ray tried: its metric on the quick trace, or why it has no answer.
     std::map<std::string, double> quick_metric;
     std::map<std::string, std::string> refused;
+    // Tailored: the wall time of its making (the desired far field, the source's polar
+    // distribution, the solves and their quick traces), before the search's own time_s.
+    double time_s = 0.0;
 };
 
 struct SearchResult {

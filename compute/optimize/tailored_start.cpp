@@ -100,18 +100,28 @@ TailoredProfile tailor_profile(const TailoringProblem& p) {
                         p.apex_depth_mm));
     if (!(p.radius_mm > 0.0) || p.heights < 2)
         throw std::invalid_argument("the tailored start needs a profile radius and two heights");
-    const PolarCdf source = polar_cdf(p.source_band_lm), target = polar_cdf(p.target_band_lm);
+    // The target's light below the horizon (gamma > 90 degrees) is left out of its CDF: a
+    // reflector below its source sends light there only off walls steeper than its cone's
+    // edge, and mapping onto it makes tan((theta + gamma) / 2) run off (a downlight's file
+    // holds 1.4 % there). Within the upper half, theta < 90 degrees keeps (theta +- gamma) / 2
+    // inside (-90, 90) degrees: the curve never runs off.
+    std::vector<double> upper = p.target_band_lm;
+    for (std::size_t k = 0; k < upper.size(); ++k)
+        if (double(k) / double(upper.size()) >= 0.5) upper[k] = 0.0;
+    const PolarCdf source = polar_cdf(p.source_band_lm), target = polar_cdf(upper);
+    const double all_target = polar_cdf(p.target_band_lm).total_lm();
     if (!(target.total_lm() > 0.0))
-        throw std::invalid_argument("the tailored start: the desired far field holds no light");
+        throw std::invalid_argument(
+            "the tailored start: the desired far field holds no light above the horizon");
     if (!(source.total_lm() > 0.0))
         throw std::invalid_argument("the tailored start: the source emits no light");
     const double sign = p.edge == EdgeRay::Diverging ? 1.0 : -1.0;
 
     // gamma(theta): the far-field angle holding the share of the target's flux that the
     // cone [0, theta] holds of the source's flux within the rim's cone [0, rim]. The whole
-    // target is mapped: under the default [trace] direct = "exclude" the far field is
-    // reflected light only, so all of the target is the reflector's to make (with direct
-    // = "include" the source's direct light is not taken out of it).
+    // target above the horizon is mapped: under the default [trace] direct = "exclude" the
+    // far field is reflected light only, so all of it is the reflector's to make (with
+    // direct = "include" the source's direct light is not taken out of it).
     const auto gamma_at = [&](double theta, double rim) {
         const double in_rim = source.at(rim);
         const double share = in_rim > 0.0 ? std::min(1.0, source.at(theta) / in_rim) : 0.0;
@@ -185,6 +195,14 @@ TailoredProfile tailor_profile(const TailoringProblem& p) {
         curve = std::move(inner);
     }
     out.rim_polar_rad = curve.theta.back();
+    out.target_share_left_out = 1.0 - target.total_lm() / all_target;
+    // A cone that holds next to none of the source's light: the curve only reaches the rim
+    // by running off (what is left of the source cannot make the target).
+    if (out.rim_polar_rad < 1.0 * kPi / 180.0)
+        throw std::invalid_argument(fmt::format(
+            "the tailored start ({}): the curve reaches the rim within {:.2f} degrees of the "
+            "nadir",
+            edge_ray_name(p.edge), out.rim_polar_rad * 180.0 / kPi));
     out.source_share = source.at(out.rim_polar_rad) / source.total_lm();
 
     // The curve as z(r): r must grow with theta (a height field); a crossing design whose

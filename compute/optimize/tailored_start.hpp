@@ -52,17 +52,18 @@ struct TailoringProblem {
 struct TailoredProfile {
     // The curve's depth below the source point (negative: below) at the profile's radii.
     std::vector<double> z_mm;
-    double rim_polar_rad = 0.0; // the source angle from the nadir that meets the rim
-    bool reaches_rim = true;    // false: the curve rose to the source's level first
-    double source_share = 0.0;  // the share of the source's flux within the rim's cone
+    double rim_polar_rad = 0.0;         // the source angle from the nadir that meets the rim
+    bool reaches_rim = true;            // false: the curve rose to the source's level first
+    double source_share = 0.0;          // the share of the source's flux within the rim's cone
+    double target_share_left_out = 0.0; // the target's share below the horizon (not mapped)
     // The flux map: source angle theta (from the nadir) to far-field angle gamma (from the
     // zenith), sampled along the curve, with the curve itself (r, z below the source).
     std::vector<double> theta_rad, gamma_rad, r_mm, curve_z_mm;
 };
 
 // Solves the meridional tailoring problem: gamma(theta) holds the same share of the
-// target's flux as theta of the source's (within the rim's cone), and the mirror curve
-// follows d(ln rho)/d(theta) = tan((theta +- gamma) / 2) from the apex. Throws
+// target's flux above the horizon as theta of the source's (within the rim's cone), and the mirror
+// curve follows d(ln rho)/d(theta) = tan((theta +- gamma) / 2) from the apex. Throws
 // std::invalid_argument with one line when it has no answer (no light, or a curve that
 // turns back on itself or runs off to infinity).
 TailoredProfile tailor_profile(const TailoringProblem& problem);

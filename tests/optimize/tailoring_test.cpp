@@ -128,6 +128,28 @@ TEST(Tailoring, TheFluxMapHoldsEqualSharesAndMeetsAtTheEnds) {
     }
 }
 
+TEST(Tailoring, LightBelowTheHorizonIsLeftOutAndTheCurveStaysFinite) {
+    // An isotropic target: half of it below the horizon, where a diverging map would drive
+    // (theta + gamma) / 2 past 90 degrees. Only the upper half is mapped: the rim's ray goes
+    // to the horizon and every height is finite. The map spreads the source's cone over the
+    // whole upper half (gamma > theta), wider than a flat mirror's gamma = theta, so
+    // tan((theta + gamma) / 2) > tan theta: rho grows faster than d / cos theta and the
+    // curve falls away from the apex (a dome), height after height.
+    const TailoredProfile t = tailor_profile({.source_band_lm = isotropic_bands(1800),
+                                              .target_band_lm = isotropic_bands(1800),
+                                              .apex_depth_mm = 10.0,
+                                              .radius_mm = 30.0,
+                                              .heights = 8,
+                                              .edge = EdgeRay::Diverging});
+    EXPECT_NEAR(t.target_share_left_out, 0.5, 1e-12);
+    EXPECT_NEAR(t.gamma_rad.back(), 0.5 * kPi, 1e-9);
+    EXPECT_GT(t.rim_polar_rad, 10.0 * kDeg);
+    for (std::size_t k = 1; k < t.z_mm.size(); ++k) {
+        EXPECT_TRUE(std::isfinite(t.z_mm[k]));
+        EXPECT_LT(t.z_mm[k], t.z_mm[k - 1]) << k;
+    }
+}
+
 TEST(Tailoring, NoLightOrNoRoomIsRefusedInOneLine) {
     const auto refusal = [](const TailoringProblem& p) {
         try {
@@ -142,7 +164,8 @@ TEST(Tailoring, NoLightOrNoRoomIsRefusedInOneLine) {
                        .apex_depth_mm = 5.0,
                        .radius_mm = 10.0,
                        .heights = 4};
-    EXPECT_EQ(refusal(p), "the tailored start: the desired far field holds no light");
+    EXPECT_EQ(refusal(p), "the tailored start: the desired far field holds no light above the "
+                          "horizon");
     p.target_band_lm = isotropic_bands(180);
     p.apex_depth_mm = -1.0;
     EXPECT_NE(refusal(p).find("apex below the source"), std::string::npos) << refusal(p);
