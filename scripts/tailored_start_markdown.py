@@ -58,8 +58,10 @@ for name in names:
         ratio = j["final_l2"] / j["noise_floor_l2"] if j.get("final_l2") else None
         p = j.get("population") or {}
         stages = "+".join(f"{st['rays']:.0e}".replace("e+0", "e") for st in j["rays_per_evaluation"])
+        variant = start.split("-", 1)[1] if "-" in start else ""
         print(f"| {name} | {start.split('-')[0]}"
-              + (f" ({j['start']['edge_ray']})" if start != "scene" else "")
+              + (f" ({j['start']['edge_ray']}{'; ' + variant if variant else ''})"
+                 if start != "scene" else "")
               + f" | {p.get('sigma0', '-')} | {stages}"
               + f" | {j['start']['metric_at_start']:.4g} | {j['final_l2']:.4g} | "
               f"{ratio:.2f} | {j['evaluations']} | {n if n else '-'} | {j['time_s']:.0f} | "

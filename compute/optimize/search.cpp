@@ -365,7 +365,8 @@ SearchOutcome run_search(const vk::Context& ctx, const Scene& scene, const Searc
             break;
         case SearchMethod::Auto:
             if (auto_population)
-                r.stopped = run_auto_population(f, stages, r.population.emplace());
+                r.stopped = run_auto_population(f, stages, r.population.emplace(),
+                                                r.start.kind == "tailored");
             else
                 r.stopped = run_auto(f, stages, confirm);
             break;
