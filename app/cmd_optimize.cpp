@@ -19,6 +19,7 @@
 #include "optimize/parameter_space.hpp"
 #include "optimize/press_constraints.hpp"
 #include "optimize/search_report.hpp"
+#include "optimize/search_start.hpp"
 #include "parse.hpp"
 #include "progress.hpp"
 #include "report/manufacturability.hpp"
@@ -37,7 +38,7 @@ namespace fird::app {
 namespace {
 
 struct Args {
-    std::string scene, method, rays, out, resume, backend;
+    std::string scene, method, rays, out, resume, backend, start = "scene";
     std::uint64_t max_evals = 0, seed = 0;
     double threshold = -1.0, rank_timeout = 0.0;
     bool json = false, refine = false;
@@ -46,7 +47,7 @@ struct Args {
 // The settings a search was started with, kept beside its history so that --resume
 // continues the very same search, and what else its result depends on (resume_record.hpp).
 nlohmann::json settings_json(const SearchSettings& s, const Scene& scene,
-                             const vk::DeviceSummary& device) {
+                             const vk::DeviceSummary& device, const SearchRequest& request) {
     return {{"method", method_name(s.method)},
             {"rays", s.rays},
             {"threshold_lm", s.threshold_lm},
@@ -55,12 +56,14 @@ nlohmann::json settings_json(const SearchSettings& s, const Scene& scene,
             {"refine", s.refine},
             {"backend", backend_name(s.backend)},
             {"scene", scene_to_toml(scene)},
-            {"depends_on", depends_on_record(scene, device)}};
+            {"depends_on", depends_on_record(scene, device)},
+            {"start", start_report_json(request.start_report)}};
 }
 
 struct Resumed {
     SearchSettings settings;
     nlohmann::json depends_on; // checked against the device once it is open
+    nlohmann::json start;      // where the search began (absent: the scene's reflector)
 };
 
 // The recorded settings, once the scene's text, the files it names and the program are
@@ -88,7 +91,7 @@ Resumed resumed_settings(const std::string& dir, const Scene& scene) {
         s.refine = j.value("refine", false); // absent: recorded before --refine existed
         // Absent: recorded before --backend existed (the fast path).
         s.backend = j.value("backend", "gpu") == "cpu" ? Backend::Reference : Backend::Fast;
-        return {s, depends_on};
+        return {s, depends_on, j.value("start", nlohmann::json())};
     } catch (const nlohmann::json::exception& e) {
         throw std::runtime_error(fmt::format("{}: {}", path, e.what()));
     } catch (const std::bad_optional_access&) {
@@ -144,7 +147,7 @@ int run_optimize(const GlobalOptions& global, const Args& a, const CLI::App& cmd
     nlohmann::json depends_on;
     if (!a.resume.empty()) {
         for (const char* o : {"--method", "--rays", "--max-evals", "--threshold", "--seed",
-                              "--refine", "--backend"})
+                              "--refine", "--backend", "--start"})
             if (cmd.count(o))
                 throw UsageError(fmt::format(
                     "{} cannot be given with --resume: the search continues with the settings "
@@ -156,6 +159,14 @@ int run_optimize(const GlobalOptions& global, const Args& a, const CLI::App& cmd
         Resumed resumed = resumed_settings(a.resume, scene);
         settings = resumed.settings;
         depends_on = std::move(resumed.depends_on);
+        // The same start as it began from (a tailored one as recorded, not solved again).
+        if (!resumed.start.is_null() && resumed.start.value("kind", "scene") == "tailored") {
+            request.start_report = start_report_from_json(resumed.start);
+            std::vector<double> x;
+            for (const std::string& name : parameter_space(scene).names)
+                x.push_back(request.start_report.parameters.at(name));
+            request.start = x;
+        }
         request.replay = read_history((std::filesystem::path(out) / "history.csv").string(),
                                       parameter_space(scene).names, scene.optimize);
     } else {
@@ -174,17 +185,33 @@ int run_optimize(const GlobalOptions& global, const Args& a, const CLI::App& cmd
             throw UsageError("--threshold must be >= 0 (0: never stop early)");
         if (settings.method != SearchMethod::Auto && settings.rays.size() > 1)
             settings.rays = {settings.rays.back()};
+        if (a.start == "tailored")
+            if (const auto why = tailored_start_refusal(scene))
+                throw UsageError(fmt::format("--start tailored: {}", *why));
     }
 
     const auto ctx = vk::Context::create(context_options(global));
     if (!a.resume.empty()) check_device(a.resume, depends_on, ctx.summary());
+    request.settings = settings;
+    if (a.resume.empty() && a.start == "tailored") {
+        // The desired far field the search will chase, and the profile that makes it from
+        // the source's centre (optimize/search_start.hpp).
+        const auto t0 = std::chrono::steady_clock::now();
+        request.desired = search_desired(ctx, scene, settings);
+        SearchStartPoint start = tailored_start(ctx, scene, request.desired->farfield, settings);
+        request.start = std::move(start.x);
+        request.start_report = std::move(start.report);
+        request.start_report.parameters = parameter_space(scene).named(*request.start);
+        request.start_report.time_s =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    }
     std::unique_ptr<HistoryWriter> history;
     if (!out.empty()) {
         create_output_directory(out);
         const auto path = [&](const char* n) { return (std::filesystem::path(out) / n).string(); };
         if (a.resume.empty())
             write_text_file(path("options.json"),
-                            settings_json(settings, scene, ctx.summary()).dump(2) + "\n");
+                            settings_json(settings, scene, ctx.summary(), request).dump(2) + "\n");
         history = std::make_unique<HistoryWriter>(path("history.csv"), parameter_space(scene).names,
                                                   !a.resume.empty(), scene.optimize);
     }
@@ -192,7 +219,6 @@ int run_optimize(const GlobalOptions& global, const Args& a, const CLI::App& cmd
     const std::uint64_t grid = parameter_space(scene).lattice_size();
     std::uint64_t infeasible = 0;
     double best = HUGE_VAL;
-    request.settings = settings;
     request.on_candidate = [&](const Candidate& c, const StageSummary& s) {
         if (history) history->write(c, s);
         infeasible += c.feasible ? 0 : 1;
@@ -257,6 +283,21 @@ int run_optimize(const GlobalOptions& global, const Args& a, const CLI::App& cmd
                     scene.name.c_str(), r.method.c_str(), r.history.size(),
                     static_cast<unsigned long long>(r.infeasible), stop_reason_name(r.stopped),
                     r.time_s);
+        if (r.start.kind == "tailored")
+            std::printf(
+                "%s",
+                fmt::format("start: tailored ({} edge rays, the rim {:.1f} deg from "
+                            "the nadir holding {:.1f} % of the source's flux{}); "
+                            "{} at start {}\n",
+                            r.start.edge_ray, r.start.rim_polar_deg, 100.0 * r.start.source_share,
+                            r.start.clamped.empty() ? ""
+                                                    : fmt::format(", {} heights clamped into their "
+                                                                  "bounds",
+                                                                  r.start.clamped.size()),
+                            r.metric,
+                            r.start_l2_lm ? fmt::format("{:.6g} {}", *r.start_l2_lm, r.metric_unit)
+                                          : std::string("not traced"))
+                    .c_str());
         if (r.best) {
             std::string params;
             for (const auto& [k, v] : r.best_parameters)
@@ -323,6 +364,11 @@ void register_optimize(CLI::App& app, const GlobalOptions& global, std::function
                     "gpu (the fast path, default) or cpu (every candidate by the exact CPU "
                     "reference: a search judged by another tracer, far slower)")
         ->check(CLI::IsMember({"gpu", "cpu"}));
+    cmd->add_option("--start", a->start,
+                    "scene (default: the scene's reflector) or tailored (the profile family: "
+                    "the profile a point source at the source's centre needs for the desired far "
+                    "field, by flux mapping)")
+        ->check(CLI::IsMember({"scene", "tailored"}));
     cmd->add_flag("--json", a->json, "Print one JSON object");
     cmd->add_option("--out", a->out,
                     "Write history.csv, progress.png, best.toml, the best far field, and the best "

@@ -193,7 +193,7 @@ StopReason PopulationSearch::run_stage(std::uint64_t max_evaluations) {
 }
 
 StopReason run_auto_population(Objective& f, const std::vector<Fidelity>& stages,
-                               PopulationReport& report) {
+                               PopulationReport& report, bool retrace_start) {
     const std::size_t n = f.space().size();
     StopReason stopped = StopReason::Converged;
     std::unique_ptr<PopulationSearch> search;
@@ -209,6 +209,7 @@ StopReason run_auto_population(Objective& f, const std::vector<Fidelity>& stages
         // The coarse stages are cheap but noisy: each may use 30 (n + 1) candidates (1110
         // for 36 heights, about 80 generations of 14) before the next takes over; the last
         // runs to convergence or the search's budget.
+        if (last && s > 0 && retrace_start) (void)f(f.space().snap(f.space().start));
         stopped = search->run_stage(last ? 0 : 30 * (n + 1));
     }
     return stopped;

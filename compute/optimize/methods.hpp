@@ -115,8 +115,10 @@ class PopulationSearch {
 
 // auto beyond kPopulationAbove free parameters: one CMA-ES run continued through the
 // stages (few rays on a coarse far field first, the scene's last), each stage its own
-// common random numbers.
+// common random numbers. With `retrace_start` the start is traced again first thing in the
+// last stage (a tailored start, an answer in itself: the search then never ends above it
+// at that stage's fidelity, whatever the coarse stages' noise did to the population).
 StopReason run_auto_population(Objective& objective, const std::vector<Fidelity>& stages,
-                               PopulationReport& report);
+                               PopulationReport& report, bool retrace_start = false);
 
 } // namespace fird

@@ -5,6 +5,7 @@
 #include <chrono>
 #include <map>
 #include <numeric>
+#include <optional>
 #include <stdexcept>
 
 #include <fmt/format.h>
@@ -143,6 +144,48 @@ LatticeCheck lattice_check(const Objective& f, const std::optional<ConfirmNoise>
 
 } // namespace
 
+namespace {
+
+Fidelity search_final_fidelity(const Scene& scene, const SearchSettings& settings) {
+    Fidelity f = scene_fidelity(scene);
+    f.seed =
+        stream_seed(settings.seed, kFinalStream,
+                    scene.target.kind == TargetDesc::Kind::Reflector ? scene.target.seed : ~0ull);
+    return f;
+}
+
+// The scene's reflector traced by `eval`: its far-field flux (none where it cannot be
+// traced: it cuts the source).
+std::optional<double> scene_start_flux(Evaluator& eval, const Scene& scene,
+                                       const ParameterSpace& space) {
+    const Scene start = space.candidate(scene, space.start);
+    if (!traceable(start, start.reflector).feasible) return std::nullopt;
+    if (space.moves_source()) eval.set_source(start.source);
+    return eval.evaluate(start.reflector).farfield_lm;
+}
+
+DesiredFarField scaled_desired(const vk::Context& ctx, const Scene& scene, double start_flux_lm,
+                               Backend backend) {
+    if (scene.target.kind == TargetDesc::Kind::Photometric && !scene.target.absolute &&
+        !(start_flux_lm > 0.0))
+        throw std::invalid_argument(fmt::format(
+            "{}: the start reflector sends no light to the far field, so a relative "
+            "photometric target has nothing to be scaled to (set [target] absolute = true or "
+            "start from another reflector)",
+            scene.path));
+    return desired_farfield(ctx, scene, start_flux_lm, backend);
+}
+
+} // namespace
+
+DesiredFarField search_desired(const vk::Context& ctx, const Scene& scene,
+                               const SearchSettings& settings) {
+    const ParameterSpace space = parameter_space(scene);
+    Evaluator eval(ctx, scene, search_final_fidelity(scene, settings), settings.backend);
+    return scaled_desired(ctx, scene, scene_start_flux(eval, scene, space).value_or(0.0),
+                          settings.backend);
+}
+
 const char* stop_reason_name(StopReason r) {
     switch (r) {
     case StopReason::None:
@@ -260,29 +303,24 @@ SearchOutcome run_search(const vk::Context& ctx, const Scene& scene, const Searc
             "than {}) auto searches with CMA-ES instead",
             space.size(), kPopulationAbove));
 
-    // The start at the scene's fidelity, with rays of its own stream (the same stream
-    // re-evaluates the best at the end): its l2, and the flux a relative photometric
-    // target is scaled to, once for the whole search.
+    // The scene's reflector at the scene's fidelity, with rays of its own stream (the same
+    // stream re-evaluates the best at the end): the flux a relative photometric target is
+    // scaled to, once for the whole search, and the start's l2 unless the search starts
+    // elsewhere (request.start).
     const std::uint64_t avoid =
         scene.target.kind == TargetDesc::Kind::Reflector ? scene.target.seed : ~0ull;
-    Fidelity final_fidelity = scene_fidelity(scene);
-    final_fidelity.seed = stream_seed(settings.seed, kFinalStream, avoid);
+    const Fidelity final_fidelity = search_final_fidelity(scene, settings);
     Evaluator final_eval(ctx, scene, final_fidelity, settings.backend);
-    const Scene start_scene = space.candidate(scene, space.start);
-    const ReflectorDesc& start = start_scene.reflector;
-    // Traced for its flux and l2 even where it breaks a press's constraint.
-    const bool start_feasible = traceable(start_scene, start).feasible;
-    if (space.moves_source()) final_eval.set_source(start_scene.source);
-    const double start_flux = start_feasible ? final_eval.evaluate(start).farfield_lm : 0.0;
-    if (!req.desired && scene.target.kind == TargetDesc::Kind::Photometric &&
-        !scene.target.absolute && !(start_flux > 0.0))
-        throw std::invalid_argument(fmt::format(
-            "{}: the start reflector sends no light to the far field, so a relative "
-            "photometric target has nothing to be scaled to (set [target] absolute = true or "
-            "start from another reflector)",
-            scene.path));
-    out.desired =
-        req.desired ? *req.desired : desired_farfield(ctx, scene, start_flux, settings.backend);
+    bool scene_start_traced = false;
+    if (!req.desired || !req.start) {
+        const std::optional<double> flux = scene_start_flux(final_eval, scene, space);
+        scene_start_traced = flux.has_value();
+        out.desired = req.desired
+                          ? *req.desired
+                          : scaled_desired(ctx, scene, flux.value_or(0.0), settings.backend);
+    } else {
+        out.desired = *req.desired;
+    }
     if (out.desired.farfield.width != final_fidelity.farfield_w ||
         out.desired.farfield.height != final_fidelity.farfield_h)
         throw std::invalid_argument(fmt::format(
@@ -294,10 +332,26 @@ SearchOutcome run_search(const vk::Context& ctx, const Scene& scene, const Searc
     r.metric_unit = metric_unit(scene.optimize.metric);
     r.desired_photometrics = photometrics(out.desired.farfield, scene.source.flux_lm);
     final_eval.set_desired(out.desired.farfield);
-    if (start_feasible) r.start_l2_lm = final_eval.compare();
+    if (req.start) {
+        if (req.start->size() != space.size())
+            throw std::invalid_argument("the search's start has the wrong number of parameters");
+        space.start = *req.start;
+        r.start = req.start_report;
+    }
+    r.start.parameters = space.named(space.start);
+    const Scene start_scene = space.candidate(scene, space.start);
+    // Traced for its l2 even where it breaks a press's constraint.
+    if (traceable(start_scene, start_scene.reflector).feasible) {
+        if (!scene_start_traced || req.start) {
+            if (space.moves_source()) final_eval.set_source(start_scene.source);
+            (void)final_eval.evaluate(start_scene.reflector);
+        }
+        r.start_l2_lm = final_eval.compare();
+    }
     r.smoothness_weight = scene.optimize.smoothness;
     if (r.smoothness_weight > 0.0)
-        r.start_bending_energy = search_bending_energy(Surface::make(start, scene.holder));
+        r.start_bending_energy =
+            search_bending_energy(Surface::make(start_scene.reflector, scene.holder));
 
     Objective f(ctx, scene, space, out.desired.farfield, settings, req.control, req.replay,
                 req.on_candidate);
@@ -316,7 +370,8 @@ SearchOutcome run_search(const vk::Context& ctx, const Scene& scene, const Searc
             break;
         case SearchMethod::Auto:
             if (auto_population)
-                r.stopped = run_auto_population(f, stages, r.population.emplace());
+                r.stopped = run_auto_population(f, stages, r.population.emplace(),
+                                                r.start.kind == "tailored");
             else
                 r.stopped = run_auto(f, stages, confirm);
             break;

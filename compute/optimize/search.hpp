@@ -24,6 +24,12 @@ struct SearchRequest {
     // path that traces its candidates. The scene then needs no [target] (a target reflector
     // there still gives surface_rms_mm).
     std::optional<DesiredFarField> desired;
+    // Where the search starts instead of the scene's reflector (the space's order; fird
+    // optimize --start tailored), and how it was found (copied into SearchResult::start).
+    // A relative photometric target is still scaled to the scene's reflector's flux
+    // (search_desired), so searches from different starts chase the same far field.
+    std::optional<std::vector<double>> start;
+    StartReport start_report;
 };
 
 struct SearchOutcome {
@@ -31,6 +37,12 @@ struct SearchOutcome {
     DesiredFarField desired;               // on the scene's grid
     std::optional<FarField> best_farfield; // the best, fresh rays, scene fidelity
 };
+
+// The desired far field run_search chases when the request gives none: the scene's
+// [target], a relative photometric one scaled to the far-field flux of the scene's reflector
+// traced at the scene's fidelity with the search's final stream of rays.
+DesiredFarField search_desired(const vk::Context& ctx, const Scene& scene,
+                               const SearchSettings& settings);
 
 SearchOutcome run_search(const vk::Context& ctx, const Scene& scene, const SearchRequest& request);
 

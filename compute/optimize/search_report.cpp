@@ -10,6 +10,7 @@
 #include "io/atomic_file.hpp"
 #include "io/scene_file.hpp"
 #include "model/design_parameters.hpp"
+#include "model/surface.hpp"
 #include "plot/chart.hpp"
 
 namespace fird {
@@ -26,6 +27,37 @@ std::string stage_label(const StageSummary& s) {
 }
 
 } // namespace
+
+nlohmann::json start_report_json(const StartReport& s) {
+    nlohmann::json j = {{"kind", s.kind}, {"parameters", s.parameters}};
+    if (s.kind != "tailored") return j;
+    j["edge_ray"] = s.edge_ray;
+    j["rim_polar_deg"] = s.rim_polar_deg;
+    j["source_share"] = s.source_share;
+    j["reaches_rim"] = s.reaches_rim;
+    j["target_share_left_out"] = s.target_share_left_out;
+    j["clamped"] = s.clamped;
+    j["quick_metric"] = s.quick_metric;
+    j["refused"] = s.refused;
+    j["time_s"] = s.time_s;
+    return j;
+}
+
+StartReport start_report_from_json(const nlohmann::json& j) {
+    StartReport s;
+    s.kind = j.at("kind").get<std::string>();
+    s.parameters = j.at("parameters").get<std::map<std::string, double>>();
+    s.edge_ray = j.value("edge_ray", "");
+    s.rim_polar_deg = j.value("rim_polar_deg", 0.0);
+    s.source_share = j.value("source_share", 0.0);
+    s.reaches_rim = j.value("reaches_rim", true);
+    s.target_share_left_out = j.value("target_share_left_out", 0.0);
+    s.clamped = j.value("clamped", std::vector<std::string>());
+    s.quick_metric = j.value("quick_metric", std::map<std::string, double>());
+    s.refused = j.value("refused", std::map<std::string, std::string>());
+    s.time_s = j.value("time_s", 0.0);
+    return s;
+}
 
 nlohmann::json search_json(const SearchResult& r) {
     nlohmann::json stages = nlohmann::json::array();
@@ -118,8 +150,11 @@ nlohmann::json search_json(const SearchResult& r) {
                                           ? nlohmann::json(*r.final_l2_lm + *penalty)
                                           : nlohmann::json(nullptr)}};
     }
+    nlohmann::json start = start_report_json(r.start);
+    start["metric_at_start"] = optional_number(r.start_l2_lm);
     return {{"method", r.method},
             {"backend", r.backend},
+            {"start", start},
             {"metric", r.metric},
             {"metric_unit", r.metric_unit},
             {"photometrics", photometry(r.photometrics)},
@@ -277,6 +312,37 @@ std::string best_scene_toml(const Scene& scene, const SearchResult& r) {
     return text + scene_to_toml(best);
 }
 
+plot::Chart start_profiles_chart(const Scene& scene, const SearchResult& r) {
+    plot::Chart chart{.title = fmt::format("The profile z(r): the {} start ({} edge rays) and "
+                                           "the best",
+                                           r.start.kind, r.start.edge_ray),
+                      .x = {"r (mm) from the axis"},
+                      .y = {"z (mm)"}};
+    const auto series = [&](const std::string& label, const std::map<std::string, double>& named,
+                            std::size_t colour) {
+        Scene s = scene;
+        apply_design_parameters(s, named);
+        const Surface surface = Surface::make(s.reflector, s.holder);
+        const auto& p = s.reflector.parameters;
+        const double cx = p.at("cx"), cy = p.at("cy"), radius = p.at("radius_mm");
+        plot::Series line{.label = label, .colour = plot::palette(colour)};
+        for (int i = 0; i <= 200; ++i) {
+            const double rr = radius * i / 200.0;
+            line.x.push_back(rr);
+            line.y.push_back(surface.height(cx + rr, cy));
+        }
+        chart.series.push_back(std::move(line));
+    };
+    series("the scene's start", {}, 0);
+    series(fmt::format("the start ({})", r.start.kind), r.start.parameters, 1);
+    if (r.best) series("the best", r.best_parameters, 2);
+    chart.marks.push_back({.vertical = false,
+                           .value = scene.source.center_mm.z,
+                           .label = "the source's centre",
+                           .colour = {0.5, 0.5, 0.5}});
+    return chart;
+}
+
 void write_search_outputs(const std::string& dir, const Scene& scene, const SearchOutcome& o) {
     namespace fs = std::filesystem;
     create_output_directory(dir);
@@ -284,6 +350,8 @@ void write_search_outputs(const std::string& dir, const Scene& scene, const Sear
     const SearchResult& r = o.result;
     write_text_file(path("search.json"), search_json(r).dump(2) + "\n");
     write_progress_png(path("progress.png"), r);
+    if (r.start.kind == "tailored" && scene.reflector.family == Family::Profile)
+        plot::write_chart_png(path("profiles.png"), start_profiles_chart(scene, r));
     if (!r.best) return;
     Scene best = scene;
     best.name = scene.name + " (best)";

@@ -15,6 +15,13 @@ namespace fird {
 
 nlohmann::json search_json(const SearchResult& result);
 
+// Where the search began: {"kind", "parameters"} and, for a tailored start, what its making
+// chose and took ("edge_ray", "rim_polar_deg", "source_share", "reaches_rim",
+// "target_share_left_out", "clamped", "quick_metric", "refused", "time_s"). options.json
+// records it so --resume starts from the same point; start_report_from_json reads it back.
+nlohmann::json start_report_json(const StartReport& start);
+StartReport start_report_from_json(const nlohmann::json& j);
+
 void write_progress_png(const std::string& path, const SearchResult& result);
 
 // The progress picture's charts: every candidate's l2 by stage with each stage's best so
@@ -25,6 +32,10 @@ struct ProgressCharts {
     std::vector<plot::Chart> parameters;
 };
 ProgressCharts progress_charts(const SearchResult& result);
+
+// A start other than the scene's, for a profile: z(r) of the scene's start, the search's
+// start and the best along +x from the axis (profiles.png).
+plot::Chart start_profiles_chart(const Scene& scene, const SearchResult& result);
 
 // The scene with the best parameters, traceable as it is from any directory (file paths
 // made absolute).

@@ -148,6 +148,27 @@ struct PopulationReport {
     std::string verdict;           // one line: why it ended
 };
 
+// Where a search began (fird optimize --start): the scene's reflector, or the profile
+// tailored to the desired far field (optimize/search_start.hpp) and what its making chose.
+struct StartReport {
+    std::string kind = "scene";               // "scene" or "tailored"
+    std::map<std::string, double> parameters; // the start's optimized parameters
+    // Tailored: the edge ray kept, the source angle (from the nadir) meeting the rim, the
+    // share of the source's flux within that cone, and whether the curve reached the rim.
+    std::string edge_ray;
+    double rim_polar_deg = 0.0;
+    double source_share = 0.0;
+    bool reaches_rim = true;
+    double target_share_left_out = 0.0; // the target's share below the horizon, not mapped
+    std::vector<std::string> clamped;   // heights the tailoring put outside their bounds
+    // Each edge ray tried: its metric on the quick trace, or why it has no answer.
+    std::map<std::string, double> quick_metric;
+    std::map<std::string, std::string> refused;
+    // Tailored: the wall time of its making (the desired far field, the source's polar
+    // distribution, the solves and their quick traces), before the search's own time_s.
+    double time_s = 0.0;
+};
+
 struct SearchResult {
     std::string method;
     std::string backend; // "gpu" (the fast path) or "cpu" (the reference), backend_name()
@@ -160,7 +181,8 @@ struct SearchResult {
     std::optional<std::uint64_t> best; // the best candidate of the last stage that has one
     std::map<std::string, double> best_parameters;
     double best_l2_lm = 0.0;
-    std::optional<double> start_l2_lm;       // the scene's reflector, scene fidelity
+    std::optional<double> start_l2_lm; // the start (StartReport), scene fidelity
+    StartReport start;
     std::optional<double> final_l2_lm;       // the best, fresh rays, scene fidelity
     std::optional<double> noise_floor_l2_lm; // two independent traces of the best
     std::optional<double> surface_rms_mm;    // best against a target reflector, over the holder

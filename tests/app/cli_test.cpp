@@ -668,6 +668,75 @@ TEST(CliOptimize, ASmoothnessWeightedSearchMinimisesItsScoreAndReportsIt) {
     EXPECT_GT(nlohmann::json::parse(report)["bending_energy"].get<double>(), 0.0);
 }
 
+// --start tailored (issue 26 item 5): refused where there is no profile to tailor (exit 2,
+// the line naming --start); on a profile scene the search's first candidate is the tailored
+// profile (CMA-ES traces its start first, as it is; NLopt's BOBYQA moves a start nearer a
+// bound than its first step), the JSON says so with the start's metric, options.json records
+// it, profiles.png draws it, and --resume continues from the same start.
+TEST(CliOptimize, StartTailoredBeginsAtTheTailoredProfileAndResumesThere) {
+    const std::string mirror = std::string(FIRD_SOURCE_DIR) + "/scenes/test/mirror_search.toml";
+    const auto refused = run("optimize " + mirror + " --start tailored");
+    EXPECT_EQ(refused.code, 2) << refused.out;
+    EXPECT_NE(refused.out.find("error: --start tailored: a tailored start is a profile's"),
+              std::string::npos)
+        << refused.out;
+    EXPECT_EQ(run("optimize " + mirror + " --start nope").code, 2);
+
+    const std::string dir = ::testing::TempDir() + "/fird_optimize_tailored";
+    std::filesystem::remove_all(dir);
+    const std::string scene = dir + "_scene.toml";
+    {
+        std::ifstream in(std::string(FIRD_SOURCE_DIR) + "/scenes/test/profile_dish.toml");
+        std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+        text += "\n[target]\nseed = 2\nparameters = { h_3 = 1.4, h_4 = 2.6 }\n";
+        std::ofstream(scene) << text;
+    }
+    const auto r =
+        run("optimize " + scene +
+            " --start tailored --method cmaes --max-evals 4 --rays 2e4 --json --out " + dir);
+    ASSERT_EQ(r.code, 0) << r.out;
+    const auto j = nlohmann::json::parse(r.out.substr(r.out.find('{')));
+    const auto& start = j["start"];
+    EXPECT_EQ(start["kind"], "tailored");
+    EXPECT_TRUE(start["edge_ray"] == "crossing" || start["edge_ray"] == "diverging") << start;
+    EXPECT_GT(start["metric_at_start"].get<double>(), 0.0);
+    EXPECT_EQ(start["metric_at_start"], j["start_l2"]);
+    ASSERT_EQ(start["parameters"].size(), 6u) << start;
+    // History row 0 is the start, column by column (the file's 17 digits read back).
+    std::ifstream history(dir + "/history.csv");
+    std::string header, row;
+    std::getline(history, header);
+    std::getline(history, row);
+    const auto cells = [](const std::string& line) {
+        std::vector<std::string> c;
+        std::stringstream in(line);
+        for (std::string cell; std::getline(in, cell, ',');)
+            c.push_back(cell);
+        return c;
+    };
+    const auto names = cells(header), values = cells(row);
+    ASSERT_EQ(names.size(), values.size());
+    for (const auto& [name, value] : start["parameters"].items()) {
+        const auto column = std::find(names.begin(), names.end(), name);
+        ASSERT_NE(column, names.end()) << name;
+        EXPECT_EQ(std::stod(values[std::size_t(column - names.begin())]), value.get<double>())
+            << name;
+    }
+    EXPECT_TRUE(std::filesystem::exists(dir + "/profiles.png"));
+    std::ifstream options_in(dir + "/options.json");
+    const auto options = nlohmann::json::parse(options_in);
+    EXPECT_EQ(options["start"]["kind"], "tailored");
+    EXPECT_EQ(options["start"]["parameters"], start["parameters"]);
+
+    EXPECT_EQ(run("optimize " + scene + " --resume " + dir + " --start tailored").code, 2);
+    const auto resumed = run("optimize " + scene + " --resume " + dir + " --json");
+    ASSERT_EQ(resumed.code, 0) << resumed.out;
+    const auto k = nlohmann::json::parse(resumed.out.substr(resumed.out.find('{')));
+    EXPECT_EQ(k["start"]["kind"], "tailored");
+    EXPECT_EQ(k["start"]["parameters"], start["parameters"]);
+    EXPECT_EQ(k["best_parameters"], j["best_parameters"]);
+}
+
 // A ray file source (the writer's, beside its scene): a search over it runs, and its
 // best.toml finds the ray file from the output folder (written absolute).
 TEST(CliOptimize, ARayFileScenesBestTomlTracesFromItsOutputFolder) {

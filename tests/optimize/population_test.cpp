@@ -3,6 +3,7 @@
 // batch with each candidate's l2 the one it has traced alone; the same seed gives the same
 // history and another seed another; a search interrupted mid-generation and resumed ends
 // where the uninterrupted one does; auto chooses CMA-ES only beyond six free parameters.
+#include <algorithm>
 #include <cmath>
 #include <set>
 
@@ -183,6 +184,36 @@ TEST_F(PopulationRules, AutoSearchesWithCmaesBeyondSixFreeParameters) {
     const SearchResult lattice = search(ctx(), six, SearchMethod::Auto).result;
     EXPECT_FALSE(lattice.population);
     EXPECT_EQ(lattice.stages[0].name, "explore");
+}
+
+// A start the request gives, marked tailored (fird optimize --start tailored): the search
+// begins there (history row 0), reports it, and auto's population search traces it again
+// first in its last stage, so its best there is never above the start's l2 at that
+// stage's fidelity (the coarse stage's noise may carry the population away from it).
+TEST_F(PopulationRules, ATailoredStartIsRowZeroAndTracedAgainInTheLastStage) {
+    Scene s = scene("freeform_search.toml");
+    s.optimize.max_evaluations = 400;
+    const ParameterSpace space = parameter_space(s);
+    std::vector<double> start(space.size());
+    for (std::size_t k = 0; k < space.size(); ++k)
+        start[k] = 0.5 * (space.lo[k] + space.hi[k]);
+    start = space.snap(start);
+    SearchRequest request{.settings = search_settings(s), .start = start};
+    request.start_report.kind = "tailored";
+    const SearchResult r = run_search(ctx(), s, request).result;
+    ASSERT_TRUE(r.population);
+    ASSERT_EQ(r.stages.size(), 2u);
+    EXPECT_EQ(r.start.kind, "tailored");
+    EXPECT_EQ(r.start.parameters, space.named(start));
+    ASSERT_TRUE(r.start_l2_lm);
+    EXPECT_EQ(r.history.front().x, start);
+    const auto last = std::find_if(r.history.begin(), r.history.end(),
+                                   [](const Candidate& c) { return c.stage == 1; });
+    ASSERT_NE(last, r.history.end());
+    EXPECT_EQ(last->x, start);
+    ASSERT_TRUE(r.best);
+    EXPECT_EQ(r.history[*r.best].stage, 1u);
+    EXPECT_LE(r.best_l2_lm, last->l2_lm);
 }
 
 // A freeform start from one number: heights_mm = -6 starts all nine heights there, each
