@@ -36,7 +36,7 @@ void farfield_panel(Frame& f) {
     if (s.farfield.view == 3) { // on its own line: the toolbar is full
         ImGui::SetNextItemWidth(8.0f * ImGui::GetFontSize());
         ImGui::SliderFloat("plane", &s.farfield.plane_distance_m, 0.5f, 20.0f, "%.1f m",
-                           ImGuiSliderFlags_Logarithmic);
+                           ImGuiSliderFlags_Logarithmic | ImGuiSliderFlags_AlwaysClamp);
     }
     if (!f.snapshot) {
         ImGui::TextDisabled("no trace yet");

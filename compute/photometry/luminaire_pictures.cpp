@@ -253,12 +253,23 @@ const char* luminaire_view_name(LuminaireView view) {
     return "polar";
 }
 
+namespace {
+// A table step of m cells, at least `least_deg`, with m even and dividing the cells: a
+// step of an odd number of cells puts some cell's centre halfway between two nodes, where
+// table_from_farfield's nearest node is the outer one (with one cell a step, nadir would
+// read 0 cd and all the light half a cell out). One cell where no even m divides.
+double view_step_deg(std::uint32_t cells, double range_deg, double least_deg) {
+    const double cell = range_deg / cells;
+    for (std::uint32_t m = 2; m <= cells; m += 2)
+        if (cells % m == 0 && m * cell >= least_deg - 1e-9) return m * cell;
+    return cell;
+}
+} // namespace
+
 CandelaTable view_table(const FarField& f) {
-    // Steps that divide their ranges and are no finer than the cells (table_from_farfield).
-    const double cell_c = 360.0 / f.width, cell_g = 180.0 / f.height;
-    const double c = cell_c <= 5.0 ? 5.0 : 360.0 / std::floor(360.0 / cell_c);
-    const double g = cell_g <= 1.0 ? 1.0 : 180.0 / std::floor(180.0 / cell_g);
-    return table_from_farfield(f, c, g);
+    // About photometrics' patches: C every 5 deg, gamma every 1 deg, or coarser.
+    return table_from_farfield(f, view_step_deg(f.width, 360.0, 5.0),
+                               view_step_deg(f.height, 180.0, 1.0));
 }
 
 void draw_luminaire_view(Canvas& cv, const Rect& a, LuminaireView view,

@@ -1,17 +1,18 @@
 // The data behind the luminaire views against closed forms: the illuminance of an
 // isotropic and of a cosine-law luminaire on a plane (the inverse square law times
 // cos^3 gamma), the C orientation of the plane (C90 along +y), the gamma holding a share
-// of the flux, and an isocandela line of a cosine-law beam; the pictures are written whole.
+// of the flux, and an isocandela line of a cosine-law beam (the pictures:
+// luminaire_pictures_test.cpp).
 #include <cmath>
 #include <filesystem>
 #include <numbers>
+#include <utility>
 
 #include <gtest/gtest.h>
 
 #include "photometry/farfield_photometry.hpp"
-#include "photometry/luminaire_pictures.hpp"
+#include "photometry/luminaire_pictures.hpp" // view_table
 #include "photometry/luminaire_views.hpp"
-#include "plot/canvas.hpp"
 
 namespace fird {
 namespace {
@@ -95,23 +96,17 @@ TEST(LuminaireViews, ACosineBeamsHalfIntensityLineIsTheCircleAtSixtyDegrees) {
     EXPECT_NEAR(around, 360.0, 1e-9);
 }
 
-// The three pictures, each beside the desired one and the difference, written whole.
-TEST(LuminaireViews, ThePicturesAreWrittenBesideTheDesiredOnes) {
-    const CandelaTable beam = table({0.0}, [](std::size_t, double g) {
-        return g <= 90.0 ? 800.0 * std::pow(std::cos(g * kDeg), 4) : 0.0;
-    });
-    const CandelaTable wide = table(
-        {0.0}, [](std::size_t, double g) { return g <= 90.0 ? 500.0 * std::cos(g * kDeg) : 0.0; });
-    const FarField a = farfield_from_table(beam, 360, 180), b = farfield_from_table(wide, 360, 180);
-    const std::string dir = ::testing::TempDir() + "/fird_luminaire_views";
-    std::filesystem::remove_all(dir);
-    std::filesystem::create_directories(dir);
-    write_luminaire_views(dir, a, &b, {.title = "beam", .plane_distance_m = 2.0});
-    for (const char* name : {"polar.png", "isocandela.png", "illuminance.png"}) {
-        int w = 0, h = 0;
-        const auto rgba = plot::read_png_rgba(dir + "/" + name, w, h);
-        EXPECT_EQ(w, 3 * 520) << name;
-        EXPECT_GT(h, 400) << name;
+// The views' table of a far field whose rows are a whole degree or more: an isotropic
+// luminaire reads I0 at nadir and everywhere (a node between two rows' centres, or a step
+// of one row, would leave nadir at 0 cd). The far field holds I0 exactly per cell
+// (farfield_from_table integrates it), so 1e-9 bounds the rounding.
+TEST(LuminaireViews, TheViewsTableOfACoarseFarFieldReadsNadir) {
+    const CandelaTable iso = table({0.0}, [](std::size_t, double) { return 250.0; });
+    for (const auto& [w, h] : {std::pair{360u, 180u}, std::pair{180u, 90u}, std::pair{72u, 36u}}) {
+        const CandelaTable t = view_table(farfield_from_table(iso, w, h));
+        for (const double g : {0.0, 0.5, 45.0, 90.0, 179.0})
+            EXPECT_NEAR(intensity_cd(t, 30.0, g), 250.0, 1e-9 * 250.0)
+                << w << "x" << h << " " << g << " " << t.gamma_deg[1] << " " << t.c_deg[1];
     }
 }
 
