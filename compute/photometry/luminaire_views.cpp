@@ -4,6 +4,9 @@
 #include <array>
 #include <cmath>
 #include <numbers>
+#include <stdexcept>
+
+#include <fmt/format.h>
 
 namespace fird {
 
@@ -40,6 +43,12 @@ std::vector<IsoSegment> isocandela_segments(const CandelaTable& table,
                                             const std::vector<double>& levels_cd,
                                             double gamma_max_deg, double c_step_deg,
                                             double gamma_step_deg) {
+    if (!(c_step_deg > 0.0 && c_step_deg <= 360.0) || !(gamma_step_deg > 0.0) ||
+        !std::isfinite(gamma_max_deg))
+        throw std::invalid_argument(
+            fmt::format("isocandela lines: steps {} x {} deg and a gamma range of {} deg",
+                        c_step_deg, gamma_step_deg, gamma_max_deg));
+    gamma_max_deg = std::clamp(gamma_max_deg, 0.0, 180.0);
     const int nc = std::max(1, int(std::lround(360.0 / c_step_deg)));
     const int ng =
         std::max(1, int(std::ceil(std::clamp(gamma_max_deg, 0.0, 180.0) / gamma_step_deg - 1e-9)));
@@ -90,6 +99,10 @@ std::vector<IsoSegment> isocandela_segments(const CandelaTable& table,
 
 IlluminanceMap illuminance_on_plane(const CandelaTable& table, double distance_m,
                                     double half_width_m, int samples) {
+    if (!(distance_m > 0.0) || !std::isfinite(distance_m) || !(half_width_m >= 0.0) ||
+        !std::isfinite(half_width_m))
+        throw std::invalid_argument(fmt::format("illuminance: a plane {} m away, {} m either side",
+                                                distance_m, half_width_m));
     IlluminanceMap m{
         .samples = std::max(samples, 1), .distance_m = distance_m, .half_width_m = half_width_m};
     m.lux.resize(std::size_t(m.samples) * m.samples);

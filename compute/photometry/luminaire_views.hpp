@@ -24,7 +24,8 @@ struct IsoSegment {
 // The lines where the interpolated intensity equals each level, for gamma in
 // [0, gamma_max_deg]: marching squares on a grid of `c_step_deg` x `gamma_step_deg`
 // (crossings linear between nodes; a saddle cell joined by the mean of its corners). C runs
-// over [0, 360]: a line that crosses C = 0 is cut there.
+// over [0, 360]: a line that crosses C = 0 is cut there. Throws std::invalid_argument for a
+// step not above 0 or a gamma range that is not finite (clamped to 0..180).
 std::vector<IsoSegment> isocandela_segments(const CandelaTable& table,
                                             const std::vector<double>& levels_cd,
                                             double gamma_max_deg, double c_step_deg = 1.0,
@@ -34,6 +35,8 @@ std::vector<IsoSegment> isocandela_segments(const CandelaTable& table,
 // sampled at n x n points over [-half_width_m, half_width_m]^2: E = I(C, gamma) cos^3 gamma
 // / d^2 (the inverse square law on a tilted patch), with gamma = atan(r / d) and C the
 // point's azimuth from x (along C0) towards y (along C90). Row 0 at y = -half_width_m.
+// Throws std::invalid_argument unless the distance is finite and > 0 and the half width
+// finite and >= 0.
 struct IlluminanceMap {
     int samples = 0;
     double distance_m = 0.0, half_width_m = 0.0;

@@ -110,5 +110,17 @@ TEST(LuminaireViews, TheViewsTableOfACoarseFarFieldReadsNadir) {
     }
 }
 
+// Steps, ranges and distances that make no grid or no plane are refused, never looped on
+// or divided by.
+TEST(LuminaireViews, BadStepsAndDistancesAreRefused) {
+    const CandelaTable t = table({0.0}, [](std::size_t, double) { return 1.0; });
+    EXPECT_THROW((void)isocandela_segments(t, {0.5}, 90.0, 0.0), std::invalid_argument);
+    EXPECT_THROW((void)isocandela_segments(t, {0.5}, 90.0, 1.0, -0.5), std::invalid_argument);
+    EXPECT_THROW((void)isocandela_segments(t, {0.5}, std::nan("")), std::invalid_argument);
+    EXPECT_THROW((void)illuminance_on_plane(t, 0.0, 1.0, 5), std::invalid_argument);
+    EXPECT_THROW((void)illuminance_on_plane(t, -2.0, 1.0, 5), std::invalid_argument);
+    EXPECT_THROW((void)illuminance_on_plane(t, 2.0, std::nan(""), 5), std::invalid_argument);
+}
+
 } // namespace
 } // namespace fird
