@@ -103,10 +103,6 @@ struct Intensity {
     }
 };
 
-double peak_cd(const CandelaTable& t) {
-    return t.peak_cd();
-}
-
 double largest_abs_difference(const CandelaTable& a, const CandelaTable& b) {
     double m = 0.0;
     for (int c = 0; c < 360; c += 2)
@@ -289,7 +285,7 @@ void draw_luminaire_view(Canvas& cv, const Rect& a, LuminaireView view,
         return Rect{a.x + (k % columns) * w, a.y + (k / columns) * h, w, h};
     };
     const double gamma_max = shown_gamma_deg(obtained, desired);
-    const double peak = std::max(peak_cd(obtained), desired ? peak_cd(*desired) : 0.0);
+    const double peak = std::max(obtained.peak_cd(), desired ? desired->peak_cd() : 0.0);
     const std::string name = o.title.empty() ? std::string() : o.title + ": ";
     switch (view) {
     case LuminaireView::PolarMap:

@@ -10,6 +10,7 @@
 
 #include <gtest/gtest.h>
 
+#include "candela_tables.hpp"
 #include "photometry/farfield_photometry.hpp"
 #include "photometry/luminaire_pictures.hpp" // view_table
 #include "photometry/luminaire_views.hpp"
@@ -19,22 +20,11 @@ namespace {
 
 constexpr double kDeg = std::numbers::pi / 180.0;
 
-// A type C table of planes `planes_deg` (each constant in C between them, as
-// intensity_cd interpolates) with intensity cd(c index, gamma) every degree of gamma.
-template <class Cd> CandelaTable table(const std::vector<double>& planes_deg, const Cd& cd) {
-    CandelaTable t;
-    t.c_deg = planes_deg;
-    for (int g = 0; g <= 180; ++g)
-        t.gamma_deg.push_back(g);
-    for (std::size_t c = 0; c < planes_deg.size(); ++c)
-        for (int g = 0; g <= 180; ++g)
-            t.cd.push_back(cd(c, double(g)));
-    return t;
-}
+using test::formula_table;
 
 // Isotropic I0: E = I0 cos^3 gamma / d^2; the table is constant, so exact to rounding.
 TEST(LuminaireViews, AnIsotropicLuminairesIlluminanceIsTheInverseSquareTimesCosCubed) {
-    const CandelaTable t = table({0.0}, [](std::size_t, double) { return 500.0; });
+    const CandelaTable t = formula_table({0.0}, [](std::size_t, double) { return 500.0; });
     const IlluminanceMap m = illuminance_on_plane(t, 2.0, 3.0, 31);
     for (int iy = 0; iy < 31; iy += 5)
         for (int ix = 0; ix < 31; ix += 3) {
@@ -51,7 +41,7 @@ TEST(LuminaireViews, AnIsotropicLuminairesIlluminanceIsTheInverseSquareTimesCosC
 // the table's interpolation (linear in cos gamma) holds exactly.
 TEST(LuminaireViews, ThePlanesAxesAreC0AndC90AndGammaFollowsTheCosineLaw) {
     const std::vector<double> cd0{100.0, 200.0, 300.0, 400.0};
-    const CandelaTable t = table({0.0, 90.0, 180.0, 270.0}, [&](std::size_t c, double g) {
+    const CandelaTable t = formula_table({0.0, 90.0, 180.0, 270.0}, [&](std::size_t c, double g) {
         return g <= 90.0 ? cd0[c] * std::cos(g * kDeg) : 0.0;
     });
     const double d = 3.0;
@@ -70,10 +60,10 @@ TEST(LuminaireViews, ThePlanesAxesAreC0AndC90AndGammaFollowsTheCosineLaw) {
 // hemisphere), sin^2 gamma, half by 45 deg. The zones are 0.25 deg wide and the answer
 // is a zone's outer edge: within 0.25 deg.
 TEST(LuminaireViews, TheGammaHoldingAShareOfTheFluxIsTheClosedForms) {
-    const CandelaTable iso = table({0.0}, [](std::size_t, double) { return 1.0; });
+    const CandelaTable iso = formula_table({0.0}, [](std::size_t, double) { return 1.0; });
     EXPECT_NEAR(gamma_holding_deg(iso, 0.5), 90.0, 0.25);
-    const CandelaTable cosine =
-        table({0.0}, [](std::size_t, double g) { return g <= 90.0 ? std::cos(g * kDeg) : 0.0; });
+    const CandelaTable cosine = formula_table(
+        {0.0}, [](std::size_t, double g) { return g <= 90.0 ? std::cos(g * kDeg) : 0.0; });
     EXPECT_NEAR(gamma_holding_deg(cosine, 0.5), 45.0, 0.25);
     EXPECT_NEAR(gamma_holding_deg(cosine, 0.9), std::asin(std::sqrt(0.9)) / kDeg, 0.25);
 }
@@ -83,7 +73,7 @@ TEST(LuminaireViews, TheGammaHoldingAShareOfTheFluxIsTheClosedForms) {
 // table), off the true gamma by at most the chord's sag, ~(0.5 deg)^2 / 8 cot 60 deg: 1e-3
 // deg bounds it. The segments go round the whole C range once.
 TEST(LuminaireViews, ACosineBeamsHalfIntensityLineIsTheCircleAtSixtyDegrees) {
-    const CandelaTable t = table(
+    const CandelaTable t = formula_table(
         {0.0}, [](std::size_t, double g) { return g <= 90.0 ? 800.0 * std::cos(g * kDeg) : 0.0; });
     const auto segments = isocandela_segments(t, {400.0}, 90.0);
     ASSERT_FALSE(segments.empty());
@@ -101,7 +91,7 @@ TEST(LuminaireViews, ACosineBeamsHalfIntensityLineIsTheCircleAtSixtyDegrees) {
 // of one row, would leave nadir at 0 cd). The far field holds I0 exactly per cell
 // (farfield_from_table integrates it), so 1e-9 bounds the rounding.
 TEST(LuminaireViews, TheViewsTableOfACoarseFarFieldReadsNadir) {
-    const CandelaTable iso = table({0.0}, [](std::size_t, double) { return 250.0; });
+    const CandelaTable iso = formula_table({0.0}, [](std::size_t, double) { return 250.0; });
     for (const auto& [w, h] : {std::pair{360u, 180u}, std::pair{180u, 90u}, std::pair{72u, 36u}}) {
         const CandelaTable t = view_table(farfield_from_table(iso, w, h));
         for (const double g : {0.0, 0.5, 45.0, 90.0, 179.0})
@@ -113,7 +103,7 @@ TEST(LuminaireViews, TheViewsTableOfACoarseFarFieldReadsNadir) {
 // Steps, ranges and distances that make no grid or no plane are refused, never looped on
 // or divided by.
 TEST(LuminaireViews, BadStepsAndDistancesAreRefused) {
-    const CandelaTable t = table({0.0}, [](std::size_t, double) { return 1.0; });
+    const CandelaTable t = formula_table({0.0}, [](std::size_t, double) { return 1.0; });
     EXPECT_THROW((void)isocandela_segments(t, {0.5}, 90.0, 0.0), std::invalid_argument);
     EXPECT_THROW((void)isocandela_segments(t, {0.5}, 90.0, 1.0, -0.5), std::invalid_argument);
     EXPECT_THROW((void)isocandela_segments(t, {0.5}, std::nan("")), std::invalid_argument);
