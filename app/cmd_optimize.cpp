@@ -15,6 +15,7 @@
 #include "interrupt.hpp"
 #include "io/atomic_file.hpp"
 #include "io/scene_file.hpp"
+#include "optimize/cluster_job.hpp"
 #include "optimize/history_csv.hpp"
 #include "optimize/parameter_space.hpp"
 #include "optimize/press_constraints.hpp"
@@ -42,6 +43,8 @@ struct Args {
     std::uint64_t max_evals = 0, seed = 0;
     double threshold = -1.0, rank_timeout = 0.0;
     bool json = false, refine = false;
+    bool job_script = false; // write the folder's run.sh and slurm.sh instead of searching
+    ClusterShape shape;
 };
 
 // The settings a search was started with, kept beside its history so that --resume
@@ -56,6 +59,8 @@ nlohmann::json settings_json(const SearchSettings& s, const Scene& scene,
             {"refine", s.refine},
             {"backend", backend_name(s.backend)},
             {"scene", scene_to_toml(scene)},
+            // Where the scene was: its files are found from there (fird follow reads it).
+            {"scene_path", std::filesystem::absolute(scene.path).lexically_normal().string()},
             {"depends_on", depends_on_record(scene, device)},
             {"start", start_report_json(request.start_report)}};
 }
@@ -130,9 +135,99 @@ int serve_search(const GlobalOptions& global, const Args& a) {
 }
 #endif
 
+// The scene's search settings with the command line's options over them; a usage error for
+// options that do not go together.
+SearchSettings requested_settings(const Scene& scene, const Args& a, const CLI::App& cmd) {
+    SearchSettings settings = search_settings(scene);
+    if (!a.method.empty()) settings.method = *method_from_name(a.method);
+    if (!a.rays.empty()) settings.rays = parse_counts("--rays", a.rays, 4e9);
+    if (cmd.count("--max-evals")) settings.max_evaluations = a.max_evals;
+    if (cmd.count("--threshold")) settings.threshold_lm = a.threshold;
+    if (cmd.count("--seed")) settings.seed = a.seed;
+    settings.refine = a.refine;
+    if (a.backend == "cpu") settings.backend = Backend::Reference;
+    if (settings.refine && settings.method != SearchMethod::Auto &&
+        settings.method != SearchMethod::Grid)
+        throw UsageError("--refine follows a lattice method: --method auto or grid");
+    if (settings.max_evaluations == 0) throw UsageError("--max-evals must be at least 1");
+    if (!(settings.threshold_lm >= 0.0))
+        throw UsageError("--threshold must be >= 0 (0: never stop early)");
+    if (settings.method != SearchMethod::Auto && settings.rays.size() > 1)
+        settings.rays = {settings.rays.back()};
+    if (a.start == "tailored")
+        if (const auto why = tailored_start_refusal(scene))
+            throw UsageError(fmt::format("--start tailored: {}", *why));
+    return settings;
+}
+
+// fird optimize ... --job-script: the search's folder gets the scene and the scripts that
+// run the search elsewhere (optimize/cluster_job.hpp), with the options given here.
+int write_job(const GlobalOptions& global, const Args& a, const CLI::App& cmd) {
+#if FIRD_HAVE_MPI
+    if (global.job && global.job->distributed())
+        throw UsageError("--job-script writes a job: run it in one process, not under mpirun");
+#else
+    (void)global;
+#endif
+    if (a.out.empty())
+        throw UsageError("--job-script needs --out DIR: the folder the job's search writes");
+    if (!a.resume.empty())
+        throw UsageError("--job-script cannot be given with --resume: the folder's run.sh or "
+                         "slurm.sh continues its search");
+    if (const auto why = cluster_shape_error(a.shape)) throw UsageError(*why);
+    const Scene scene = load_scene(a.scene);
+    refuse_start_outside_bounds(scene);
+    refuse_unmeetable_constraints(scene, parameter_space(scene));
+    // Refused here, not on the cluster an hour later.
+    if (scene.target.kind == TargetDesc::Kind::None)
+        throw std::runtime_error(
+            fmt::format("{}: [target] is missing: a search needs a desired far field (a target "
+                        "reflector or an IES / LDT file)",
+                        scene.path));
+    (void)requested_settings(scene, a, cmd);
+    ClusterJob job{.dir = a.out, .scene = scene, .fird = this_program(), .shape = a.shape};
+    const auto pass = [&](const char* option, const std::string& value) {
+        if (!cmd.count(option)) return;
+        job.optimize_options.push_back(option);
+        job.optimize_options.push_back(value);
+    };
+    pass("--method", a.method);
+    pass("--rays", a.rays);
+    pass("--max-evals", std::to_string(a.max_evals));
+    pass("--threshold", fmt::format("{}", a.threshold)); // shortest exact form
+    pass("--seed", std::to_string(a.seed));
+    if (a.refine) job.optimize_options.push_back("--refine");
+    pass("--backend", a.backend);
+    pass("--start", a.start);
+    if (cmd.count("--rank-timeout")) // --resume takes it too
+        job.launch_options = {"--rank-timeout", fmt::format("{}", a.rank_timeout)};
+    const WrittenJob w = write_cluster_job(job);
+    if (a.json)
+        std::printf("%s\n", nlohmann::json{{"job",
+                                            {{"dir", std::filesystem::path(w.scene).parent_path()},
+                                             {"scene", w.scene},
+                                             {"run_sh", w.run_sh},
+                                             {"slurm_sh", w.slurm_sh},
+                                             {"mpirun", w.mpirun},
+                                             {"sbatch", w.sbatch}}}}
+                                .dump(2)
+                                .c_str());
+    else
+        std::printf("wrote %s, %s and %s\non this machine: %s\nunder Slurm: %s\nprogress: fird "
+                    "follow %s\n",
+                    w.scene.c_str(), w.run_sh.c_str(), w.slurm_sh.c_str(), w.mpirun.c_str(),
+                    w.sbatch.c_str(),
+                    shell_quoted(std::filesystem::path(w.scene).parent_path()).c_str());
+    return 0;
+}
+
 int run_optimize(const GlobalOptions& global, const Args& a, const CLI::App& cmd) {
     if (cmd.count("--rank-timeout") && !(a.rank_timeout > 0.0))
         throw UsageError("--rank-timeout must be more than 0 s");
+    for (const char* o : {"--ranks", "--nodes", "--gpus-per-node", "--time-limit", "--partition"})
+        if (cmd.count(o) && !a.job_script)
+            throw UsageError(fmt::format("{} goes with --job-script", o));
+    if (a.job_script) return write_job(global, a, cmd);
 #if FIRD_HAVE_MPI
     if (global.job && global.job->rank() > 0) return serve_search(global, a);
 #endif
@@ -169,42 +264,19 @@ int run_optimize(const GlobalOptions& global, const Args& a, const CLI::App& cmd
         }
         request.replay = read_history((std::filesystem::path(out) / "history.csv").string(),
                                       parameter_space(scene).names, scene.optimize);
+        // The end of the run it continues is no longer the search's end: a follower
+        // (fird follow, the workbench) must not read it as such.
+        std::filesystem::remove(std::filesystem::path(out) / "search.json");
     } else {
-        if (!a.method.empty()) settings.method = *method_from_name(a.method);
-        if (!a.rays.empty()) settings.rays = parse_counts("--rays", a.rays, 4e9);
-        if (cmd.count("--max-evals")) settings.max_evaluations = a.max_evals;
-        if (cmd.count("--threshold")) settings.threshold_lm = a.threshold;
-        if (cmd.count("--seed")) settings.seed = a.seed;
-        settings.refine = a.refine;
-        if (a.backend == "cpu") settings.backend = Backend::Reference;
-        if (settings.refine && settings.method != SearchMethod::Auto &&
-            settings.method != SearchMethod::Grid)
-            throw UsageError("--refine follows a lattice method: --method auto or grid");
-        if (settings.max_evaluations == 0) throw UsageError("--max-evals must be at least 1");
-        if (!(settings.threshold_lm >= 0.0))
-            throw UsageError("--threshold must be >= 0 (0: never stop early)");
-        if (settings.method != SearchMethod::Auto && settings.rays.size() > 1)
-            settings.rays = {settings.rays.back()};
-        if (a.start == "tailored")
-            if (const auto why = tailored_start_refusal(scene))
-                throw UsageError(fmt::format("--start tailored: {}", *why));
+        settings = requested_settings(scene, a, cmd);
     }
 
     const auto ctx = vk::Context::create(context_options(global));
     if (!a.resume.empty()) check_device(a.resume, depends_on, ctx.summary());
     request.settings = settings;
-    if (a.resume.empty() && a.start == "tailored") {
-        // The desired far field the search will chase, and the profile that makes it from
-        // the source's centre (optimize/search_start.hpp).
-        const auto t0 = std::chrono::steady_clock::now();
-        request.desired = search_desired(ctx, scene, settings);
-        SearchStartPoint start = tailored_start(ctx, scene, request.desired->farfield, settings);
-        request.start = std::move(start.x);
-        request.start_report = std::move(start.report);
-        request.start_report.parameters = parameter_space(scene).named(*request.start);
-        request.start_report.time_s =
-            std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    }
+    // The profile that makes the desired far field from the source's centre
+    // (optimize/search_start.hpp).
+    if (a.resume.empty() && a.start == "tailored") set_tailored_start(ctx, scene, request);
     std::unique_ptr<HistoryWriter> history;
     if (!out.empty()) {
         create_output_directory(out);
@@ -374,6 +446,18 @@ void register_optimize(CLI::App& app, const GlobalOptions& global, std::function
                     "Write history.csv, progress.png, best.toml, the best far field, and the best "
                     "reflector as reflector.step / .stl with manufacturability.json / .png here");
     cmd->add_option("--resume", a->resume, "Continue the search recorded in this --out directory");
+    cmd->add_flag("--job-script", a->job_script,
+                  "Do not search: write the --out folder's scene.toml, run.sh (mpirun on this "
+                  "machine) and slurm.sh (sbatch) that run this search there, with these options "
+                  "(docs/scale-out.md)");
+    cmd->add_option("--ranks", a->shape.ranks, "--job-script: run.sh's ranks (default 4)");
+    cmd->add_option("--nodes", a->shape.nodes, "--job-script: slurm.sh's nodes (default 1)");
+    cmd->add_option("--gpus-per-node", a->shape.gpus_per_node,
+                    "--job-script: slurm.sh's GPUs per node, one rank each (default 4)");
+    cmd->add_option("--time-limit", a->shape.time_limit,
+                    "--job-script: slurm.sh's time limit (default 04:00:00)");
+    cmd->add_option("--partition", a->shape.partition,
+                    "--job-script: slurm.sh's partition (default: the cluster's)");
     cmd->add_option("--rank-timeout", a->rank_timeout,
                     "Under mpirun or srun: the longest wait (s) on a rank for its share of a "
                     "batch before the search ends naming it (default: 60 s plus ten times rank "

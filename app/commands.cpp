@@ -14,6 +14,7 @@ void register_commands(CLI::App& app, const GlobalOptions& global, std::function
     register_info(app, global, run);
     register_trace(app, global, run);
     register_optimize(app, global, run);
+    register_follow(app, global, run);
     register_calibrate(app, global, run);
     register_export(app, global, run);
     register_screenshot(app, global, run);

@@ -40,6 +40,7 @@ void register_trace(CLI::App& app, const GlobalOptions& global, std::function<in
 void register_tolerance(CLI::App& app, const GlobalOptions& global, std::function<int()>& run);
 void register_photometry(CLI::App& app, const GlobalOptions& global, std::function<int()>& run);
 void register_optimize(CLI::App& app, const GlobalOptions& global, std::function<int()>& run);
+void register_follow(CLI::App& app, const GlobalOptions& global, std::function<int()>& run);
 void register_calibrate(CLI::App& app, const GlobalOptions& global, std::function<int()>& run);
 void register_export(CLI::App& app, const GlobalOptions& global, std::function<int()>& run);
 void register_screenshot(CLI::App& app, const GlobalOptions& global, std::function<int()>& run);

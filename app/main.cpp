@@ -135,6 +135,16 @@ int main(int argc, char** argv) {
     job.end(code); // a failure aborts the job: the other ranks may be waiting on this one
     return code;
 #else
+    // Started as one of several ranks, a fird without MPI would run the whole search in
+    // every rank, each writing the same files.
+    for (const char* v : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE"})
+        if (const char* n = std::getenv(v); n && std::atoi(n) > 1) {
+            std::fprintf(stderr,
+                         "fird: error: started as one of %s ranks (%s), but this fird was built "
+                         "without MPI (FIRD_BUILD_MPI): run it as one process\n",
+                         n, v);
+            return 2;
+        }
     return fird_main(argc, argv, nullptr);
 #endif
 }

@@ -10,8 +10,12 @@
 #include <imgui_stdlib.h>
 
 #include "chart_widget.hpp"
+#include "folder_follow.hpp"
+#include "io/scene_file.hpp"
 #include "model/design_parameters.hpp"
+#include "optimize/parameter_space.hpp"
 #include "optimize/search_report.hpp"
+#include "optimize/search_start.hpp"
 #include "panels.hpp"
 #include "run_directory.hpp"
 
@@ -24,29 +28,30 @@ void start_search(Frame& f, SearchMethod method) {
         s.editor.scene->target.kind == TargetDesc::Kind::None)
         return add_log(s, "error: the scene needs [reflector.optimize] (or [source.optimize]) and "
                           "a [target] to optimize");
+    if (s.tailored_start)
+        if (const auto why = tailored_start_refusal(*s.editor.scene))
+            return add_log(s, "error: tailored start: " + *why);
     const std::string out = new_run_folder(s, "optimize");
     if (out.empty()) return; // the error is in the log
-    f.worker.submit(SearchJob{.scene = edited_scene(s), .method = method, .out_dir = out});
+    f.worker.submit(SearchJob{.scene = edited_scene(s),
+                              .method = method,
+                              .out_dir = out,
+                              .tailored_start = s.tailored_start});
     s.search = {.scene_path = s.editor.path,
                 .start = s.editor.parameters,
                 .start_source = s.editor.scene->source,
                 .running = true,
                 .generation = f.worker.search().generation,
                 .started_s = ImGui::GetTime()};
-    add_log(s, fmt::format("optimize ({}) started; files in {}", method_name(method), out));
+    add_log(s, fmt::format("optimize ({}{}) started; files in {}", method_name(method),
+                           s.tailored_start ? ", tailored start" : "", out));
 }
 
 namespace {
 
-// The best feasible candidate of the latest stage that has one (the search's own rule for
-// its result: a later stage's l2 is at more rays, not comparable with an earlier one's).
+// The best so far (the search's own rule for its result: optimize/search_folder.hpp).
 const Candidate* best_candidate(const SearchProgress& p) {
-    const Candidate* best = nullptr;
-    for (const Candidate& c : p.history)
-        if (c.feasible &&
-            (!best || c.stage > best->stage || (c.stage == best->stage && c.score < best->score)))
-            best = &c;
-    return best;
+    return latest_stage_best(p.history);
 }
 
 std::map<std::string, double> best_parameters(const SearchProgress& p) {
@@ -58,8 +63,10 @@ std::map<std::string, double> best_parameters(const SearchProgress& p) {
     return named;
 }
 
-// Parameters onto the sliders, traced (a preview, then the scene's rays).
-void put_on_sliders(WorkbenchState& s, const std::map<std::string, double>& values) {
+// Parameters onto the sliders, traced (a preview, then the scene's rays); [source.optimize]'s
+// values are applied to the source the search started from.
+void put_on_sliders(WorkbenchState& s, const std::map<std::string, double>& values,
+                    const std::optional<SourceDesc>& start_source) {
     std::map<std::string, double> source; // [source.optimize]'s: the source editor's
     for (const auto& [name, value] : values) {
         if (is_source_parameter(name))
@@ -69,9 +76,8 @@ void put_on_sliders(WorkbenchState& s, const std::map<std::string, double>& valu
     }
     // Applied to the source the search started from (its tilts are relative to it); with
     // no source values (revert to start) that source itself.
-    if (s.search.start_source && s.editor.scene && !s.editor.scene->source_optimize.empty())
-        (void)set_source(s, source.empty() ? *s.search.start_source
-                                           : moved_source(*s.search.start_source, source));
+    if (start_source && s.editor.scene && !s.editor.scene->source_optimize.empty())
+        (void)set_source(s, source.empty() ? *start_source : moved_source(*start_source, source));
     s.editor.dirty = true;
 }
 
@@ -79,19 +85,22 @@ std::string rays_text(std::uint64_t rays) {
     return fmt::format("{:.3g} rays", double(rays));
 }
 
-// What the search is doing, in words, from its first second.
-void search_status(const WorkbenchState& s, const SearchProgress& p) {
+// What the search is doing, in words, from its first second (`elapsed_s`: since it began,
+// where that is known).
+void search_status(const SearchProgress& p, std::optional<double> elapsed_s,
+                   FarFieldMetric metric) {
     if (p.running) {
-        const double elapsed = ImGui::GetTime() - s.search.started_s;
+        const std::string method =
+            elapsed_s ? fmt::format("{}: {:.0f} s", p.method, *elapsed_s) : p.method;
         if (p.history.empty()) {
-            ImGui::TextWrapped("%s: %.0f s, preparing: tracing the desired far field and the "
+            ImGui::TextWrapped("%s, preparing: tracing the desired far field and the "
                                "start reflector%s",
-                               p.method.c_str(), elapsed, p.paused ? " (paused)" : "");
+                               method.c_str(), p.paused ? " (paused)" : "");
             return;
         }
         const StageSummary& stage = p.stages.back();
-        ImGui::TextWrapped("%s: %.0f s, stage %zu %s at %s, %ux%u far field; %zu evaluations%s",
-                           p.method.c_str(), elapsed, p.stages.size(), stage.name.c_str(),
+        ImGui::TextWrapped("%s, stage %zu %s at %s, %ux%u far field; %zu evaluations%s",
+                           method.c_str(), p.stages.size(), stage.name.c_str(),
                            rays_text(stage.fidelity.rays).c_str(), stage.fidelity.farfield_w,
                            stage.fidelity.farfield_h, p.history.size(),
                            p.paused ? " (paused)" : "");
@@ -115,8 +124,6 @@ void search_status(const WorkbenchState& s, const SearchProgress& p) {
     }
     if (const Candidate* c = best_candidate(p); c && c->stage < p.stages.size()) {
         const Fidelity& fid = p.stages[c->stage].fidelity;
-        const FarFieldMetric metric =
-            s.editor.scene ? s.editor.scene->optimize.metric : FarFieldMetric::L2;
         ImGui::TextWrapped("best so far: %s %.5g %s at %s (%ux%u far field, stage %s)",
                            metric_name(metric), c->l2_lm, metric_unit(metric),
                            rays_text(fid.rays).c_str(), fid.farfield_w, fid.farfield_h,
@@ -182,7 +189,64 @@ void progress_plots(const SearchProgress& p) {
     ImGui::EndChild();
 }
 
+// Whether the open scene (as edited) is the one `search` searches: the same scene but for
+// the values searched (its best can go on the sliders, inside the same boxes).
+bool searches_open_scene(const WorkbenchState& s, const FollowedSearch& search) {
+    if (!s.editor.scene || search.names.empty()) return false;
+    const ParameterSpace space = parameter_space(search.scene);
+    if (parameter_space(*s.editor.scene).names != space.names) return false;
+    // Both with the same values for what is searched, written as their files would be.
+    const auto text = [&](const Scene& scene) {
+        return scene_to_toml(with_absolute_files(space.candidate(scene, space.start)));
+    };
+    return text(search.scene) == text(edited_scene(s));
+}
+
+// A search followed from its folder, drawn as the worker's own: its status, its best to the
+// sliders when the open scene is the one it searches, its charts.
+void followed_search(WorkbenchState& s) {
+    const FolderFollow& follow = s.follow;
+    ImGui::TextWrapped("following %s", follow.dir.c_str());
+    if (!follow.error.empty())
+        ImGui::TextColored(ImVec4(1, 0.4f, 0.4f, 1), "%s", follow.error.c_str());
+    if (!follow.search) {
+        ImGui::TextWrapped("waiting for its search to begin (no options.json there yet)");
+        return;
+    }
+    const FollowedSearch& search = *follow.search;
+    const SearchProgress p = followed_progress(search);
+    ImGui::TextWrapped("%s", fmt::format("{}: {} of {}", search.scene.name, p.method,
+                                         fmt::join(search.names, ", "))
+                                 .c_str());
+    search_status(p, std::nullopt, search.scene.optimize.metric);
+    const bool same = searches_open_scene(s, search);
+    ImGui::BeginDisabled(!best_candidate(p) || !same);
+    if (ImGui::Button("apply best")) apply_followed_best(s); // enabled only where it can
+    ImGui::EndDisabled();
+    if (!same && ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled))
+        ImGui::SetTooltip("open the scene it searches first, as it searches it (a job folder's "
+                          "scene.toml)");
+    if (follow.scene_toml) {
+        ImGui::SameLine();
+        if (ImGui::Button("open its scene"))
+            (void)open_file(s, (std::filesystem::path(follow.dir) / "scene.toml").string());
+    }
+    if (!p.history.empty()) progress_plots(p);
+}
+
 } // namespace
+
+void apply_followed_best(WorkbenchState& s) {
+    if (!s.follow.search) throw std::runtime_error("no followed search has begun");
+    const FollowedSearch& search = *s.follow.search;
+    if (!searches_open_scene(s, search))
+        throw std::runtime_error(
+            fmt::format("the open scene is not the one {} searches", s.follow.dir));
+    const SearchProgress p = followed_progress(search);
+    if (!best_candidate(p)) throw std::runtime_error("the followed search has no best yet");
+    put_on_sliders(s, best_parameters(p), search.scene.source);
+    add_log(s, fmt::format("the best of {} on the sliders", s.follow.dir));
+}
 
 void optimize_panel(Frame& f) {
     WorkbenchState& s = f.state;
@@ -194,6 +258,18 @@ void optimize_panel(Frame& f) {
     ImGui::SetNextItemWidth(120);
     ImGui::Combo("method", &s.method, items.data(), int(items.size()));
     const SearchProgress p = f.worker.search();
+    ImGui::SameLine();
+    // A tailored start where the scene's family takes one (the profile's free heights).
+    const auto refusal = s.editor.scene ? tailored_start_refusal(*s.editor.scene)
+                                        : std::optional<std::string>("no scene is open");
+    if (refusal) s.tailored_start = false;
+    ImGui::BeginDisabled(refusal.has_value() || p.running);
+    ImGui::Checkbox("tailored start", &s.tailored_start);
+    ImGui::EndDisabled();
+    if (ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled))
+        ImGui::SetTooltip("%s", refusal ? refusal->c_str()
+                                        : "begin at the profile that makes the target from the "
+                                          "source's centre (flux mapping), not at the scene's");
     ImGui::SameLine();
     if (!p.running) {
         const bool can = s.editor.scene && !s.editor.scene->reflector.optimize.empty() &&
@@ -225,19 +301,29 @@ void optimize_panel(Frame& f) {
     ImGui::InputTextWithHint("##runs", runs_directory().c_str(), &s.runs_dir);
     if (ImGui::IsItemHovered())
         ImGui::SetTooltip("each search writes a new folder under this one (never overwriting)");
+    poll_followed_folder(s.follow, ImGui::GetTime());
+    cluster_section(f);
+    if (!s.follow.dir.empty()) {
+        followed_search(s);
+        ImGui::End();
+        return;
+    }
     if (!this_scene && (p.running || p.result)) {
         ImGui::TextWrapped("the last search was of %s", s.search.scene_path.c_str());
         ImGui::End();
         return;
     }
-    search_status(s, p);
+    search_status(p, ImGui::GetTime() - s.search.started_s,
+                  s.editor.scene ? s.editor.scene->optimize.metric : FarFieldMetric::L2);
     if (!p.history.empty() || p.result) {
         ImGui::BeginDisabled(!best_candidate(p));
-        if (ImGui::Button("apply best")) put_on_sliders(s, best_parameters(p));
+        if (ImGui::Button("apply best"))
+            put_on_sliders(s, best_parameters(p), s.search.start_source);
         ImGui::EndDisabled();
         ImGui::SameLine();
         ImGui::BeginDisabled(s.search.start.empty());
-        if (ImGui::Button("revert to start")) put_on_sliders(s, s.search.start);
+        if (ImGui::Button("revert to start"))
+            put_on_sliders(s, s.search.start, s.search.start_source);
         ImGui::EndDisabled();
     }
     if (!p.history.empty()) progress_plots(p);

@@ -58,6 +58,15 @@ std::string set_material_field(WorkbenchState& state, const std::string& key,
 void viewport_panel(Frame& f);
 void farfield_panel(Frame& f);
 void optimize_panel(Frame& f);
+// The optimize panel's section for other machines: a job for the search shown (its folder's
+// scene.toml, run.sh for mpirun, slurm.sh for sbatch) and a folder to follow.
+void cluster_section(Frame& f);
+// Writes the cluster form's job for the open scene and the panel's method into a new run
+// folder, and follows it; false (logged) when it cannot.
+bool write_job(Frame& f);
+// The followed search's best on the sliders (the script's apply-best); throws
+// std::runtime_error, one line, when there is none or the open scene is another.
+void apply_followed_best(WorkbenchState& state);
 void calibrate_panel(Frame& f);
 void log_panel(Frame& f);
 void help_panel(Frame& f);

@@ -9,6 +9,7 @@
 
 #include <fmt/format.h>
 
+#include "folder_follow.hpp"
 #include "io/parse_number.hpp"
 #include "io/scene_file.hpp"
 
@@ -27,7 +28,7 @@ const std::map<std::string, std::tuple<ScriptAction::Kind, int, int>>& actions()
         // map, polar, isocandela or illuminance [PLANE_M]: the far-field panel's view
         {"farfield", {K::FarFieldView, 1, 2}},
         {"trace", {K::Trace, 0, 0}},
-        {"optimize", {K::Optimize, 0, 1}},
+        {"optimize", {K::Optimize, 0, 2}}, // [METHOD] [scene|tailored]: where it begins
         {"calibrate", {K::Calibrate, 1, 2}},
         {"stop", {K::Stop, 0, 0}},
         {"wait", {K::Wait, 1, 1}},
@@ -36,6 +37,10 @@ const std::map<std::string, std::tuple<ScriptAction::Kind, int, int>>& actions()
         {"drag", {K::Drag, 4, 5}},
         {"resize", {K::Resize, 2, 2}},
         {"screenshot", {K::Screenshot, 1, 1}},
+        {"write-job", {K::WriteJob, 0, 1}}, // [RANKS]: the cluster form's "write job"
+        {"follow", {K::Follow, 1, 1}},      // DIR: a search's folder (from the working directory)
+        {"wait-follow", {K::WaitFollow, 0, 1}}, // [ROWS]: its end, or that many rows
+        {"apply-best", {K::ApplyBest, 0, 0}},   // the followed search's best on the sliders
         {"quit", {K::Quit, 0, 0}}};
     return table;
 }
@@ -86,6 +91,15 @@ Script parse_script_text(const std::string& text, const std::string& path) {
         if (kind == K::Open) a.args[0] = resolve_beside(path, a.args[0]);
         if (kind == K::Source && a.args[0] == "file") a.args[1] = resolve_beside(path, a.args[1]);
         if (kind == K::Set) (void)number(path, n, a.args[1]);
+        if (kind == K::WaitFollow && !a.args.empty() && !(number(path, n, a.args[0]) >= 1))
+            throw std::invalid_argument(
+                fmt::format("{}:{}: wait-follow ROWS needs a row count >= 1", path, n));
+        if (kind == K::WriteJob && !a.args.empty()) {
+            const double ranks = number(path, n, a.args[0]);
+            if (!(ranks >= 1 && ranks <= 1 << 20 && ranks == std::floor(ranks)))
+                throw std::invalid_argument(
+                    fmt::format("{}:{}: write-job RANKS needs a whole count >= 1", path, n));
+        }
         if (kind == K::Wait && !(number(path, n, a.args[0]) >= 0))
             throw std::invalid_argument(
                 fmt::format("{}:{}: wait needs a frame count >= 0", path, n));
@@ -122,6 +136,10 @@ Script parse_script_text(const std::string& text, const std::string& path) {
                     throw std::invalid_argument(fmt::format(
                         "{}:{}: resize needs whole pixel sizes from 200 to 16384", path, n));
             }
+        if (kind == K::Optimize && a.args.size() == 2 && a.args[1] != "scene" &&
+            a.args[1] != "tailored")
+            throw std::invalid_argument(fmt::format(
+                "{}:{}: optimize's start is scene or tailored, not '{}'", path, n, a.args[1]));
         if (kind == K::Optimize && !a.args.empty() && !method_from_name(a.args[0]))
             throw std::invalid_argument(fmt::format("{}:{}: unknown method '{}' (one of {})", path,
                                                     n, a.args[0], fmt::join(method_names(), ", ")));
@@ -226,6 +244,7 @@ bool ScriptRunner::step(Frame& f, const ScriptHost& host) {
             request_trace(f);
             break;
         case K::Optimize:
+            s.tailored_start = a.args.size() == 2 && a.args[1] == "tailored";
             start_search(f, a.args.empty() ? SearchMethod::Auto : *method_from_name(a.args[0]));
             break;
         case K::Calibrate:
@@ -262,6 +281,34 @@ bool ScriptRunner::step(Frame& f, const ScriptHost& host) {
         }
         case K::Screenshot:
             host.screenshot(a.args[0]);
+            break;
+        case K::WriteJob:
+            if (!a.args.empty()) s.cluster.shape.ranks = std::uint32_t(std::stod(a.args[0]));
+            if (!write_job(f))
+                fail(a, "write-job: " + (s.log.empty() ? std::string() : s.log.back()));
+            break;
+        case K::Follow:
+            follow_folder(s, a.args[0]);
+            if (s.follow.dir.empty()) fail(a, "follow: " + s.follow.error);
+            break;
+        case K::WaitFollow: {
+            if (s.follow.dir.empty()) fail(a, "wait-follow: no folder is followed");
+            const std::size_t rows = s.follow.search ? s.follow.search->rows.candidates.size() : 0;
+            const bool enough = !a.args.empty() && double(rows) >= std::stod(a.args[0]);
+            if (!followed_search_ended(s.follow) && !enough) {
+                if (++waited_ > kIdleFrameLimit)
+                    fail(a, "wait-follow: the followed search did not end" +
+                                (s.follow.error.empty() ? std::string() : ": " + s.follow.error));
+                return true;
+            }
+            break;
+        }
+        case K::ApplyBest:
+            try {
+                apply_followed_best(s);
+            } catch (const std::exception& e) {
+                fail(a, std::string("apply-best: ") + e.what());
+            }
             break;
         case K::Quit:
             quit_ = true;

@@ -1,10 +1,12 @@
 // Scripted sessions (fird gui --script FILE): one action a line, '#' for comments. How
 // the windowed tests drive the workbench, and how users record a reproducible session.
 // An open's PATH is relative to the script's folder; a screenshot's to the working directory.
-//   open PATH | set NAME VALUE | trace | optimize [METHOD] | calibrate rays|semivariogram
+//   open PATH | set NAME VALUE | trace | optimize [METHOD [scene|tailored]] |
+//   calibrate rays|semivariogram
 //   [NAME] | stop | wait FRAMES | wait-idle | pick-ray X Y | pick-ray INDEX |
 //   drag X Y DX DY [left|right] |
-//   resize W H | screenshot PATH | quit
+//   resize W H | screenshot PATH | write-job [RANKS] | follow DIR | wait-follow [ROWS] |
+//   apply-best | quit
 #pragma once
 
 #include <cstdint>
@@ -34,6 +36,10 @@ struct ScriptAction {
         Drag,
         Resize,
         Screenshot,
+        WriteJob,
+        Follow,
+        WaitFollow,
+        ApplyBest,
         Quit
     } kind;
     std::vector<std::string> args;

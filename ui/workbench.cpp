@@ -245,6 +245,8 @@ int run_workbench(const WorkbenchOptions& options) {
     // viewport's camera (how a layout or a drag is checked from outside).
     // The sliders' values: where a search's end left them.
     nlohmann::json panels = nlohmann::json::object(), window_size, camera, sliders;
+    // The followed folder and the job written last, if any.
+    nlohmann::json followed = nullptr, job = nullptr;
     {
         // A slot per swapchain image, and one more for the scripts' screenshots.
         ImGuiRenderer renderer(ctx, wd.ImageCount + 1);
@@ -339,6 +341,13 @@ int run_workbench(const WorkbenchOptions& options) {
         }
         window_size = {session.state.display_w, session.state.display_h};
         sliders = session.state.editor.parameters;
+        if (const FolderFollow& fw = session.state.follow; !fw.dir.empty())
+            followed = {{"dir", fw.dir},
+                        {"began", fw.search != nullptr},
+                        {"evaluations", fw.search ? fw.search->rows.candidates.size() : 0},
+                        {"ended", fw.search && fw.search->end}};
+        if (const auto& w = session.state.cluster.written)
+            job = {{"scene", w->scene}, {"run_sh", w->run_sh}, {"slurm_sh", w->slurm_sh}};
         const render::OrbitCamera& c = session.state.viewport.camera;
         camera = {{"azimuth_deg", c.azimuth_deg},
                   {"elevation_deg", c.elevation_deg},
@@ -370,7 +379,9 @@ int run_workbench(const WorkbenchOptions& options) {
                                            {"window", window_size},
                                            {"panels", panels},
                                            {"camera", camera},
-                                           {"parameters", sliders}}
+                                           {"parameters", sliders},
+                                           {"follow", followed},
+                                           {"job", job}}
                                 .dump(2)
                                 .c_str());
     if (ctx.validation_errors() > 0) {

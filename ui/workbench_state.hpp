@@ -17,6 +17,8 @@
 #include "layout.hpp"
 #include "model/scene.hpp"
 #include "offscreen_target.hpp"
+#include "optimize/cluster_job.hpp"
+#include "optimize/search_folder.hpp"
 #include "viewport.hpp"
 #include "vk/image.hpp"
 #include "vk/submission.hpp"
@@ -111,11 +113,43 @@ struct SearchFollow {
     double started_s = 0.0;       // ImGui time at its start (what the panel shows)
 };
 
+// A search followed from its folder (a job written for a cluster, or any fird optimize
+// --out): read again on a thread of its own about every second until it has ended
+// (folder_follow.hpp). The optimize panel shows it in place of the worker's search.
+// One read of a followed folder (on a thread of its own).
+struct FollowRead {
+    std::shared_ptr<const FollowedSearch> search; // null while no search has begun there
+    bool scene_toml = false;                      // a job folder's scene.toml is there
+};
+
+struct FolderFollow {
+    std::string dir;                              // followed (empty: none), absolute
+    std::string typed;                            // the panel's path field
+    std::shared_ptr<const FollowedSearch> search; // as last read (null until its search begins)
+    bool scene_toml = false;                      // as last read
+    std::future<FollowRead> reading;              // the read in flight
+    double next_read_s = 0.0;                     // ImGui time of the next read
+    std::string error; // why the last read failed (shown; the reads go on)
+    // Reads of folders no longer followed, still running: dropped once done (a frame never
+    // waits for one).
+    std::vector<std::future<FollowRead>> retired;
+};
+
+// The optimize panel's cluster form: the job's shape, and the job it wrote last.
+struct ClusterForm {
+    ClusterShape shape;
+    std::optional<WrittenJob> written;
+    bool reveal = false; // open the section next frame (a job written, a folder followed)
+};
+
 struct WorkbenchState {
     SceneEditor editor;
     ViewportState viewport;
     FarFieldState farfield;
-    int method = 0;           // index into method_names()
+    int method = 0; // index into method_names()
+    // The optimize panel's start: the profile tailored to the target (fird optimize --start
+    // tailored), else the scene's reflector.
+    bool tailored_start = false;
     int calibration_kind = 0; // 0 rays, 1 semivariogram
     int calibration_parameter = 0;
     std::string calibration_scene; // the scene the last calibration was of
@@ -128,6 +162,8 @@ struct WorkbenchState {
     float display_w = 0, display_h = 0;          // the window, last frame
     ScriptedMouse scripted_mouse;
     SearchFollow search;
+    FolderFollow follow;
+    ClusterForm cluster;
     bool show_help = false;
     bool quit = false;
     // Texture contents as last drawn.

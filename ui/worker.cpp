@@ -8,6 +8,7 @@
 #include "export/scene_export.hpp"
 #include "optimize/parameter_space.hpp"
 #include "optimize/search_report.hpp"
+#include "optimize/search_start.hpp"
 
 namespace fird::ui {
 
@@ -178,6 +179,9 @@ void Worker::run(const SearchJob& job) {
     SearchRequest request{.settings = search_settings(job.scene), .control = &control_};
     request.settings.method = job.method;
     if (job.method != SearchMethod::Auto) request.settings.rays = {request.settings.rays.back()};
+    // (The panel's "preparing" line covers the tailoring: the desired far field is traced
+    // for it, then the edge-ray designs.)
+    if (job.tailored_start) set_tailored_start(*ctx_, job.scene, request);
     auto last_view = std::chrono::steady_clock::now() - std::chrono::hours(1);
     std::optional<FarField> view_target; // the target reflector at kBestViewRays
     double best = HUGE_VAL;

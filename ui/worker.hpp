@@ -81,6 +81,7 @@ struct SearchJob {
     Scene scene;
     SearchMethod method = SearchMethod::Auto;
     std::string out_dir;
+    bool tailored_start = false; // begin at the profile tailored to the target (search_start.hpp)
 };
 struct CalibrateJob {
     Scene scene;

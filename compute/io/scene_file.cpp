@@ -900,6 +900,22 @@ std::string scene_to_toml(const Scene& s) {
     return out.str();
 }
 
+std::string one_line(const std::string& text) {
+    std::string line = text;
+    for (char& c : line)
+        if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) c = ' ';
+    return line;
+}
+
+Scene with_absolute_files(Scene s) {
+    namespace fs = std::filesystem;
+    if (!s.reflector.mesh.file.empty())
+        s.reflector.mesh.file = fs::absolute(s.reflector.mesh.resolved_path).string();
+    if (!s.target.file.empty()) s.target.file = fs::absolute(s.target.resolved_path).string();
+    if (!s.source.file.empty()) s.source.file = fs::absolute(s.source.resolved_path).string();
+    return s;
+}
+
 std::string resolve_beside(const std::string& naming_file, const std::string& named) {
     namespace fs = std::filesystem;
     const fs::path p(named);

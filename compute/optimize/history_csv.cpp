@@ -73,17 +73,22 @@ std::vector<Candidate> read_history(const std::string& path, const std::vector<s
     if (!in) throw std::runtime_error(fmt::format("{}: cannot open", path));
     std::stringstream ss;
     ss << in.rdbuf();
-    std::string text = ss.str();
-    const std::size_t whole = text.rfind('\n');
+    in.close();
+    const std::string text = ss.str();
+    HistoryRows rows = parse_history(text, path, names, optimize);
+    // A row cut short: dropped here and in the file the resumed search appends to.
+    if (rows.bytes != text.size()) std::filesystem::resize_file(path, rows.bytes);
+    return std::move(rows.candidates);
+}
+
+HistoryRows parse_history(const std::string& all, const std::string& path,
+                          const std::vector<std::string>& names, const OptimizeSettings& optimize) {
+    const std::size_t whole = all.rfind('\n');
     if (whole == std::string::npos)
         throw std::runtime_error(fmt::format("{}: no header line", path));
-    if (whole + 1 != text.size()) {
-        // A row cut short: drop it, here and in the file the resumed search appends to.
-        text.resize(whole + 1);
-        in.close();
-        std::filesystem::resize_file(path, text.size());
-    }
-    std::stringstream lines(text);
+    HistoryRows out;
+    out.bytes = whole + 1;
+    std::stringstream lines(all.substr(0, out.bytes));
     std::string line;
     std::getline(lines, line);
     const bool smoothness = optimize.smoothness > 0.0;
@@ -96,7 +101,7 @@ std::vector<Candidate> read_history(const std::string& path, const std::vector<s
     // The columns after the parameters: the metric, the smoothness, feasible, ms.
     const std::size_t metric_at = 6 + names.size(), feasible_at = metric_at + 1 + smoothness;
     const std::size_t columns = feasible_at + 2;
-    std::vector<Candidate> out;
+    std::vector<Candidate>& candidates = out.candidates;
     for (std::size_t n = 2; std::getline(lines, line); ++n) {
         const auto cells = split(line);
         if (cells.size() != columns)
@@ -104,9 +109,15 @@ std::vector<Candidate> read_history(const std::string& path, const std::vector<s
                 fmt::format("{}:{}: {} columns, expected {}", path, n, cells.size(), columns));
         Candidate c;
         c.index = std::uint64_t(number(path, n, cells[0]));
-        if (c.index != out.size())
+        if (c.index != candidates.size())
             throw std::runtime_error(fmt::format("{}:{}: index {} out of order", path, n, c.index));
-        c.stage = std::uint32_t(number(path, n, cells[1]));
+        const double stage = number(path, n, cells[1]);
+        // Stages run in order (one may pass without a candidate: the number then skips it).
+        if (!(stage >= 0 && stage == std::floor(stage) && stage < 1e6) ||
+            stage + 1 < double(out.stages.size()))
+            throw std::runtime_error(
+                fmt::format("{}:{}: stage {} out of order", path, n, cells[1]));
+        c.stage = std::uint32_t(stage);
         for (std::size_t k = 0; k < names.size(); ++k)
             c.x.push_back(number(path, n, cells[6 + k]));
         const std::string& feasible = cells[feasible_at];
@@ -119,7 +130,24 @@ std::vector<Candidate> read_history(const std::string& path, const std::vector<s
         c.score = candidate_score(c.l2_lm, c.smoothness, optimize);
         c.ms = number(path, n, cells[feasible_at + 1]);
         c.replayed = true;
-        out.push_back(std::move(c));
+        if (c.stage > out.stages.size()) out.stages.resize(c.stage); // passed by, unnamed
+        if (c.stage == out.stages.size()) {
+            StageSummary s;
+            s.name = cells[2];
+            s.fidelity.rays = std::uint64_t(number(path, n, cells[3]));
+            s.fidelity.farfield_w = std::uint32_t(number(path, n, cells[4]));
+            s.fidelity.farfield_h = std::uint32_t(number(path, n, cells[5]));
+            out.stages.push_back(std::move(s));
+        }
+        StageSummary& s = out.stages[c.stage];
+        ++s.evaluations;
+        s.infeasible += c.feasible ? 0 : 1;
+        if (c.feasible && (!s.best || c.score < s.best_score)) {
+            s.best = c.index;
+            s.best_l2_lm = c.l2_lm;
+            s.best_score = c.score;
+        }
+        candidates.push_back(std::move(c));
     }
     return out;
 }

@@ -42,4 +42,19 @@ std::string history_header(const std::vector<std::string>& names,
 std::vector<Candidate> read_history(const std::string& path, const std::vector<std::string>& names,
                                     const OptimizeSettings& optimize = {});
 
+// A history's whole rows as candidates, and the stages they name (each stage's name, rays
+// and far-field grid from its rows; its evaluations, infeasible count and best by score
+// counted from them): what a follower of a running search reads.
+struct HistoryRows {
+    std::vector<Candidate> candidates;
+    std::vector<StageSummary> stages;
+    std::size_t bytes = 0; // of the text: the whole rows read (a row being written is not)
+};
+
+// Parses history text (`path` names it in errors: "PATH:LINE: ..."); a last line without
+// its newline is a row still being written and is left out. The file is never touched.
+HistoryRows parse_history(const std::string& text, const std::string& path,
+                          const std::vector<std::string>& names,
+                          const OptimizeSettings& optimize = {});
+
 } // namespace fird

@@ -296,19 +296,13 @@ ProgressCharts progress_charts(const SearchResult& r) {
 }
 
 std::string best_scene_toml(const Scene& scene, const SearchResult& r) {
-    namespace fs = std::filesystem;
-    Scene best = scene;
+    // Its files found from the output folder too.
+    Scene best = with_absolute_files(scene);
     apply_design_parameters(best, r.best_parameters);
-    if (!best.reflector.mesh.file.empty())
-        best.reflector.mesh.file = fs::absolute(best.reflector.mesh.resolved_path).string();
-    if (!best.target.file.empty())
-        best.target.file = fs::absolute(best.target.resolved_path).string();
-    // A photometric source's or a ray file's file, found from the output folder too.
-    if (!best.source.file.empty())
-        best.source.file = fs::absolute(best.source.resolved_path).string();
     std::string text = fmt::format(
         "# {}: the best reflector of fird optimize ({}, {} {:.6g} {} at evaluation {})\n",
-        scene.name, r.method, r.metric, r.best_l2_lm, r.metric_unit, r.best ? *r.best : 0);
+        one_line(scene.name), r.method, r.metric, r.best_l2_lm, r.metric_unit,
+        r.best ? *r.best : 0);
     return text + scene_to_toml(best);
 }
 

@@ -1,5 +1,6 @@
 #include "search_start.hpp"
 
+#include <chrono>
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
@@ -120,6 +121,18 @@ SearchStartPoint tailored_start(const vk::Context& ctx, const Scene& scene, cons
         throw std::invalid_argument(fmt::format("{}: no tailored start ({})", scene.path, why));
     }
     return best;
+}
+
+void set_tailored_start(const vk::Context& ctx, const Scene& scene, SearchRequest& request) {
+    const auto t0 = std::chrono::steady_clock::now();
+    request.desired = search_desired(ctx, scene, request.settings);
+    SearchStartPoint start =
+        tailored_start(ctx, scene, request.desired->farfield, request.settings);
+    request.start = std::move(start.x);
+    request.start_report = std::move(start.report);
+    request.start_report.parameters = parameter_space(scene).named(*request.start);
+    request.start_report.time_s =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
 } // namespace fird

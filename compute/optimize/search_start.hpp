@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "farfield/farfield.hpp"
+#include "optimize/search.hpp"
 #include "optimize/search_types.hpp"
 #include "vk/context.hpp"
 
@@ -31,5 +32,11 @@ struct SearchStartPoint {
 // (one line) when neither has an answer or the scene cannot be tailored.
 SearchStartPoint tailored_start(const vk::Context& ctx, const Scene& scene, const FarField& desired,
                                 const SearchSettings& settings);
+
+// A search request (its settings set) made to begin at the tailored start, as
+// `fird optimize --start tailored` and the workbench begin one: the desired far field the
+// search will chase (search_desired), the start, its report with the named parameters and
+// the time the tailoring took. Throws as tailored_start.
+void set_tailored_start(const vk::Context& ctx, const Scene& scene, SearchRequest& request);
 
 } // namespace fird

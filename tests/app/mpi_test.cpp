@@ -5,6 +5,7 @@
 // hangs ends the run with one line naming it, and --resume on one rank ends where an
 // uninterrupted run ends. Registered only in a build with MPI (FIRD_BUILD_MPI).
 #include <algorithm>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -51,14 +52,7 @@ std::string read_text(const std::string& path) {
     return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
-// The history's rows less their last column (a row's wall time, ms).
-std::vector<std::string> history_rows(const std::string& dir) {
-    std::ifstream in(dir + "/history.csv");
-    std::vector<std::string> rows;
-    for (std::string line; std::getline(in, line);)
-        rows.push_back(line.substr(0, line.rfind(',')));
-    return rows;
-}
+using fird::test::history_rows;
 
 int error_lines(const std::string& out) {
     int n = 0;
@@ -114,6 +108,24 @@ void expect_three_ranks_as_one(const std::string& name, const std::string& args,
 TEST(Mpi, GridSearchOnThreeRanksWritesWhatOneProcessWrites) {
     // The 13 x 13 lattice.
     expect_three_ranks_as_one("grid", "optimize " + kMirror + " --method grid", 169);
+}
+
+// The job a workbench or `fird optimize --job-script` writes: its run.sh starts the search
+// under mpirun (found on PATH, as a user's shell finds it) on the ranks asked for, and the
+// search is the one process's.
+TEST(Mpi, AJobsRunShOnThreeRanksWritesWhatOneProcessWrites) {
+    const std::string one = fresh_dir("job1"), job = fresh_dir("job3");
+    const Result a = one_process("optimize " + kMirror + " --method grid --out " + one);
+    ASSERT_EQ(a.code, 0) << a.out;
+    const Result w =
+        one_process("optimize " + kMirror + " --method grid --out " + job + " --job-script");
+    ASSERT_EQ(w.code, 0) << w.out;
+    const Result r =
+        fird::test::run_shell(kMpiEnv + " MPIRUN_ARGS=--oversubscribe FIRD=" + FIRD_BINARY +
+                              " timeout 120 bash " + job + "/run.sh 3");
+    ASSERT_EQ(r.code, 0) << r.out;
+    EXPECT_NE(r.out.find("fird: note: 3 ranks:"), std::string::npos) << r.out;
+    expect_same_search(one, job, 169);
 }
 
 // CMA-ES over nine heights (pagmo's generations, each one batch split among the ranks).

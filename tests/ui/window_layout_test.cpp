@@ -5,10 +5,13 @@
 // sets of sessions: the scripted ones (tests/ui/*.fird: the workbench's own script actions)
 // and the real-input ones (tests/ui/real_input_session.sh: xdotool's mouse and keyboard
 // through the X server, as a user's hands).
+#include <filesystem>
 #include <fstream>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
+
+#include "io/scene_file.hpp"
 
 namespace fird::test {
 namespace {
@@ -160,6 +163,49 @@ TEST(WindowSearch, ASearchEndingAfterASceneSwitchLeavesTheNewSceneAlone) {
     std::ifstream in(FIRD_UI_DATA_DIR
                      "/data_switch/fird/runs/mirror_search-optimize-1/search.json");
     EXPECT_TRUE(in) << "the search's files";
+}
+
+// tests/ui/follow_folder.fird: a search started outside the window (the test's shell, into
+// followed/) and followed from its folder to its end: its best, as its own search.json
+// states it, went on the sliders of the open scene it searches; the job written after
+// holds the scene as shown (sx moved to 0.05, sy the best's) and scripts that start it, and
+// the window then followed the job's folder, where no search has begun yet.
+TEST(FollowedFolder, ItsBestGoesOnTheSlidersAndAJobHoldsTheSceneAsShown) {
+    const auto stats = read_stats("follow_stats.json");
+    std::ifstream in("followed/search.json");
+    ASSERT_TRUE(in);
+    const auto search = nlohmann::json::parse(in);
+    const auto& best = search.at("best_parameters");
+    EXPECT_EQ(stats.at("parameters").at("sy"), best.at("sy"));
+    EXPECT_EQ(stats.at("parameters").at("sx").get<double>(), 0.05);
+    const auto& job = stats.at("job");
+    const Scene scene = load_scene(job.at("scene").get<std::string>());
+    EXPECT_EQ(scene.reflector.parameters.at("sx"), 0.05);
+    EXPECT_EQ(scene.reflector.parameters.at("sy"), best.at("sy").get<double>());
+    EXPECT_TRUE(std::filesystem::exists(job.at("run_sh").get<std::string>()));
+    EXPECT_TRUE(std::filesystem::exists(job.at("slurm_sh").get<std::string>()));
+    const auto& follow = stats.at("follow");
+    EXPECT_EQ(std::filesystem::path(follow.at("dir").get<std::string>()),
+              std::filesystem::path(job.at("scene").get<std::string>()).parent_path());
+    EXPECT_FALSE(follow.at("began").get<bool>());
+}
+
+// tests/ui/tailored_search.fird: the optimize panel's tailored start began the search at the
+// tailored profile (search.json's start, as fird optimize --start tailored records it: its
+// kind, an edge ray, a start metric traced) and its best went on the sliders.
+TEST(TailoredStart, TheWindowsSearchBeginsAtTheTailoredProfile) {
+    const auto stats = read_stats("tailored_stats.json");
+    std::ifstream in(std::string(FIRD_UI_DATA_DIR) +
+                     "/data_tailored/fird/runs/profile_search-optimize-1/search.json");
+    ASSERT_TRUE(in);
+    const auto search = nlohmann::json::parse(in);
+    const auto& start = search.at("start");
+    EXPECT_EQ(start.at("kind"), "tailored");
+    EXPECT_TRUE(start.at("edge_ray") == "crossing" || start.at("edge_ray") == "diverging") << start;
+    EXPECT_TRUE(start.at("metric_at_start").is_number()) << start;
+    EXPECT_EQ(search.at("method"), "cmaes");
+    for (const auto& [name, value] : search.at("best_parameters").items())
+        EXPECT_EQ(stats.at("parameters").at(name).get<double>(), value.get<double>()) << name;
 }
 
 } // namespace
