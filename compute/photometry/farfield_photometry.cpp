@@ -4,6 +4,8 @@
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
+#include <utility>
+#include <vector>
 
 #include <fmt/format.h>
 
@@ -85,16 +87,40 @@ CandelaTable table_from_farfield(const FarField& ff, double c_step, double g_ste
     const auto nc = std::size_t(std::lround(360.0 / c_step));
     const auto ng = std::size_t(std::lround(180.0 / g_step)) + 1;
     std::vector<double> lm(nc * ng, 0.0), sr(nc * ng, 0.0);
+    // Each node gathers the solid angle within half a step of it (gamma 0 and 180 half a
+    // window). A cell across a window's edge is split by solid angle, its lumens taken as
+    // spread evenly over it: where a step is an odd number of cells, the cells on a
+    // window's edge are shared, not given whole to the outer node (which put nadir's light
+    // half a cell out, and read 0 cd at nadir with one cell a step).
+    const double cell_c = 360.0 / ff.width;
     for (std::uint32_t j = 0; j < ff.height; ++j) {
         const double g0 = 180.0 * j / ff.height, g1 = 180.0 * (j + 1) / ff.height;
-        const double band_sr = std::cos(g0 * kDeg) - std::cos(g1 * kDeg);
-        const auto g = std::size_t(std::lround(0.5 * (g0 + g1) / g_step));
+        const double band_sr = std::cos(g0 * kDeg) - std::cos(g1 * kDeg); // per radian of C
+        // The gamma nodes whose windows this band meets, and the share of it in each.
+        std::vector<std::pair<std::size_t, double>> g_parts; // node, sr per radian of C
+        const auto g_first = std::size_t(std::max(0.0, std::floor(g0 / g_step + 0.5)));
+        for (std::size_t g = g_first; g < ng && (double(g) - 0.5) * g_step < g1; ++g) {
+            const double a = std::max(g0, (double(g) - 0.5) * g_step);
+            const double b = std::min(g1, (double(g) + 0.5) * g_step);
+            if (b > a) g_parts.push_back({g, std::cos(a * kDeg) - std::cos(b * kDeg)});
+        }
         for (std::uint32_t i = 0; i < ff.width; ++i) {
-            double c_mid = 180.0 - 360.0 * (i + 0.5) / ff.width;
-            c_mid = std::fmod(c_mid + 360.0, 360.0);
-            const auto c = std::size_t(std::lround(c_mid / c_step)) % nc;
-            lm[c * ng + g] += ff.lm[std::size_t(j) * ff.width + i];
-            sr[c * ng + g] += band_sr * 2.0 * std::numbers::pi / ff.width;
+            // The cell's C interval (C = -phi, measured from C0 = +x), unwrapped.
+            const double c_lo = 180.0 - 360.0 * (i + 1) / ff.width;
+            const double cell_lm = ff.lm[std::size_t(j) * ff.width + i];
+            const auto c_first = std::floor(c_lo / c_step + 0.5);
+            for (double n = c_first; (n - 0.5) * c_step < c_lo + cell_c; n += 1.0) {
+                const double a = std::max(c_lo, (n - 0.5) * c_step);
+                const double b = std::min(c_lo + cell_c, (n + 0.5) * c_step);
+                if (!(b > a)) continue;
+                const auto c = std::size_t((std::llround(n) % std::int64_t(nc) + std::int64_t(nc)) %
+                                           std::int64_t(nc));
+                const double c_share = (b - a) / cell_c;
+                for (const auto& [g, part_sr] : g_parts) {
+                    lm[c * ng + g] += cell_lm * c_share * part_sr / band_sr;
+                    sr[c * ng + g] += part_sr * (b - a) * kDeg;
+                }
+            }
         }
     }
     CandelaTable t;

@@ -173,6 +173,63 @@ TEST(Photometry, FarFieldFromATableHoldsItsFluxAndMapsNadirToTheZenith) {
     EXPECT_NEAR(scene_direction(90.0, 90.0).y, -1.0, 1e-15);
 }
 
+// I(C, gamma) = I0 cos(gamma) (1 + 0.5 cos C) below the horizon, 0 above, integrated
+// exactly over each cell by the far field's convention (row 0 is nadir, +z; column i holds
+// phi in [-180 + 360 i / W, ...) deg, C = -phi): a table's node must read the intensity
+// there. Its window is half a step either side, so it reads the window's mean, I's second
+// order away; with h_c, h_g half the steps in radians: 0.5 cos C's mean over +-h_c is off by
+// 0.5 h_c^2 / 6, cos(gamma)'s (by solid angle) is cos(gamma) cos(h_g), off by h_g^2 / 2 of
+// 1.5 I0; the one factor that makes the table's flux the far field's scales it by
+// |factor - 1| more; and a cell on a window's edge is shared as if its light were spread
+// evenly over it, worth up to 2e-4 I0 at these steps (1.3e-4 measured at 5 x 1 deg). A
+// window one cell off, as steps of an odd number of cells gave when an edge cell went whole
+// to the outer node, is first order: a cell (0.5-1 deg) times I's slope, 4e-3 to 1.3e-2 I0
+// here, and nadir read 0.
+TEST(Photometry, ATablesNodesReadTheIntensityThereOnOddAndEvenCellSteps) {
+    constexpr double I0 = 1000.0, deg = std::numbers::pi / 180.0;
+    const auto intensity = [&](double c_deg, double g_deg) {
+        return g_deg < 90.0 ? I0 * std::cos(g_deg * deg) * (1.0 + 0.5 * std::cos(c_deg * deg))
+                            : 0.0;
+    };
+    struct Case {
+        std::uint32_t w, h;
+        double c_step, g_step; // cells a step: odd, odd, even
+    };
+    for (const Case k :
+         {Case{360, 180, 5.0, 1.0}, Case{720, 360, 7.5, 1.5}, Case{720, 360, 10.0, 2.0}}) {
+        SCOPED_TRACE(::testing::Message()
+                     << k.w << "x" << k.h << " steps " << k.c_step << ", " << k.g_step);
+        FarField ff{.width = k.w, .height = k.h, .lm = std::vector<double>(std::size_t(k.w) * k.h)};
+        for (std::uint32_t j = 0; j < k.h; ++j) {
+            const double g0 = 180.0 * j / k.h, g1 = 180.0 * (j + 1) / k.h;
+            if (g1 > 90.0) continue;
+            // The integral of cos(g) sin(g) dg over the row.
+            const double rows =
+                0.5 * (std::pow(std::sin(g1 * deg), 2) - std::pow(std::sin(g0 * deg), 2));
+            for (std::uint32_t i = 0; i < k.w; ++i) {
+                const double c0 = 180.0 - 360.0 * (i + 1) / k.w, c1 = 180.0 - 360.0 * i / k.w;
+                const double columns =
+                    (c1 - c0) * deg + 0.5 * (std::sin(c1 * deg) - std::sin(c0 * deg));
+                ff.lm[std::size_t(j) * k.w + i] = I0 * rows * columns;
+            }
+        }
+        double factor = 0.0;
+        const CandelaTable t = table_from_farfield(ff, k.c_step, k.g_step, &factor);
+        EXPECT_NEAR(factor, 1.0, 1e-3); // the table's flux is the far field's
+        const double h_c = 0.5 * k.c_step * deg, h_g = 0.5 * k.g_step * deg;
+        const double bound = 0.5 * h_c * h_c / 6.0 + 1.5 * (0.5 * h_g * h_g) +
+                             1.5 * std::abs(factor - 1.0) + 2e-4; // in I0
+        double worst = 0.0;
+        for (std::size_t c = 0; c < t.c_deg.size(); ++c)
+            for (std::size_t g = 0; g < t.gamma_deg.size() && t.gamma_deg[g] <= 80.0; ++g) {
+                const double want = intensity(t.c_deg[c], t.gamma_deg[g]);
+                worst = std::max(worst, std::abs(t.at(c, g) - want) / I0);
+            }
+        EXPECT_LT(worst, bound);
+        EXPECT_NEAR(t.at(0, 0), 1.5 * I0, bound * I0); // nadir
+    }
+}
+
 // A far field -> file -> far field keeps the flux and stays close.
 TEST(Photometry, RoundTripThroughIesAndLdtKeepsFluxAndShape) {
     const FarField original =
