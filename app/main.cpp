@@ -56,7 +56,7 @@ int fird_main(int argc, char** argv, const fird::distributed::Job* job) {
                    "Vulkan device to use (case-insensitive substring of its name)");
     app.add_option("--max-device-memory", global.max_device_memory_mb,
                    "Refuse device allocations past this many MB in all")
-        ->check(CLI::PositiveNumber);
+        ->check(fird::app::finite_range(1e-3, 1e9));
     app.add_option("--max-batch-rays", global.max_batch_rays,
                    "Trace at most this many rays per submission (default: as the device "
                    "allows; the workbench: 131072)")

@@ -129,6 +129,8 @@ TEST(BadInput, OptionValuesOfEveryCommand) {
         {"tolerance " + good, 2, "no tolerance given"},
         {"tolerance " + good + " --reflectance-sd 0.01 --out /proc/fird_no", 1, "/proc/fird_no"},
         {"--max-device-memory 0 info", 2, "--max-device-memory"},
+        {"--max-device-memory nan info", 2, "--max-device-memory: 'nan' is not a finite number"},
+        {"--max-device-memory inf info", 2, "--max-device-memory"},
         {"--max-batch-rays 0 info", 2, "--max-batch-rays"},
         {"--max-batch-rays -5 info", 2, "--max-batch-rays"},
         // Device out of memory (provoked with the budget) says what to lower.
