@@ -47,22 +47,14 @@ struct Args {
     ClusterShape shape;
 };
 
-// The settings a search was started with, kept beside its history so that --resume
-// continues the very same search, and what else its result depends on (resume_record.hpp).
+// The settings a search was started with (search_options_json), and what else its result
+// depends on (resume_record.hpp): kept beside its history so that --resume continues the
+// very same search.
 nlohmann::json settings_json(const SearchSettings& s, const Scene& scene,
                              const vk::DeviceSummary& device, const SearchRequest& request) {
-    return {{"method", method_name(s.method)},
-            {"rays", s.rays},
-            {"threshold_lm", s.threshold_lm},
-            {"max_evaluations", s.max_evaluations},
-            {"seed", s.seed},
-            {"refine", s.refine},
-            {"backend", backend_name(s.backend)},
-            {"scene", scene_to_toml(scene)},
-            // Where the scene was: its files are found from there (fird follow reads it).
-            {"scene_path", std::filesystem::absolute(scene.path).lexically_normal().string()},
-            {"depends_on", depends_on_record(scene, device)},
-            {"start", start_report_json(request.start_report)}};
+    nlohmann::json j = search_options_json(s, scene, request.start_report);
+    j["depends_on"] = depends_on_record(scene, device);
+    return j;
 }
 
 struct Resumed {

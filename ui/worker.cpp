@@ -1,11 +1,14 @@
 #include "worker.hpp"
 
 #include <chrono>
+#include <filesystem>
 
 #include <fmt/format.h>
 
 #include "calibrate/calibration_report.hpp"
 #include "export/scene_export.hpp"
+#include "io/atomic_file.hpp"
+#include "optimize/history_csv.hpp"
 #include "optimize/parameter_space.hpp"
 #include "optimize/search_report.hpp"
 #include "optimize/search_start.hpp"
@@ -182,11 +185,23 @@ void Worker::run(const SearchJob& job) {
     // (The panel's "preparing" line covers the tailoring: the desired far field is traced
     // for it, then the edge-ray designs.)
     if (job.tailored_start) set_tailored_start(*ctx_, job.scene, request);
+    // Its folder holds what a command's does as it goes (options.json, then history.csv a
+    // row a candidate), so it can be followed from another window or a shell (fird follow).
+    std::unique_ptr<HistoryWriter> history;
+    if (!job.out_dir.empty()) {
+        write_text_file(
+            (std::filesystem::path(job.out_dir) / "options.json").string(),
+            search_options_json(request.settings, job.scene, request.start_report).dump(2) + "\n");
+        history = std::make_unique<HistoryWriter>(
+            (std::filesystem::path(job.out_dir) / "history.csv").string(), space.names, false,
+            job.scene.optimize);
+    }
     auto last_view = std::chrono::steady_clock::now() - std::chrono::hours(1);
     std::optional<FarField> view_target; // the target reflector at kBestViewRays
     double best = HUGE_VAL;
     std::uint32_t best_stage = ~0u;
     request.on_candidate = [&](const Candidate& c, const StageSummary& s) {
+        if (history) history->write(c, s);
         ++evaluations_;
         if (c.feasible && !c.replayed) rays_traced_ += s.fidelity.rays;
         {

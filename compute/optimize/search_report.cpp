@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 
 #include "evaluation/evaluation.hpp"
+#include "evaluation/evaluator.hpp"
 #include "io/atomic_file.hpp"
 #include "io/scene_file.hpp"
 #include "model/design_parameters.hpp"
@@ -179,6 +180,20 @@ nlohmann::json search_json(const SearchResult& r) {
             {"desired", r.desired},
             {"time_s", r.time_s},
             {"stopped", stop_reason_name(r.stopped)}};
+}
+
+nlohmann::json search_options_json(const SearchSettings& s, const Scene& scene,
+                                   const StartReport& start) {
+    return {{"method", method_name(s.method)},
+            {"rays", s.rays},
+            {"threshold_lm", s.threshold_lm},
+            {"max_evaluations", s.max_evaluations},
+            {"seed", s.seed},
+            {"refine", s.refine},
+            {"backend", backend_name(s.backend)},
+            {"scene", scene_to_toml(scene)},
+            {"scene_path", std::filesystem::absolute(scene.path).lexically_normal().string()},
+            {"start", start_report_json(start)}};
 }
 
 void write_progress_png(const std::string& out, const SearchResult& r) {

@@ -20,6 +20,13 @@ nlohmann::json search_json(const SearchResult& result);
 // "target_share_left_out", "clamped", "quick_metric", "refused", "time_s"). options.json
 // records it so --resume starts from the same point; start_report_from_json reads it back.
 nlohmann::json start_report_json(const StartReport& start);
+
+// options.json of a search's --out folder, as it begins: its settings (method, rays,
+// threshold_lm, max_evaluations, seed, refine, backend), the scene's text and where the
+// scene was (scene_path: its files are found from there), and its start. What --resume
+// continues from (the command adds what the result depends on) and fird follow reads.
+nlohmann::json search_options_json(const SearchSettings& settings, const Scene& scene,
+                                   const StartReport& start);
 StartReport start_report_from_json(const nlohmann::json& j);
 
 void write_progress_png(const std::string& path, const SearchResult& result);

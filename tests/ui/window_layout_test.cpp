@@ -148,6 +148,17 @@ TEST_P(WindowLayout, ASearchRunToTheEndPutsItsBestOnTheSliders) {
     EXPECT_NEAR(sliders.at("sx").get<double>(), 0.15, 0.05);
     EXPECT_NEAR(sliders.at("sy").get<double>(), -0.1, 0.05);
     EXPECT_NE(search.at("stopped").get<std::string>(), "interrupted");
+    // Its folder holds what a command's does as it goes, to be followed (fird follow): the
+    // options it began with and a history row for every candidate search.json counts.
+    const std::string folder = GetParam().search_data + "/fird/runs/mirror_search-optimize-1";
+    std::ifstream options_in(folder + "/options.json");
+    ASSERT_TRUE(options_in);
+    EXPECT_EQ(nlohmann::json::parse(options_in).at("method"), search.at("method"));
+    std::ifstream history(folder + "/history.csv");
+    std::size_t lines = 0;
+    for (std::string line; std::getline(history, line);)
+        ++lines;
+    EXPECT_EQ(lines, search.at("evaluations").get<std::size_t>() + 1); // and the header
 }
 
 // tests/ui/search_then_switch.fird: the flat mirror opened while the mirror scene's search
