@@ -39,6 +39,7 @@ nlohmann::json start_report_json(const StartReport& s) {
     j["target_share_left_out"] = s.target_share_left_out;
     j["clamped"] = s.clamped;
     j["quick_metric"] = s.quick_metric;
+    if (!s.quick_score.empty()) j["quick_score"] = s.quick_score;
     j["refused"] = s.refused;
     j["time_s"] = s.time_s;
     return j;
@@ -55,6 +56,7 @@ StartReport start_report_from_json(const nlohmann::json& j) {
     s.target_share_left_out = j.value("target_share_left_out", 0.0);
     s.clamped = j.value("clamped", std::vector<std::string>());
     s.quick_metric = j.value("quick_metric", std::map<std::string, double>());
+    s.quick_score = j.value("quick_score", std::map<std::string, double>());
     s.refused = j.value("refused", std::map<std::string, std::string>());
     s.time_s = j.value("time_s", 0.0);
     return s;

@@ -7,6 +7,7 @@
 
 #include <fmt/format.h>
 
+#include "model/press_measures.hpp"
 #include "model/surface.hpp"
 #include "optimize/parameter_space.hpp"
 #include "optimize/search.hpp"
@@ -67,7 +68,7 @@ SearchStartPoint tailored_start(const vk::Context& ctx, const Scene& scene, cons
     eval.set_desired(desired);
     SearchStartPoint best;
     best.report.kind = "tailored";
-    double best_metric = HUGE_VAL;
+    double best_score = HUGE_VAL;
     StartReport tried;
     for (const EdgeRay edge : {EdgeRay::Crossing, EdgeRay::Diverging}) {
         const std::string name = edge_ray_name(edge);
@@ -101,8 +102,17 @@ SearchStartPoint tailored_start(const vk::Context& ctx, const Scene& scene, cons
         }
         const double metric = *eval.evaluate(candidate.reflector).l2_lm;
         tried.quick_metric[name] = metric;
-        if (metric < best_metric) {
-            best_metric = metric;
+        // Chosen by what the search minimises: with a smoothness weight, the metric plus
+        // the weighted bending energy (its score), else the metric itself.
+        double score = metric;
+        if (scene.optimize.smoothness > 0.0) {
+            const double energy =
+                search_bending_energy(Surface::make(candidate.reflector, candidate.holder));
+            score = candidate_score(metric, energy, scene.optimize);
+            tried.quick_score[name] = score;
+        }
+        if (score < best_score) {
+            best_score = score;
             best.x = x;
             best.report.edge_ray = name;
             best.report.rim_polar_deg = t.rim_polar_rad * 180.0 / std::numbers::pi;
@@ -113,6 +123,7 @@ SearchStartPoint tailored_start(const vk::Context& ctx, const Scene& scene, cons
         }
     }
     best.report.quick_metric = tried.quick_metric;
+    best.report.quick_score = tried.quick_score;
     best.report.refused = tried.refused;
     if (best.x.empty()) {
         std::string why;

@@ -163,6 +163,9 @@ struct StartReport {
     std::vector<std::string> clamped;   // heights the tailoring put outside their bounds
     // Each edge ray tried: its metric on the quick trace, or why it has no answer.
     std::map<std::string, double> quick_metric;
+    // With an [optimize] smoothness weight, what chose between them: the metric plus the
+    // weight x the profile's bending energy (the search's own score); empty without one.
+    std::map<std::string, double> quick_score;
     std::map<std::string, std::string> refused;
     // Tailored: the wall time of its making (the desired far field, the source's polar
     // distribution, the solves and their quick traces), before the search's own time_s.

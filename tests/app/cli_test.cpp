@@ -7,6 +7,7 @@
 #include <fstream>
 #include <functional>
 #include <iterator>
+#include <map>
 #include <numbers>
 #include <sstream>
 #include <string>
@@ -739,6 +740,50 @@ TEST(CliOptimize, StartTailoredBeginsAtTheTailoredProfileAndResumesThere) {
 
 // A ray file source (the writer's, beside its scene): a search over it runs, and its
 // best.toml finds the ray file from the output folder (written absolute).
+// With a smoothness weight the tailored start chooses its edge ray by the search's score
+// (the metric plus the weight x the profile's bending energy), not by the metric alone: the
+// report's quick_score is each edge ray's metric plus w x an energy that does not depend on
+// w, and the kept one has the lowest score.
+TEST(CliOptimize, AWeightedTailoredStartChoosesItsEdgeRayByScore) {
+    std::string text;
+    {
+        std::ifstream in(std::string(FIRD_SOURCE_DIR) + "/scenes/test/profile_search.toml");
+        text.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    }
+    const std::string key = "max_evaluations = 16";
+    ASSERT_NE(text.find(key), std::string::npos);
+    std::map<double, nlohmann::json> starts;
+    for (const double w : {1.0, 1000.0}) {
+        std::string weighted = text;
+        weighted.replace(weighted.find(key), key.size(),
+                         "max_evaluations = 1\nsmoothness = " + std::to_string(w));
+        const std::string scene =
+            ::testing::TempDir() + "/fird_weighted_tailored_" + std::to_string(int(w)) + ".toml";
+        std::ofstream(scene) << weighted;
+        const auto r = run("optimize " + scene + " --start tailored --method cmaes --json");
+        ASSERT_EQ(r.code, 0) << r.out;
+        starts[w] = nlohmann::json::parse(r.out.substr(r.out.find('{'))).at("start");
+    }
+    for (const auto& [w, start] : starts) {
+        const auto& metric = start.at("quick_metric");
+        const auto& score = start.at("quick_score");
+        ASSERT_EQ(score.size(), metric.size()) << start;
+        std::string lowest;
+        for (const auto& [edge, value] : score.items()) {
+            EXPECT_GE(value.get<double>(), metric.at(edge).get<double>()) << edge;
+            if (lowest.empty() || value.get<double>() < score.at(lowest).get<double>())
+                lowest = edge;
+            // The same energy at both weights (the penalty scales with w).
+            const double energy_1 = (starts[1.0].at("quick_score").at(edge).get<double>() -
+                                     starts[1.0].at("quick_metric").at(edge).get<double>());
+            EXPECT_NEAR((value.get<double>() - metric.at(edge).get<double>()) / w, energy_1,
+                        1e-9 * energy_1 * w)
+                << edge;
+        }
+        EXPECT_EQ(start.at("edge_ray").get<std::string>(), lowest) << start;
+    }
+}
+
 TEST(CliOptimize, ARayFileScenesBestTomlTracesFromItsOutputFolder) {
     const fird::test::RayFiles& files = fird::test::ray_files();
     std::ifstream in(std::string(FIRD_SOURCE_DIR) + "/scenes/led_die.toml");
