@@ -49,15 +49,10 @@ void start_search(Frame& f, SearchMethod method) {
 
 namespace {
 
-// The best so far (the search's own rule for its result: optimize/search_folder.hpp).
-const Candidate* best_candidate(const SearchProgress& p) {
-    return latest_stage_best(p.history);
-}
-
 std::map<std::string, double> best_parameters(const SearchProgress& p) {
     if (p.result && p.result->best) return p.result->best_parameters;
     std::map<std::string, double> named;
-    if (const Candidate* c = best_candidate(p))
+    if (const Candidate* c = latest_stage_best(p.history))
         for (std::size_t k = 0; k < p.names.size() && k < c->x.size(); ++k)
             named[p.names[k]] = c->x[k];
     return named;
@@ -122,7 +117,7 @@ void search_status(const SearchProgress& p, std::optional<double> elapsed_s,
                     .c_str());
         if (!p.out_dir.empty()) ImGui::TextWrapped("files in %s", p.out_dir.c_str());
     }
-    if (const Candidate* c = best_candidate(p); c && c->stage < p.stages.size()) {
+    if (const Candidate* c = latest_stage_best(p.history); c && c->stage < p.stages.size()) {
         const Fidelity& fid = p.stages[c->stage].fidelity;
         ImGui::TextWrapped("best so far: %s %.5g %s at %s (%ux%u far field, stage %s)",
                            metric_name(metric), c->l2_lm, metric_unit(metric),
@@ -220,7 +215,7 @@ void followed_search(WorkbenchState& s) {
                                  .c_str());
     search_status(p, std::nullopt, search.scene.optimize.metric);
     const bool same = searches_open_scene(s, search);
-    ImGui::BeginDisabled(!best_candidate(p) || !same);
+    ImGui::BeginDisabled(!latest_stage_best(p.history) || !same);
     if (ImGui::Button("apply best")) apply_followed_best(s); // enabled only where it can
     ImGui::EndDisabled();
     if (!same && ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled))
@@ -243,7 +238,8 @@ void apply_followed_best(WorkbenchState& s) {
         throw std::runtime_error(
             fmt::format("the open scene is not the one {} searches", s.follow.dir));
     const SearchProgress p = followed_progress(search);
-    if (!best_candidate(p)) throw std::runtime_error("the followed search has no best yet");
+    if (!latest_stage_best(p.history))
+        throw std::runtime_error("the followed search has no best yet");
     put_on_sliders(s, best_parameters(p), search.scene.source);
     add_log(s, fmt::format("the best of {} on the sliders", s.follow.dir));
 }
@@ -316,7 +312,7 @@ void optimize_panel(Frame& f) {
     search_status(p, ImGui::GetTime() - s.search.started_s,
                   s.editor.scene ? s.editor.scene->optimize.metric : FarFieldMetric::L2);
     if (!p.history.empty() || p.result) {
-        ImGui::BeginDisabled(!best_candidate(p));
+        ImGui::BeginDisabled(!latest_stage_best(p.history));
         if (ImGui::Button("apply best"))
             put_on_sliders(s, best_parameters(p), s.search.start_source);
         ImGui::EndDisabled();
