@@ -7,6 +7,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstring>
+#include <future>
 #include <stdexcept>
 
 #include <fmt/format.h>
@@ -72,7 +73,7 @@ FastTracer::FastTracer(const vk::Context& ctx, const Scene& scene, std::uint64_t
                                  dispatch_rays, max_batch_rays ? max_batch_rays : ~0ull,
                                  ctx.max_batch_rays() ? ctx.max_batch_rays() : ~0ull});
     // A ray file's batch is read on the host into a buffer of its own: batches of at most
-    // kRayFileBatchRays keep that buffer (24 MiB) and the host's share bounded.
+    // kRayFileBatchRays keep those buffers (two of 24 MiB) and the host's share bounded.
     if (scene.source.kind == SourceKind::RayFile)
         submission_rays_ = std::min(submission_rays_, kRayFileBatchRays);
     batch_capacity_ = std::min(scene.trace.rays, submission_rays_);
@@ -129,19 +130,19 @@ FastTracer::FastTracer(const vk::Context& ctx, const Scene& scene, std::uint64_t
     current_ = make_reflector_state(ctx, params_, "fird");
     order_buckets_ = vk::Buffer(ctx, gpu::kRaysetOrderBuckets * 4, storage, vk::MemoryUse::Device,
                                 "fird.rayset.order_buckets");
-    // A photometric source's distribution (emitter.h), a ray file's batch of rays (written
-    // by the host before each rayset pass); one unused float for the others.
-    if (scene.source.kind == SourceKind::RayFile) {
-        emitter_table_ = vk::Buffer(ctx, batch_capacity_ * gpu::kRayFileFloats * sizeof(float),
-                                    storage, vk::MemoryUse::Upload, "fird.rayset.ray_file");
-    } else {
-        const std::vector<float> no_table(1, 0.0f);
-        const std::vector<float>& table =
-            scene.source.table.floats ? *scene.source.table.floats : no_table;
-        emitter_table_ = vk::Buffer(ctx, table.size() * sizeof(float), storage,
-                                    vk::MemoryUse::Device, "fird.rayset.emitter_table");
-        emitter_table_.upload(ctx, std::span<const float>(table));
-    }
+    // A photometric source's distribution (emitter.h); one unused float for the others. A
+    // ray file's batches of rays, written by the host before their rayset pass.
+    const std::vector<float> no_table(1, 0.0f);
+    const std::vector<float>& table =
+        scene.source.table.floats ? *scene.source.table.floats : no_table;
+    emitter_table_ = vk::Buffer(ctx, table.size() * sizeof(float), storage, vk::MemoryUse::Device,
+                                "fird.rayset.emitter_table");
+    emitter_table_.upload(ctx, std::span<const float>(table));
+    if (scene.source.kind == SourceKind::RayFile)
+        for (int k = 0; k < 2; ++k)
+            ray_file_tables_[k] =
+                vk::Buffer(ctx, batch_capacity_ * gpu::kRayFileFloats * sizeof(float), storage,
+                           vk::MemoryUse::Upload, fmt::format("fird.rayset.ray_file.{}", k));
     loop_ = vk::Buffer(ctx, gpu::kLoopWords * 4, storage | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT,
                        vk::MemoryUse::Device, "fird.bounce_loop");
     loop_readback_ = vk::Buffer(ctx, gpu::kLoopWords * 4 * kMaxBatchCandidates, storage,
@@ -278,12 +279,21 @@ FastRun FastTracer::run(const std::function<void(VkCommandBuffer)>& then) {
         state().heightfield_dirty = false;
     };
     const std::uint64_t batches = (scene_.trace.rays + batch_capacity_ - 1) / batch_capacity_;
+    const std::size_t kept_batches = rayset_chunks_.size();
+    // A ray file's batches are read on the host: each batch's read (after the first) runs on
+    // a thread while the device traces the batch before it, into the other table. The host
+    // time waited for a read counts in the rayset pass's time.
+    const bool read_rays = scene_.source.kind == SourceKind::RayFile;
+    const auto batch_rays = [&](std::size_t batch) {
+        return std::min(batch_capacity_, scene_.trace.rays - batch * batch_capacity_);
+    };
+    std::future<void> next_read;
     for (std::size_t batch = 0; batch < batches; ++batch) {
         const std::uint64_t first = batch * batch_capacity_;
-        const std::uint64_t n = std::min(batch_capacity_, scene_.trace.rays - first);
+        const std::uint64_t n = batch_rays(batch);
         const bool last = batch + 1 == batches;
         // The rayset does not depend on the reflector (§5): a kept batch is reused.
-        const bool reuse = batch < rayset_chunks_.size();
+        const bool reuse = batch < kept_batches;
         const bool sort = !reuse && !rayset_ordered_at_birth();
         // Kept for the next run (a buffer per batch), or generated again each run into the
         // ping-pong buffer the first bounce does not write (its input is consumed by then).
@@ -298,7 +308,18 @@ FastRun FastTracer::run(const std::function<void(VkCommandBuffer)>& then) {
         };
         const vk::Buffer* rays = nullptr;
         bool generated = false; // the rayset pass ran in a submission of its own
-        if (!reuse && scene_.source.kind == SourceKind::RayFile) read_ray_file_batch(first, n, run);
+        if (read_rays && !reuse) {
+            const auto t_read = std::chrono::steady_clock::now();
+            if (next_read.valid())
+                next_read.get(); // rethrows a failed read
+            else
+                read_ray_file_batch(first, n);
+            run.timings.rayset_ms += ms_since(t_read);
+            if (batch + 1 < batches)
+                next_read = std::async(std::launch::async, [this, next = batch + 1, &batch_rays] {
+                    read_ray_file_batch(next * batch_capacity_, batch_rays(next));
+                });
+        }
         if (reuse) {
             run.rayset_reused = true;
             rays = &rayset_chunks_[batch].rays;

@@ -193,9 +193,13 @@ class FastTracer {
     // (and counts them per direction bucket unless they come ordered).
     void record_rayset(VkCommandBuffer cb, std::uint64_t first, std::uint64_t n,
                        const vk::Buffer& rays, FastRun& run);
-    // A ray file source: reads emissions [first, first + n) into emitter_table_, placed in
-    // the fast path's frame (the host's share of the rayset pass, timed with it).
-    void read_ray_file_batch(std::uint64_t first, std::uint64_t n, FastRun& run);
+    // A ray file source: reads emissions [first, first + n) into the batch's table
+    // (ray_file_table), placed in the fast path's frame. Touches no other state, so the next
+    // batch is read on a host thread while the device traces this one.
+    void read_ray_file_batch(std::uint64_t first, std::uint64_t n) const;
+    // What the rayset pass over rays [first, ...) reads: a photometric source's table, or
+    // the ray file table of that batch (two, used in turn: double-buffered).
+    const vk::Buffer& emitter_table_for(std::uint64_t first) const;
     // Moves the rayset's effective rays from `from` to `to` ordered by direction.
     void record_rayset_order(VkCommandBuffer cb, const vk::Buffer& from, const vk::Buffer& to,
                              FastRun& run);
@@ -272,8 +276,10 @@ class FastTracer {
     std::optional<vk::ComputePipeline> trace_diagnostics_pipeline_;
     vk::Buffer profile_;
     vk::Buffer order_buckets_;
-    // A photometric source's table, or a ray file's rays for the batch (fird_shared.h).
+    // A photometric source's table (fird_shared.h); one unused float for the others.
     vk::Buffer emitter_table_;
+    // A ray file's rays, for even and odd batches: one is read while the other is traced.
+    vk::Buffer ray_file_tables_[2];
     // The bounce loop's state on the device (fird_shared.h, kLoop*: counts and indirect
     // dispatch sizes) and its per-bounce counts as read back.
     vk::Buffer loop_, loop_readback_;

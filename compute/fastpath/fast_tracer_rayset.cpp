@@ -28,7 +28,7 @@ void FastTracer::record_rayset(VkCommandBuffer cb, std::uint64_t first, std::uin
     timed(cb, &run.timings.rayset_ms, nullptr, [&] {
         const vk::Binding b[] = {vk::storage(state().params_buffer), vk::storage(rays),
                                  vk::storage(counters_), vk::storage(order_buckets_),
-                                 vk::storage(emitter_table_)};
+                                 vk::storage(emitter_table_for(first))};
         const gpu::RaysetPush push{
             .first_lo = std::uint32_t(first),
             .first_hi = std::uint32_t(first >> 32),
@@ -41,11 +41,15 @@ void FastTracer::record_rayset(VkCommandBuffer cb, std::uint64_t first, std::uin
     vk::barrier_all(cb);
 }
 
-void FastTracer::read_ray_file_batch(std::uint64_t first, std::uint64_t n, FastRun& run) {
-    const auto t0 = std::chrono::steady_clock::now();
+const vk::Buffer& FastTracer::emitter_table_for(std::uint64_t first) const {
+    if (scene_.source.kind != SourceKind::RayFile) return emitter_table_;
+    return ray_file_tables_[(first / batch_capacity_) % 2];
+}
+
+void FastTracer::read_ray_file_batch(std::uint64_t first, std::uint64_t n) const {
     const std::uint64_t seed =
         std::uint64_t(params_.seed_lo) | (std::uint64_t(params_.seed_hi) << 32);
-    auto* const table = static_cast<float*>(emitter_table_.data());
+    auto* const table = static_cast<float*>(emitter_table_for(first).data());
     // Emissions [from, to), placed in double, then made relative to the frame's origin and
     // rounded to float, into their slots of the batch.
     const auto read = [&](std::uint64_t from, std::uint64_t to) {
@@ -61,8 +65,8 @@ void FastTracer::read_ray_file_batch(std::uint64_t first, std::uint64_t n, FastR
                                *out++ = float(r.direction.z);
                            });
     };
-    // The device waits while the host reads: the batch is read in parts at once (up to 8),
-    // a thread and a reader each (the emissions do not depend on how they are split).
+    // The batch is read in parts at once (up to 8), a thread and a reader each (the
+    // emissions do not depend on how they are split).
     const std::uint64_t parts = std::clamp<std::uint64_t>(
         std::min<std::uint64_t>(std::thread::hardware_concurrency(), 8), 1, n / 65536 + 1);
     std::vector<std::thread> helpers;
@@ -86,7 +90,6 @@ void FastTracer::read_ray_file_batch(std::uint64_t first, std::uint64_t n, FastR
     for (std::thread& t : helpers)
         t.join();
     if (failure) std::rethrow_exception(failure);
-    run.timings.rayset_ms += ms_since(t0);
 }
 
 void FastTracer::record_bounce_args(VkCommandBuffer cb, std::uint32_t stage, std::uint32_t bounce) {

@@ -2,12 +2,13 @@
 // independent writer from a Lambertian disk (tests/io/write_ray_files.py) gives the mirrored
 // cosine law, as FIRD's analytic disk does, within the Monte Carlo noise; the fast path's
 // rayset holds the CPU reference's rays, ray for ray; and a file traced in many small
-// batches gives the far field of one batch.
+// batches gives the far field of one batch, or fails in a later batch's read with one line.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <filesystem>
 #include <numbers>
 #include <string>
 #include <tuple>
@@ -184,6 +185,27 @@ TEST_F(VulkanTest, ARayFileTracedInSmallBatchesGivesTheFarFieldOfOneBatch) {
     // The same rays fall in each cell; each cell's flux is its count times the flux per ray.
     for (std::size_t c = 0; c < one.size(); ++c)
         ASSERT_EQ(small[c], one[c]) << "cell " << c;
+}
+
+// Each batch after the first is read on a host thread while the device traces the one
+// before: a file cut after the scene was read fails in such a read (the cut falls in the
+// batches past the first), and the trace ends with the reader's one line naming the file
+// and the byte, neither a crash nor a hang.
+TEST_F(VulkanTest, AFileCutAfterTheSceneWasReadFailsAFastTraceInALaterBatch) {
+    const std::string copy = ray_files()("cut_fast.tm25ray");
+    std::filesystem::copy_file(ray_files()("disk.tm25ray"), copy,
+                               std::filesystem::copy_options::overwrite_existing);
+    const Scene s = mirror_scene("cut_fast.tm25ray", "normal = [0.0, 0.0, -1.0]");
+    std::filesystem::resize_file(copy, std::filesystem::file_size(copy) / 2);
+    FastTracer t(ctx(), s, s.trace.seed, 4999);
+    t.set_reflector(s.reflector);
+    try {
+        (void)t.run();
+        FAIL() << "a cut file traced";
+    } catch (const std::runtime_error& e) {
+        EXPECT_EQ(std::string(e.what()).rfind(copy + ": byte ", 0), 0u) << e.what();
+        EXPECT_NE(std::string(e.what()).find("short file"), std::string::npos) << e.what();
+    }
 }
 
 } // namespace
