@@ -1,5 +1,6 @@
 // fird tolerance SCENE: how much the light moves when the part is made a little wrong or
 // the source sits a little off (issue 27 item 4; compute/tolerance).
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -9,7 +10,7 @@
 #include "evaluation/evaluation.hpp"
 #include "io/atomic_file.hpp"
 #include "io/scene_file.hpp"
-#include "model/source.hpp"
+#include "model/tolerance_check.hpp"
 #include "parse.hpp"
 #include "tolerance/tolerance.hpp"
 #include "vk/context.hpp"
@@ -105,11 +106,11 @@ void register_tolerance(CLI::App& app, const GlobalOptions& global, std::functio
                     non_negative("--surface-correlation-mm", a->surface_corr);
             if (!a->reflectance_sd.empty())
                 t.reflectance_sd = non_negative("--reflectance-sd", a->reflectance_sd);
-            if (t.surface_rms_mm > 0.0 && !(t.surface_correlation_mm > 0.0))
-                throw UsageError("--surface-correlation-mm: needed (> 0) with a surface error");
-            if (t.source_tilt_deg > 0.0 && !source_has_axis(scene.source))
-                throw UsageError(fmt::format("--source-tilt-deg: a {} source has no axis to tilt",
-                                             source_type_name(scene.source.kind)));
+            if (const auto problem = tolerance_problem(t, scene.source)) {
+                std::string option = "--" + problem->key;
+                std::replace(option.begin(), option.end(), '_', '-');
+                throw UsageError(option + ": " + problem->reason);
+            }
             if (active_tolerances(t).empty())
                 throw UsageError("no tolerance given: --source-shift-mm, --source-tilt-deg, "
                                  "--surface-rms-mm, --reflectance-sd or a [tolerance] table");

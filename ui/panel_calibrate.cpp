@@ -1,5 +1,6 @@
 // The calibration panel: Table 1 and the semivariograms of fird calibrate, run beside
-// the frames, with their plots and fitted curves.
+// the frames, with their plots and fitted curves; and fird tolerance's realisations
+// (panel_tolerance.cpp).
 #include <algorithm>
 #include <filesystem>
 
@@ -78,9 +79,10 @@ void calibration_plots(const CalibrationProgress& c, const std::string& scene) {
 void calibrate_panel(Frame& f) {
     WorkbenchState& s = f.state;
     begin_panel(f, PanelId::Calibrate);
-    const char* kinds[] = {"rays (Table 1)", "semivariogram"};
+    const char* kinds[] = {"rays (Table 1)", "semivariogram", "tolerance"};
     ImGui::SetNextItemWidth(160);
-    ImGui::Combo("kind", &s.calibration_kind, kinds, 2);
+    ImGui::Combo("kind", &s.calibration_kind, kinds, 3);
+    const bool tolerance = s.calibration_kind == 2;
     std::vector<std::string> params{"all"};
     if (s.editor.scene)
         for (const auto& [k, range] : s.editor.scene->reflector.optimize)
@@ -94,20 +96,28 @@ void calibrate_panel(Frame& f) {
         ImGui::Combo("parameter", &s.calibration_parameter, items.data(), int(items.size()));
     }
     const CalibrationProgress c = f.worker.calibration();
+    const ToleranceProgress t = f.worker.tolerance();
     ImGui::SameLine();
-    if (!c.running) {
-        ImGui::BeginDisabled(!s.editor.scene ||
-                             s.editor.scene->target.kind == TargetDesc::Kind::None);
+    if (!c.running && !t.running) {
+        // A calibration compares with the target; tolerances rank by efficiency without one.
+        ImGui::BeginDisabled(tolerance ? !tolerance_can_start(s)
+                                       : !s.editor.scene ||
+                                             s.editor.scene->target.kind == TargetDesc::Kind::None);
         if (ImGui::Button("Start")) {
             const std::size_t k = std::size_t(s.calibration_parameter);
-            start_calibration(f, s.calibration_kind == 0,
-                              k > 0 && k < params.size() ? params[k] : "");
+            if (tolerance)
+                start_tolerance(f);
+            else
+                start_calibration(f, s.calibration_kind == 0,
+                                  k > 0 && k < params.size() ? params[k] : "");
         }
         ImGui::EndDisabled();
     } else if (ImGui::Button("Stop")) {
         f.worker.stop();
     }
-    if ((c.running || c.rays || c.semivariogram) && s.calibration_scene != s.editor.path) {
+    if (tolerance) {
+        tolerance_section(f, t);
+    } else if ((c.running || c.rays || c.semivariogram) && s.calibration_scene != s.editor.path) {
         // Another scene's calibration: not this scene's figures.
         ImGui::TextWrapped("the last calibration was of %s", s.calibration_scene.c_str());
     } else if (c.running || c.rays || c.semivariogram) {

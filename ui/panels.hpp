@@ -68,6 +68,17 @@ bool write_job(Frame& f);
 // std::runtime_error, one line, when there is none or the open scene is another.
 void apply_followed_best(WorkbenchState& state);
 void calibrate_panel(Frame& f);
+// Starts the calibrate panel's tolerance form on the edited scene (fird tolerance's
+// realisations; files in a new folder under the state's runs_dir).
+void start_tolerance(Frame& f);
+// Whether the form's tolerances can be drawn for the open scene (the Start button).
+bool tolerance_can_start(WorkbenchState& state);
+// The calibrate panel's tolerance form and results.
+void tolerance_section(Frame& f, const ToleranceProgress& progress);
+// The script's `tolerance KEY VALUE` (KEY as in a scene's [tolerance], or seed; a shift as
+// 0.1 or 0.1,0.1,0.2): the empty string when the form takes it, else why not.
+std::string set_tolerance_field(WorkbenchState& state, const std::string& key,
+                                const std::string& value);
 void log_panel(Frame& f);
 void help_panel(Frame& f);
 

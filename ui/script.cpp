@@ -30,6 +30,7 @@ const std::map<std::string, std::tuple<ScriptAction::Kind, int, int>>& actions()
         {"trace", {K::Trace, 0, 0}},
         {"optimize", {K::Optimize, 0, 2}}, // [METHOD] [scene|tailored]: where it begins
         {"calibrate", {K::Calibrate, 1, 2}},
+        {"tolerance", {K::Tolerance, 0, 2}}, // [KEY VALUE]: the tolerance form's field, or start
         {"stop", {K::Stop, 0, 0}},
         {"wait", {K::Wait, 1, 1}},
         {"wait-idle", {K::WaitIdle, 0, 0}},
@@ -143,6 +144,9 @@ Script parse_script_text(const std::string& text, const std::string& path) {
         if (kind == K::Optimize && !a.args.empty() && !method_from_name(a.args[0]))
             throw std::invalid_argument(fmt::format("{}:{}: unknown method '{}' (one of {})", path,
                                                     n, a.args[0], fmt::join(method_names(), ", ")));
+        if (kind == K::Tolerance && a.args.size() == 1)
+            throw std::invalid_argument(
+                fmt::format("{}:{}: tolerance (start) or tolerance KEY VALUE", path, n));
         if (kind == K::Calibrate && a.args[0] != "rays" && a.args[0] != "semivariogram")
             throw std::invalid_argument(
                 fmt::format("{}:{}: calibrate rays or calibrate semivariogram [NAME]", path, n));
@@ -249,6 +253,18 @@ bool ScriptRunner::step(Frame& f, const ScriptHost& host) {
             break;
         case K::Calibrate:
             start_calibration(f, a.args[0] == "rays", a.args.size() > 1 ? a.args[1] : "");
+            break;
+        case K::Tolerance:
+            if (a.args.empty()) {
+                if (!s.editor.scene) fail(a, "tolerance: no scene is open");
+                s.calibration_kind = 2; // the panel shows the form and its results
+                start_tolerance(f);
+                if (!s.log.empty() && s.log.back().rfind("error:", 0) == 0)
+                    fail(a, s.log.back().substr(7)); // "tolerance: KEY: why"
+            } else if (const std::string error = set_tolerance_field(s, a.args[0], a.args[1]);
+                       !error.empty()) {
+                fail(a, "tolerance: " + error);
+            }
             break;
         case K::Stop:
             f.worker.stop();

@@ -246,7 +246,7 @@ int run_workbench(const WorkbenchOptions& options) {
     // The sliders' values: where a search's end left them.
     nlohmann::json panels = nlohmann::json::object(), window_size, camera, sliders;
     // The followed folder and the job written last, if any.
-    nlohmann::json followed = nullptr, job = nullptr;
+    nlohmann::json followed = nullptr, job = nullptr, tolerance = nullptr;
     {
         // A slot per swapchain image, and one more for the scripts' screenshots.
         ImGuiRenderer renderer(ctx, wd.ImageCount + 1);
@@ -346,6 +346,11 @@ int run_workbench(const WorkbenchOptions& options) {
                         {"began", fw.search != nullptr},
                         {"evaluations", fw.search ? fw.search->rows.candidates.size() : 0},
                         {"ended", fw.search && fw.search->end}};
+        if (const ToleranceProgress t = session.worker.tolerance(); t.generation > 0)
+            tolerance = {{"dir", t.out_dir},
+                         {"traced", t.rows.size()},
+                         {"ended", t.result.has_value()},
+                         {"stopped", t.result && t.result->stopped}};
         if (const auto& w = session.state.cluster.written)
             job = {{"scene", w->scene}, {"run_sh", w->run_sh}, {"slurm_sh", w->slurm_sh}};
         const render::OrbitCamera& c = session.state.viewport.camera;
@@ -381,7 +386,8 @@ int run_workbench(const WorkbenchOptions& options) {
                                            {"camera", camera},
                                            {"parameters", sliders},
                                            {"follow", followed},
-                                           {"job", job}}
+                                           {"job", job},
+                                           {"tolerance", tolerance}}
                                 .dump(2)
                                 .c_str());
     if (ctx.validation_errors() > 0) {

@@ -150,9 +150,18 @@ struct WorkbenchState {
     // The optimize panel's start: the profile tailored to the target (fird optimize --start
     // tailored), else the scene's reflector.
     bool tailored_start = false;
-    int calibration_kind = 0; // 0 rays, 1 semivariogram
+    int calibration_kind = 0; // 0 rays, 1 semivariogram, 2 tolerance
     int calibration_parameter = 0;
     std::string calibration_scene; // the scene the last calibration was of
+    // The calibrate panel's tolerance form: fird tolerance's options for the open scene,
+    // filled from its [tolerance] table (or the defaults of panel_tolerance.cpp) when a
+    // scene is opened, then as edited.
+    struct ToleranceForm {
+        ToleranceDesc tolerances;
+        std::uint64_t seed = 1;  // as fird tolerance --seed
+        std::string filled_from; // the scene path the form was filled from
+        std::string last_scene;  // the scene the last tolerance run was of
+    } tolerance_form;
     std::deque<std::string> log;
     std::vector<std::string> recent;             // recently opened scenes, newest first
     std::string runs_dir;                        // a search's or calibration's folders go under it

@@ -81,6 +81,11 @@ CalibrationProgress Worker::calibration() const {
     return calibration_;
 }
 
+ToleranceProgress Worker::tolerance() const {
+    const std::lock_guard lock(mutex_);
+    return tolerance_;
+}
+
 std::vector<std::string> Worker::take_log() {
     const std::lock_guard lock(mutex_);
     return std::exchange(log_, {});
@@ -110,7 +115,7 @@ void Worker::loop() {
         }
         const std::lock_guard lock(mutex_);
         running_ = false;
-        search_.running = calibration_.running = false;
+        search_.running = calibration_.running = tolerance_.running = false;
     }
 }
 
@@ -285,6 +290,39 @@ void Worker::run(const CalibrateJob& job) {
     const std::lock_guard lock(mutex_);
     calibration_.running = false;
     ++calibration_.generation;
+}
+
+void Worker::run(const ToleranceJob& job) {
+    {
+        const std::lock_guard lock(mutex_);
+        tolerance_ = {.running = true,
+                      .scene_name = job.scene.name,
+                      .out_dir = job.out_dir,
+                      .generation = tolerance_.generation + 1};
+    }
+    // As fird tolerance runs it: the perturbed meshes go to (and leave) the run folder.
+    const ToleranceRun run{.tolerances = job.tolerances,
+                           .seed = job.seed,
+                           .scratch_dir = job.out_dir,
+                           .progress =
+                               [&](const RealisationResult& row, std::size_t, std::size_t total) {
+                                   ++evaluations_;
+                                   const std::lock_guard lock(mutex_);
+                                   tolerance_.rows.push_back(row);
+                                   tolerance_.total = total;
+                                   ++tolerance_.generation;
+                               },
+                           .stop = &control_.stop};
+    ToleranceResult r = run_tolerance(*ctx_, job.scene, run);
+    if (!job.out_dir.empty()) write_tolerance_outputs(job.out_dir, job.scene, r);
+    log(fmt::format("tolerance: {} realisations{}, moves {} most: {} ({:.1f} s){}",
+                    r.tolerances.realisations, r.stopped ? " (stopped)" : "", r.ranked_by,
+                    r.most_sensitive, r.time_s,
+                    job.out_dir.empty() ? "" : ", files in " + job.out_dir));
+    const std::lock_guard lock(mutex_);
+    tolerance_.result = std::move(r);
+    tolerance_.running = false;
+    ++tolerance_.generation;
 }
 
 } // namespace fird::ui

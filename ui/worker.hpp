@@ -1,6 +1,7 @@
-// The compute worker beside the frame loop: one thread that traces, searches and
-// calibrates through the evaluation seam, on the shared device (its own command pool,
-// the queue lock), publishing immutable snapshots the frames show. No frame waits on it.
+// The compute worker beside the frame loop: one thread that traces, searches,
+// calibrates and traces tolerance realisations through the evaluation seam, on the shared device
+// (its own command pool, the queue lock), publishing immutable snapshots the frames show. No frame
+// waits on it.
 #pragma once
 
 #include <atomic>
@@ -19,6 +20,7 @@
 #include "calibrate/calibration.hpp"
 #include "optimize/search.hpp"
 #include "plot/farfield_picture.hpp"
+#include "tolerance/tolerance.hpp"
 #include "traced_scene.hpp"
 
 namespace fird::ui {
@@ -58,6 +60,16 @@ struct CalibrationProgress {
     std::uint64_t generation = 0;
 };
 
+struct ToleranceProgress {
+    bool running = false;
+    std::vector<RealisationResult> rows;   // traced so far: the nominal one, then the others
+    std::size_t total = 0;                 // realisations to trace, the nominal one with them
+    std::optional<ToleranceResult> result; // when finished (or stopped)
+    std::string scene_name;
+    std::string out_dir;
+    std::uint64_t generation = 0;
+};
+
 // A picked ray re-traced alone, through the reflector of the snapshot it was picked in.
 struct PickOutcome {
     std::uint64_t generation = 0; // the snapshot's
@@ -89,7 +101,14 @@ struct CalibrateJob {
     std::string parameter; // semivariogram: one parameter, or empty for all
     std::string out_dir;
 };
-using Job = std::variant<TraceJob, PickJob, SearchJob, CalibrateJob>;
+// fird tolerance's realisations of the scene (its [tolerance] table edited in the form).
+struct ToleranceJob {
+    Scene scene;
+    ToleranceDesc tolerances;
+    std::uint64_t seed = 1;
+    std::string out_dir;
+};
+using Job = std::variant<TraceJob, PickJob, SearchJob, CalibrateJob, ToleranceJob>;
 
 class Worker {
   public:
@@ -111,6 +130,7 @@ class Worker {
     std::shared_ptr<const PickOutcome> picked() const;
     SearchProgress search() const;
     CalibrationProgress calibration() const;
+    ToleranceProgress tolerance() const;
     // Messages since the last call (errors start with "error: ").
     std::vector<std::string> take_log();
 
@@ -123,6 +143,7 @@ class Worker {
     void run(const PickJob& job);
     void run(const SearchJob& job);
     void run(const CalibrateJob& job);
+    void run(const ToleranceJob& job);
     void publish(render::TracedScene traced, const std::map<std::string, double>& parameters,
                  std::uint64_t rays, bool preview);
     void log(std::string message);
@@ -137,6 +158,7 @@ class Worker {
     std::shared_ptr<const PickOutcome> picked_;
     SearchProgress search_;
     CalibrationProgress calibration_;
+    ToleranceProgress tolerance_;
     std::vector<std::string> log_;
     std::uint64_t generation_ = 0;
     std::atomic<std::uint64_t> rays_traced_{0}, evaluations_{0};

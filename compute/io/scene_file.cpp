@@ -18,6 +18,7 @@
 #include "model/source.hpp"
 #include "model/source_clearance.hpp"
 #include "model/surface.hpp"
+#include "model/tolerance_check.hpp"
 #include "photometry/photometry_file.hpp"
 
 namespace fird {
@@ -569,13 +570,10 @@ ToleranceDesc read_tolerance(const TableReader& t, const SourceDesc& source) {
     d.surface_rms_mm = non_negative("surface_rms_mm");
     d.surface_correlation_mm = non_negative("surface_correlation_mm");
     d.reflectance_sd = non_negative("reflectance_sd");
-    if (d.surface_rms_mm > 0.0 && !(d.surface_correlation_mm > 0.0))
-        t.fail(t.find("surface_rms_mm"), "surface_correlation_mm",
-               "must be > 0 where surface_rms_mm is (the error's correlation length)");
-    const bool has_axis = source_has_axis(source);
-    if (d.source_tilt_deg > 0.0 && !has_axis)
-        t.fail(t.find("source_tilt_deg"), "source_tilt_deg",
-               fmt::format("a {} source has no axis to tilt", source_type_name(source.kind)));
+    if (const auto problem = tolerance_problem(d, source))
+        t.fail(t.find(problem->key == "surface_correlation_mm" ? "surface_rms_mm"
+                                                               : problem->key.c_str()),
+               problem->key.c_str(), problem->reason);
     return d;
 }
 

@@ -14,6 +14,7 @@
 #include "io/atomic_file.hpp"
 #include "model/design_parameters.hpp"
 #include "model/source.hpp"
+#include "model/tolerance_check.hpp"
 #include "optimize/parameter_space.hpp"
 #include "photometry/beam_metrics.hpp"
 #include "plot/chart.hpp"
@@ -211,11 +212,8 @@ std::vector<RealisationResult> trace_realisations(const vk::Context& ctx, const 
 ToleranceResult run_tolerance(const vk::Context& ctx, const Scene& scene, const ToleranceRun& run) {
     const auto t0 = std::chrono::steady_clock::now();
     const ToleranceDesc& tol = run.tolerances;
-    if (tol.realisations == 0)
-        throw std::invalid_argument("--realisations: at least one realisation is needed");
-    if (tol.source_tilt_deg > 0.0 && !source_has_axis(scene.source))
-        throw std::invalid_argument(fmt::format("source tilt: a {} source has no axis to tilt",
-                                                source_type_name(scene.source.kind)));
+    if (const auto problem = tolerance_problem(tol, scene.source))
+        throw std::invalid_argument(problem->key + ": " + problem->reason);
     ToleranceResult out;
     out.tolerances = tol;
     out.seed = run.seed;
@@ -255,6 +253,10 @@ ToleranceResult run_tolerance(const vk::Context& ctx, const Scene& scene, const 
     // follows each exchange).
     const std::size_t chunk = run.distributed.trace ? 4 * run.distributed.processes : 1;
     for (std::size_t first = 0; first < keys.size(); first += chunk) {
+        if (run.stop && run.stop->load()) {
+            out.stopped = true;
+            break;
+        }
         const auto part = std::span(keys).subspan(first, std::min(chunk, keys.size() - first));
         for (RealisationResult& row :
              run.distributed.trace ? run.distributed.trace(part, compared, here) : here(part)) {
@@ -308,6 +310,7 @@ nlohmann::json tolerance_json(const ToleranceResult& r) {
     j["metric"] = metric_name(r.metric);
     j["metric_unit"] = metric_unit(r.metric);
     j["infeasible"] = r.infeasible;
+    j["stopped"] = r.stopped;
     j["time_s"] = r.time_s;
     return j;
 }
@@ -335,11 +338,15 @@ void write_tolerance_outputs(const std::string& dir, const Scene& scene, const T
     }
     write_text_file(path("tolerance.csv"), csv);
     write_text_file(path("tolerance.json"), tolerance_json(r).dump(2) + "\n");
+    plot::write_chart_png(path("tolerance.png"), tolerance_chart(scene.name, r));
+}
+
+plot::Chart tolerance_chart(const std::string& scene_name, const ToleranceResult& r) {
     // Each kind's realisations sorted: the metric's distribution (a CDF) per tolerance.
     const bool l2 = r.ranked_by == "l2";
     plot::Chart chart{
         .title =
-            fmt::format("{}: {} over {} realisations", scene.name,
+            fmt::format("{}: {} over {} realisations", scene_name,
                         l2 ? fmt::format("{} to the target", metric_name(r.metric)) : "efficiency",
                         r.tolerances.realisations),
         .x = {.label = "share of the realisations"},
@@ -360,7 +367,7 @@ void write_tolerance_outputs(const std::string& dir, const Scene& scene, const T
     chart.marks.push_back({.vertical = false,
                            .value = l2 ? r.nominal.l2_lm.value_or(0.0) : r.nominal.efficiency,
                            .label = "nominal"});
-    plot::write_chart_png(path("tolerance.png"), chart);
+    return chart;
 }
 
 } // namespace fird

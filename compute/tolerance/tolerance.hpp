@@ -6,6 +6,7 @@
 // alone (one-at-a-time sensitivities, the same draws as the joint run's).
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <functional>
 #include <optional>
@@ -17,6 +18,7 @@
 
 #include "evaluation/evaluator.hpp"
 #include "model/scene.hpp"
+#include "plot/chart.hpp"
 #include "vk/context.hpp"
 
 namespace fird {
@@ -67,6 +69,9 @@ struct ToleranceResult {
     std::string ranked_by;      // "l2" (with a target) or "efficiency"
     FarFieldMetric metric = FarFieldMetric::L2; // what each l2 measures (the scene's)
     std::uint64_t infeasible = 0; // rows left out of the spreads (ToleranceResult::rows)
+    // Stopped before every realisation was traced (ToleranceRun::stop): the spreads are of
+    // the rows traced, the joint run's first.
+    bool stopped = false;
     double time_s = 0.0;
 };
 
@@ -98,6 +103,8 @@ struct ToleranceRun {
     // Called after each realisation (progress).
     std::function<void(const RealisationResult&, std::size_t done, std::size_t total)> progress;
     DistributedRealisations distributed;
+    // Set by another thread (the workbench's Stop): no realisation is begun after it.
+    const std::atomic<bool>* stop = nullptr;
 };
 
 // Realisations of `run` traced in this process against `desired` (null: no target), each as
@@ -110,6 +117,9 @@ std::vector<RealisationResult> trace_realisations(const vk::Context& ctx, const 
 ToleranceResult run_tolerance(const vk::Context& ctx, const Scene& scene, const ToleranceRun& run);
 
 nlohmann::json tolerance_json(const ToleranceResult& r);
+// tolerance.png's chart: each run's metric (l2 with a target, else efficiency) over its
+// realisations, sorted (a distribution per tolerance), the nominal value marked.
+plot::Chart tolerance_chart(const std::string& scene_name, const ToleranceResult& r);
 // tolerance.csv (one row per realisation), tolerance.json and tolerance.png, whole or not
 // at all.
 void write_tolerance_outputs(const std::string& dir, const Scene& scene, const ToleranceResult& r);

@@ -149,7 +149,12 @@ TEST(BadInput, FilesThatAreMissingUnreadableOrDirectories) {
         {"optimize " + good + " --resume " + dir(), 1, "options.json"},
     });
 #if FIRD_HAS_UI
-    check({{"gui --script " + dir(), 1, dir()}});
+    // A script line refused before any window opens: the file and the line named.
+    const std::string script = dir() + "/bad_tolerance.fird";
+    std::ofstream(script) << "# a form field without its value\ntolerance realisations\n";
+    check({{"gui --script " + dir(), 1, dir()},
+           {"gui --script " + script, 1,
+            "bad_tolerance.fird:2: tolerance (start) or tolerance KEY VALUE"}});
 #endif
     // A photometric target that is broken, and a mesh that is missing.
     const std::string target = dir() + "/ies_target.toml";

@@ -7,6 +7,9 @@
 // through the X server, as a user's hands).
 #include <filesystem>
 #include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -217,6 +220,50 @@ TEST(TailoredStart, TheWindowsSearchBeginsAtTheTailoredProfile) {
     EXPECT_EQ(search.at("method"), "cmaes");
     for (const auto& [name, value] : search.at("best_parameters").items())
         EXPECT_EQ(stats.at("parameters").at(name).get<double>(), value.get<double>()) << name;
+}
+
+// The rows of a tolerance.csv, each split at its commas, the header first.
+std::vector<std::vector<std::string>> csv_rows(const std::string& path) {
+    std::ifstream in(path);
+    EXPECT_TRUE(in) << path;
+    std::vector<std::vector<std::string>> rows;
+    for (std::string line; std::getline(in, line);) {
+        std::vector<std::string> cells;
+        std::stringstream ss(line);
+        for (std::string cell; std::getline(ss, cell, ',');)
+            cells.push_back(cell);
+        rows.push_back(cells);
+    }
+    return rows;
+}
+
+// tests/ui/tolerance_session.fird: the calibrate panel's tolerance form, filled as fird
+// tolerance's options are given, traces the realisations the command traces. Each row's
+// draws come from the counter-based generator on (seed, realisation), so they must be the
+// same text; the measures come from the same rays traced on the same device, where the
+// window submits at most 131072 rays at a time (docs/workbench.md): the far field's counts
+// do not depend on it, so the measures agree to the 9 digits written.
+TEST(ToleranceInTheWindow, TracesTheRealisationsTheCommandTraces) {
+    const auto stats = read_stats("tolerance_stats.json");
+    const auto& t = stats.at("tolerance");
+    EXPECT_TRUE(t.at("ended").get<bool>()) << t;
+    EXPECT_FALSE(t.at("stopped").get<bool>()) << t;
+    // The nominal luminaire, then 4 joint realisations and 4 for each of the three tolerances.
+    EXPECT_EQ(t.at("traced").get<int>(), 1 + 4 * 4) << t;
+    const auto window = csv_rows(t.at("dir").get<std::string>() + "/tolerance.csv");
+    const auto command = csv_rows("tolerance_cli/tolerance.csv");
+    ASSERT_EQ(window.size(), 1u + 1 + 4 * 4);
+    ASSERT_EQ(window.size(), command.size());
+    EXPECT_EQ(window[0], command[0]); // the header
+    for (std::size_t r = 1; r < window.size(); ++r) {
+        SCOPED_TRACE("row " + std::to_string(r) + ": " + window[r][0]);
+        ASSERT_EQ(window[r].size(), command[r].size());
+        for (std::size_t c = 0; c < window[r].size(); ++c)
+            EXPECT_EQ(window[r][c], command[r][c]) << command[0][c];
+    }
+    std::ifstream json(t.at("dir").get<std::string>() + "/tolerance.json");
+    ASSERT_TRUE(json);
+    EXPECT_TRUE(std::filesystem::exists(t.at("dir").get<std::string>() + "/tolerance.png"));
 }
 
 } // namespace
