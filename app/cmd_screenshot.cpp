@@ -25,7 +25,8 @@ struct Args {
     std::int64_t pick = -1, quadtree_level = -1;
     std::uint32_t paths = 300;
     double plane_distance_m = 3.0;
-    bool height_colours = false, log = false, json = false;
+    bool height_colours = false, slope_colours = false, curvature_colours = false, log = false,
+         json = false;
 };
 
 std::pair<std::uint32_t, std::uint32_t> parse_size(const std::string& text) {
@@ -94,7 +95,9 @@ int run_screenshot(const GlobalOptions& global, const Args& a) {
                                .quadtree = a.quadtree_level >= 0,
                                .quadtree_level =
                                    std::uint32_t(std::max<std::int64_t>(0, a.quadtree_level)),
-                               .height_colours = a.height_colours};
+                               .height_colours = a.height_colours,
+                               .slope_colours = a.slope_colours,
+                               .curvature_colours = a.curvature_colours};
     if (!a.camera.empty()) vo.camera = parse_camera(a.camera, vo.camera);
     const auto ctx = vk::Context::create(context_options(global));
     const render::TracedScene traced = render::trace_for_views(ctx, scene, t);
@@ -176,6 +179,13 @@ void register_screenshot(CLI::App& app, const GlobalOptions& global, std::functi
     cmd->add_option("--quadtree-level", a->quadtree_level, "Draw the quadtree nodes of a level")
         ->check(CLI::Range(0.0, 64.0));
     cmd->add_flag("--height-colours", a->height_colours, "Colour the reflector by height");
+    CLI::Option* slope = cmd->add_flag(
+        "--slope-colours", a->slope_colours,
+        "Colour the reflector by its slope from the press plane, the steepest point marked");
+    cmd->add_flag("--curvature-colours", a->curvature_colours,
+                  "Colour the reflector by its bend radius (1000 mm blue to 1 mm yellow), the "
+                  "tightest bend marked")
+        ->excludes(slope);
     cmd->add_flag("--log", a->log, "Far fields on a log scale");
     cmd->add_flag("--json", a->json,
                   "Print one JSON object: the files written, and the picked ray's path and walk");

@@ -1,6 +1,7 @@
 #include "traced_scene.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
 
 #include <fmt/format.h>
@@ -55,11 +56,16 @@ TracedScene trace_for_views(const vk::Context& ctx, const Scene& input, const Tr
     // is not read again here), and the constraints met or broken.
     if (s.reflector.family != Family::Mesh) {
         const Surface surface = Surface::make(s.reflector, s.holder);
-        const PressMeasures press = press_measures(surface, {.curvature = false});
-        if (press.any_unclamped)
-            t.viewport.steepest_mm =
-                glm::dvec3(press.max_slope_at_mm,
-                           surface.height(press.max_slope_at_mm.x, press.max_slope_at_mm.y));
+        const PressMeasures press = press_measures(surface);
+        const auto on_surface = [&](glm::dvec2 at) {
+            return glm::dvec3(at, surface.height(at.x, at.y));
+        };
+        if (press.any_unclamped) t.viewport.steepest_mm = on_surface(press.max_slope_at_mm);
+        // A plane has no bend to mark (no radius); a kink's radius is 0.
+        if (std::isfinite(press.min_radius_mm)) {
+            t.viewport.tightest_mm = on_surface(press.min_radius_at_mm);
+            t.viewport.min_radius_mm = press.min_radius_mm;
+        }
         if (s.reflector.constraints.any())
             t.constraints = constraint_checks(surface, s.reflector.constraints);
     }

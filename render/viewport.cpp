@@ -205,13 +205,19 @@ void ViewportRenderer::record(VkCommandBuffer cb, const OffscreenTarget& target,
             }
         }
     }
-    // The steepest point, when coloured by slope: a cross a fiftieth of the holder wide.
-    if (o.slope_colours && c.steepest_mm) {
+    // The steepest point when coloured by slope, the tightest bend when coloured by
+    // curvature: a magenta cross a fiftieth of the holder wide, raised by half its arm so
+    // that the surface through its centre does not hide it (a bowl's apex seen from above).
+    const std::optional<glm::dvec3>& marked = o.curvature_colours ? c.tightest_mm
+                                              : o.slope_colours   ? c.steepest_mm
+                                                                  : std::nullopt;
+    if (marked) {
         const double r = 0.02 * glm::length(c.holder.max_mm - c.holder.min_mm);
         for (int axis = 0; axis < 3; ++axis) {
             glm::dvec3 d(0.0);
             d[axis] = r;
-            box_edges(lines, *c.steepest_mm - d, *c.steepest_mm + d, {0.95f, 0.15f, 0.55f, 1.0f});
+            const glm::dvec3 centre = *marked + glm::dvec3(0.0, 0.0, 0.5 * r);
+            box_edges(lines, centre - d, centre + d, {0.95f, 0.15f, 0.55f, 1.0f});
         }
     }
     upload(*ctx_, line_vertices_, lines, "fird.viewport.line_vertices");
@@ -225,16 +231,21 @@ void ViewportRenderer::record(VkCommandBuffer cb, const OffscreenTarget& target,
         vkCmdBindVertexBuffers(cb, 0, 2, vbs, offsets);
         vkCmdBindIndexBuffer(cb, indices_.get(), 0, VK_INDEX_TYPE_UINT32);
         const Holder& h = c.holder;
-        SurfacePush push{.view_projection = vp,
-                         .grid = {float(h.min_mm.x), float(h.min_mm.y),
-                                  float((h.max_mm.x - h.min_mm.x) / c.width),
-                                  float((h.max_mm.y - h.min_mm.y) / c.height)},
-                         .shade = {float(c.z_lo_mm), float(c.z_hi_mm),
-                                   o.slope_colours    ? 2.0f
-                                   : o.height_colours ? 1.0f
-                                                      : 0.0f,
-                                   float(c.heights_origin_z_mm)},
-                         .size = {c.width, c.height, 0, 0}};
+        // The colour scale's ends: heights, or (curvature) log10 of the curvatures in 1/mm.
+        const bool bends = o.curvature_colours;
+        SurfacePush push{
+            .view_projection = vp,
+            .grid = {float(h.min_mm.x), float(h.min_mm.y),
+                     float((h.max_mm.x - h.min_mm.x) / c.width),
+                     float((h.max_mm.y - h.min_mm.y) / c.height)},
+            .shade = {bends ? float(-std::log10(kCurvatureFlatRadiusMm)) : float(c.z_lo_mm),
+                      bends ? float(-std::log10(kCurvatureTightRadiusMm)) : float(c.z_hi_mm),
+                      bends              ? 3.0f
+                      : o.slope_colours  ? 2.0f
+                      : o.height_colours ? 1.0f
+                                         : 0.0f,
+                      float(c.heights_origin_z_mm)},
+            .size = {c.width, c.height, 0, 0}};
         vkCmdPushConstants(cb, surface_.layout.get(),
                            VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
                            sizeof(push), &push);

@@ -23,6 +23,9 @@ namespace fird::render {
 
 inline constexpr std::uint32_t kMaxViewportBoxes = 16384;
 inline constexpr std::uint32_t kMaxSurfaceVertices = 512;
+// The curvature colours' scale: the bend radius from the flat end (dark blue) to the tight
+// end (yellow), on a logarithmic scale; a press forms bends of a few millimetres at best.
+inline constexpr double kCurvatureFlatRadiusMm = 1000.0, kCurvatureTightRadiusMm = 1.0;
 
 // What the viewport shows, as compute produced it.
 struct ViewportContent {
@@ -39,6 +42,10 @@ struct ViewportContent {
     // The steepest point of the reflector from the press plane (model/press_measures.hpp),
     // marked when the surface is coloured by slope.
     std::optional<glm::dvec3> steepest_mm;
+    // The tightest bend (the press measures' smallest radius of curvature, 0 at a kink) and
+    // its radius, marked when the surface is coloured by curvature.
+    std::optional<glm::dvec3> tightest_mm;
+    double min_radius_mm = 0.0;
 };
 
 struct ViewportOptions {
@@ -50,6 +57,10 @@ struct ViewportOptions {
     // Coloured by the slope from the press plane instead, 0 (dark) to 90 degrees (yellow),
     // the steepest point marked: the draft a press die needs (docs/export.md).
     bool slope_colours = false;
+    // Coloured by the largest principal curvature instead (the bend radius, from
+    // kCurvatureFlatRadiusMm to kCurvatureTightRadiusMm), the tightest bend marked: where
+    // the press's min_radius_mm binds (docs/export.md). Wins over slope colours.
+    bool curvature_colours = false;
     // Steps of the picked ray's walk shown (the last of them, the current one, in red).
     std::size_t walk_steps = std::numeric_limits<std::size_t>::max();
     bool walk_trail = true; // the nodes of the steps before the current one too

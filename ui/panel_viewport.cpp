@@ -149,6 +149,28 @@ static void ray_legend() {
     }
 }
 
+// The slope or curvature colours' scale, and the marked point's value (a line of its own,
+// below the buttons).
+static void press_legend(const render::ViewportOptions& o, const render::ViewportContent& c) {
+    if (!o.slope_colours && !o.curvature_colours) return;
+    const bool bends = o.curvature_colours;
+    if (bends)
+        ImGui::Text("bend radius: blue %g mm or flatter, yellow %g mm or tighter",
+                    render::kCurvatureFlatRadiusMm, render::kCurvatureTightRadiusMm);
+    else
+        ImGui::TextUnformatted("slope: blue 0, yellow 90 deg");
+    if (bends && c.tightest_mm) {
+        ImGui::SameLine();
+        if (c.min_radius_mm > 0.0)
+            ImGui::Text("; x tightest %.3g mm", c.min_radius_mm);
+        else
+            ImGui::TextUnformatted("; x a kink");
+    } else if (!bends && c.steepest_mm) {
+        ImGui::SameLine();
+        ImGui::TextUnformatted("; x steepest");
+    }
+}
+
 // The holder fills the view, seen from the camera's direction.
 static render::OrbitCamera framed_all(const render::OrbitCamera& camera, const Holder& holder) {
     render::OrbitCamera c = render::frame_holder(holder);
@@ -170,7 +192,12 @@ void viewport_panel(Frame& f) {
     ImGui::SameLine();
     ImGui::Checkbox("height colours", &v.options.height_colours);
     ImGui::SameLine();
-    ImGui::Checkbox("slope", &v.options.slope_colours);
+    // Slope and curvature colour the same surface: one at a time.
+    if (ImGui::Checkbox("slope", &v.options.slope_colours) && v.options.slope_colours)
+        v.options.curvature_colours = false;
+    ImGui::SameLine();
+    if (ImGui::Checkbox("curvature", &v.options.curvature_colours) && v.options.curvature_colours)
+        v.options.slope_colours = false;
     if (!f.snapshot) {
         ImGui::TextDisabled("no trace yet");
         ImGui::End();
@@ -203,8 +230,11 @@ void viewport_panel(Frame& f) {
             ImGui::TextDisabled("tracing the ray...");
     }
     const ImVec2 avail = ImGui::GetContentRegionAvail();
+    // Below the image: the buttons' line, and the press colours' scale where shown.
+    const float below = ImGui::GetTextLineHeightWithSpacing() *
+                        (v.options.slope_colours || v.options.curvature_colours ? 2.0f : 1.0f);
     const auto w = std::uint32_t(std::max(64.0f, avail.x)),
-               h = std::uint32_t(std::max(64.0f, avail.y - ImGui::GetTextLineHeightWithSpacing()));
+               h = std::uint32_t(std::max(64.0f, avail.y - below));
     update_viewport_image(f.ctx, f.renderer, s, f.snapshot, picked, w, h);
     const ImVec2 origin = ImGui::GetCursorScreenPos();
     s.viewport_x = origin.x, s.viewport_y = origin.y, s.viewport_w = float(w),
@@ -246,6 +276,7 @@ void viewport_panel(Frame& f) {
         ImGui::SetTooltip("left drag orbits, right drag pans, the wheel zooms,\n"
                           "a double click frames all, a click picks a ray");
     if (v.options.rays) ray_legend();
+    press_legend(v.options, content);
     ImGui::End();
 }
 

@@ -39,6 +39,7 @@ std::uint64_t camera_hash(const WorkbenchState& s, const PickedRay* picked, std:
                              double(o.quadtree_level),
                              double(o.height_colours),
                              double(o.slope_colours),
+                             double(o.curvature_colours),
                              double(s.viewport.walk_step),
                              double(s.viewport.walk_trail),
                              double(w),

@@ -7,11 +7,17 @@ layout(location = 1) in vec2 gradient;
 layout(push_constant) uniform Push {
     mat4 view_projection;
     vec4 grid;   // holder min x, min y, texel width, texel depth (mm)
-    vec4 shade;  // z low, z high, colour mode (0 metal, 1 height, 2 slope), the heights' origin z
+    // Colour scale's low and high end (heights in mm; curvature: log10 of 1/mm), colour mode
+    // (0 metal, 1 height, 2 slope, 3 curvature), the heights' origin z.
+    vec4 shade;
     uvec4 size;  // height field width, height
 } pc;
 layout(location = 0) out vec3 normal;
 layout(location = 1) out float height01;
+// For the curvature colours: the gradient and the press-plane point, interpolated across
+// each triangle so that the fragment shader differentiates one against the other.
+layout(location = 2) out vec2 slope_gradient;
+layout(location = 3) out vec2 plane_mm;
 
 void main() {
     const uint i = uint(gl_VertexIndex) % pc.size.x;
@@ -23,5 +29,7 @@ void main() {
                    // The slope from the press plane, 0 .. 90 degrees.
                    ? atan(length(gradient)) / 1.5707963
                    : clamp((p.z - pc.shade.x) / max(pc.shade.y - pc.shade.x, 1e-6), 0.0, 1.0);
+    slope_gradient = gradient;
+    plane_mm = p.xy;
     gl_Position = pc.view_projection * vec4(p, 1.0);
 }

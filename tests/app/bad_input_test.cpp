@@ -116,6 +116,8 @@ TEST(BadInput, OptionValuesOfEveryCommand) {
         {"export " + good + " --levels 99", 2, "--levels"},
         {"screenshot " + good + " --out " + dir() + " --size 0x0", 2, "--size"},
         {"screenshot " + good + " --out " + dir() + " --camera 1,nan,2", 2, "--camera"},
+        {"screenshot " + good + " --out " + dir() + " --slope-colours --curvature-colours", 2,
+         "--slope-colours excludes --curvature-colours"},
         {"bench --rays 0", 2, "--rays"},
         {"bench --heightfields 0x5", 2, "--heightfields"},
         {"photometry convert " + std::string(FIRD_SOURCE_DIR) +

@@ -5,6 +5,7 @@
 // Regenerate the goldens (after a deliberate change to a view) with
 //     scripts/update_goldens.sh
 // which runs these tests with FIRD_UPDATE_GOLDENS=1: they then write the goldens.
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -70,6 +71,23 @@ class Views : public VulkanTest {
 std::unique_ptr<render::TracedScene> Views::traced_;
 std::uint64_t Views::pick_ = 0;
 
+// Pixels of a viewport picture in the magenta (0.95, 0.15, 0.55) of the press's mark: red
+// high, green low, blue between; within the cross's half width (a fiftieth of the
+// holder's diagonal, a few pixels here) of the point `at` as the camera projects it.
+int magenta_near(const std::vector<std::uint8_t>& img, const render::OrbitCamera& camera,
+                 glm::dvec3 at) {
+    const glm::vec4 clip =
+        render::view_projection(camera, double(kW) / kH) * glm::vec4(glm::vec3(at), 1.0f);
+    const double px = (clip.x / clip.w * 0.5 + 0.5) * kW, py = (clip.y / clip.w * 0.5 + 0.5) * kH;
+    int count = 0;
+    for (int y = std::max(0, int(py) - 8); y < std::min(kH, int(py) + 9); ++y)
+        for (int x = std::max(0, int(px) - 8); x < std::min(kW, int(px) + 9); ++x) {
+            const std::uint8_t* p = &img[(std::size_t(y) * kW + std::size_t(x)) * 4];
+            count += p[0] > 200 && p[1] < 90 && p[2] > 90 && p[2] < 180;
+        }
+    return count;
+}
+
 TEST_F(Views, ViewportMatchesItsGolden) {
     render::ViewportRenderer renderer(ctx());
     render::ViewportOptions o{.camera = render::frame_holder(traced_->scene.holder),
@@ -90,25 +108,91 @@ TEST_F(Views, ViewportColoursBySlopeAndMarksTheSteepestPoint) {
                               .rays = false,
                               .slope_colours = true};
     const auto rgba = render::render_viewport(ctx(), renderer, traced_->viewport, o, kW, kH);
-    const glm::vec4 clip = render::view_projection(o.camera, double(kW) / kH) *
-                           glm::vec4(glm::vec3(*traced_->viewport.steepest_mm), 1.0f);
-    const double px = (clip.x / clip.w * 0.5 + 0.5) * kW, py = (clip.y / clip.w * 0.5 + 0.5) * kH;
-    // Magenta (0.95, 0.15, 0.55): red high, green low, blue between; within the cross's
-    // half width (a fiftieth of the holder's diagonal, a few pixels here) of the point.
-    const auto magenta_near = [&](const std::vector<std::uint8_t>& img) {
-        int count = 0;
-        for (int y = std::max(0, int(py) - 8); y < std::min(kH, int(py) + 9); ++y)
-            for (int x = std::max(0, int(px) - 8); x < std::min(kW, int(px) + 9); ++x) {
-                const std::uint8_t* p = &img[(std::size_t(y) * kW + x) * 4];
-                count += p[0] > 200 && p[1] < 90 && p[2] > 90 && p[2] < 180;
-            }
-        return count;
-    };
-    EXPECT_GT(magenta_near(rgba), 3) << px << "," << py;
+    const glm::dvec3 at = *traced_->viewport.steepest_mm;
+    EXPECT_GT(magenta_near(rgba, o.camera, at), 3);
     o.slope_colours = false;
-    EXPECT_EQ(magenta_near(render::render_viewport(ctx(), renderer, traced_->viewport, o, kW, kH)),
+    EXPECT_EQ(magenta_near(render::render_viewport(ctx(), renderer, traced_->viewport, o, kW, kH),
+                           o.camera, at),
               0);
     expect_like_view_golden(rgba, kW, kH, "viewport_slope.png");
+}
+
+// Coloured by curvature: seen from above, the paraboloid z = z0 + r^2 / (4 f) (f = 3 mm)
+// has, at radius r, principal curvatures (1 / 2f) / (1 + r^2 / 4f^2)^(3/2) (along the
+// meridian) and (1 / 2f) / (1 + r^2 / 4f^2)^(1/2) (around it, the larger): 1/6 per mm at
+// the apex, 0.1179 at r = 6 mm; beyond the clamp (r = 10.95 mm) the holder's plane has
+// none. Each pixel there must have the colour of that curvature on the log scale from
+// kCurvatureFlatRadiusMm to kCurvatureTightRadiusMm (the map restated here from
+// surface.frag), lit as the shader lights a surface of that normal. The fragment's
+// Hessian is the gradient's difference across a triangle: exact for this quadratic. Bound:
+// a pixel's centre lies within half a pixel (0.07 mm) of the point, where the normal
+// turns by < 1 degree and the curvature by < 0.1 % (< 2 levels of 255 together), plus
+// 8-bit rounding: 3 levels. The tightest bend is the apex (radius 2f = 6 mm; the press
+// measures leave the clamped plane and its rim out), marked by a magenta cross there,
+// whose arms (a fiftieth of the holder's diagonal, 1.15 mm) the probes keep clear of.
+TEST_F(Views, ViewportColoursByCurvatureAndMarksTheTightestBend) {
+    const render::ViewportContent& c = traced_->viewport;
+    ASSERT_TRUE(c.tightest_mm);
+    // Central differences of the analytic gradient: exact for a quadratic but for rounding.
+    EXPECT_NEAR(c.min_radius_mm, 6.0, 1e-6);
+    EXPECT_NEAR(std::hypot(c.tightest_mm->x, c.tightest_mm->y), 0.0, 0.1); // one grid step
+    render::ViewportRenderer renderer(ctx());
+    render::ViewportOptions o{.camera = render::frame_holder(traced_->scene.holder),
+                              .rays = false,
+                              .curvature_colours = true};
+    o.camera.elevation_deg = 89.0;
+    const auto rgba = render::render_viewport(ctx(), renderer, c, o, kW, kH);
+    const glm::mat4 vp = render::view_projection(o.camera, double(kW) / kH);
+    const auto pixel_at = [&](glm::dvec3 at) {
+        const glm::vec4 clip = vp * glm::vec4(glm::vec3(at), 1.0f);
+        const int x = int(std::floor((clip.x / clip.w * 0.5 + 0.5) * kW));
+        const int y = int(std::floor((clip.y / clip.w * 0.5 + 0.5) * kH));
+        return &rgba[(std::size_t(y) * kW + std::size_t(x)) * 4];
+    };
+    const auto map = [](double t) { // surface.frag's height_colour
+        const auto mix = [](glm::dvec3 a, glm::dvec3 b, double u) { return a + (b - a) * u; };
+        return mix(mix({0.16, 0.20, 0.45}, {0.10, 0.62, 0.60}, std::clamp(2.0 * t, 0.0, 1.0)),
+                   {0.98, 0.86, 0.30}, std::clamp(2.0 * t - 1.0, 0.0, 1.0));
+    };
+    const auto expected = [&](double curvature_per_mm, glm::dvec3 normal) {
+        const double lo = -std::log10(render::kCurvatureFlatRadiusMm),
+                     hi = -std::log10(render::kCurvatureTightRadiusMm);
+        const double t = curvature_per_mm > 0.0
+                             ? std::clamp((std::log10(curvature_per_mm) - lo) / (hi - lo), 0.0, 1.0)
+                             : 0.0;
+        const glm::dvec3 n = glm::normalize(normal);
+        const double light =
+            0.25 + 0.6 * std::abs(glm::dot(n, glm::normalize(glm::dvec3(-0.45, -0.55, 0.70)))) +
+            0.2 * std::abs(glm::dot(n, glm::normalize(glm::dvec3(0.6, 0.3, 0.4))));
+        return map(t) * light * 255.0;
+    };
+    const double f = 3.0, z0 = -10.0;
+    struct Probe {
+        glm::dvec3 at;
+        double curvature;
+        glm::dvec3 normal;
+    };
+    // On the paraboloid at (x, y): its height, normal and larger principal curvature.
+    const auto on_paraboloid = [&](double x, double y) {
+        const double r2 = x * x + y * y;
+        return Probe{{x, y, z0 + r2 / (4 * f)},
+                     1.0 / (2 * f) / std::sqrt(1.0 + r2 / (4 * f * f)),
+                     {-x / (2 * f), -y / (2 * f), 1.0}};
+    };
+    const Probe probes[] = {on_paraboloid(1.5, 1.5),
+                            on_paraboloid(6.0, 0.0),
+                            on_paraboloid(-4.0, 5.0),
+                            {{15.0, 15.0, 0.0}, 0.0, {0.0, 0.0, 1.0}}};
+    for (const Probe& p : probes) {
+        SCOPED_TRACE(testing::Message() << "at " << p.at.x << ", " << p.at.y);
+        const std::uint8_t* px = pixel_at(p.at);
+        const glm::dvec3 want = expected(p.curvature, p.normal);
+        for (int k = 0; k < 3; ++k)
+            EXPECT_NEAR(double(px[k]), want[k], 3.0) << "channel " << k;
+    }
+    // The mark's arms reach out from under the point source drawn above the apex.
+    EXPECT_GT(magenta_near(rgba, o.camera, *c.tightest_mm), 3);
+    expect_like_view_golden(rgba, kW, kH, "viewport_curvature.png");
 }
 
 TEST_F(Views, FarFieldAndPlotsMatchTheirGoldens) {
