@@ -38,6 +38,7 @@ double non_negative(const std::string& option, const std::string& text) {
 }
 
 std::string spread_text(const nlohmann::json& s, const char* unit) {
+    if (s.is_null()) return "none (every realisation infeasible)";
     return fmt::format("median {:.4g}{}, 5 % {:.4g}{}, 95 % {:.4g}{}", s["median"].get<double>(),
                        unit, s["p5"].get<double>(), unit, s["p95"].get<double>(), unit);
 }
@@ -184,7 +185,9 @@ void register_tolerance(CLI::App& app, const GlobalOptions& global, std::functio
             std::printf("peak intensity: %s\n", spread_text(j["peak_cd"], " cd").c_str());
             std::printf("beam angle: %s\n", spread_text(j["beam_angle_deg"], " deg").c_str());
             std::printf("moves %s most: %s\n", result.ranked_by.c_str(),
-                        result.most_sensitive.c_str());
+                        result.most_sensitive.empty() ? "none ranked (a tolerance had no feasible "
+                                                        "realisation)"
+                                                      : result.most_sensitive.c_str());
             if (!a->out.empty())
                 std::printf("wrote %s/tolerance.csv, tolerance.json and tolerance.png\n",
                             a->out.c_str());

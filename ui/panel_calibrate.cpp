@@ -96,9 +96,9 @@ void calibrate_panel(Frame& f) {
         ImGui::Combo("parameter", &s.calibration_parameter, items.data(), int(items.size()));
     }
     const CalibrationProgress c = f.worker.calibration();
-    const ToleranceProgress t = f.worker.tolerance();
+    const bool tolerance_running = f.worker.tolerance_pending();
     ImGui::SameLine();
-    if (!c.running && !t.running) {
+    if (!c.running && !tolerance_running) {
         // A calibration compares with the target; tolerances rank by efficiency without one.
         ImGui::BeginDisabled(tolerance ? !tolerance_can_start(s)
                                        : !s.editor.scene ||
@@ -116,7 +116,7 @@ void calibrate_panel(Frame& f) {
         f.worker.stop();
     }
     if (tolerance) {
-        tolerance_section(f, t);
+        tolerance_section(f);
     } else if ((c.running || c.rays || c.semivariogram) && s.calibration_scene != s.editor.path) {
         // Another scene's calibration: not this scene's figures.
         ImGui::TextWrapped("the last calibration was of %s", s.calibration_scene.c_str());

@@ -3,6 +3,7 @@
 // the nominal luminaire and each tolerance's distribution as a chart.
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <string>
 
 #include <fmt/format.h>
@@ -16,7 +17,18 @@
 
 namespace fird::ui {
 
+// What the panel shows of the worker's run: copied from it, and the spreads and chart made,
+// once per change of its progress, never per frame.
+struct ToleranceView {
+    ToleranceProgress progress;
+    nlohmann::json summary; // tolerance_json of the result
+    plot::Chart chart;      // tolerance_chart of the result
+};
+
 namespace {
+
+// The seeds the form and the script take: whole numbers a double holds exactly.
+constexpr std::uint64_t kMaxSeed = std::uint64_t(1) << 53;
 
 // A scene without a [tolerance] table gets a part made to common press and assembly
 // tolerances: the LED placed within 0.1 mm per axis and tilted 1 degree (where it has an
@@ -27,14 +39,32 @@ ToleranceDesc default_tolerances(const Scene& scene) {
     return t;
 }
 
-// The form follows the open scene: filled again when another scene is opened.
+// The form follows the open scene: filled again when another scene is opened, or the same
+// one with another [tolerance] table. A table that gives no tolerance keeps its
+// realisations beside the defaults.
 void fill_form(WorkbenchState& s) {
     auto& form = s.tolerance_form;
-    if (!s.editor.scene || form.filled_from == s.editor.path) return;
-    form.tolerances = active_tolerances(s.editor.scene->tolerance).empty()
-                          ? default_tolerances(*s.editor.scene)
-                          : s.editor.scene->tolerance;
+    if (!s.editor.scene) return;
+    const ToleranceDesc& table = s.editor.scene->tolerance;
+    if (form.filled_from == s.editor.path && form.filled_with == table) return;
+    if (active_tolerances(table).empty()) {
+        form.tolerances = default_tolerances(*s.editor.scene);
+        if (table != ToleranceDesc{}) form.tolerances.realisations = table.realisations;
+    } else {
+        form.tolerances = table;
+    }
     form.filled_from = s.editor.path;
+    form.filled_with = table;
+}
+
+// Why Start is refused, in a line (empty when it is not).
+std::string start_problem(WorkbenchState& s) {
+    if (!s.editor.scene) return "no scene is open";
+    const ToleranceDesc& t = s.tolerance_form.tolerances;
+    if (const auto problem = tolerance_problem(t, s.editor.scene->source))
+        return problem->key + ": " + problem->reason;
+    if (active_tolerances(t).empty()) return "no tolerance given (every one is 0)";
+    return "";
 }
 
 bool input_mm(const char* label, double& v, const char* format = "%.3f") {
@@ -52,9 +82,10 @@ void form(WorkbenchState& s) {
     if (ImGui::InputInt("realisations", &realisations))
         t.realisations = std::uint64_t(std::clamp(realisations, 1, 1000000));
     ImGui::SameLine();
-    int seed = int(std::min<std::uint64_t>(s.tolerance_form.seed, 1u << 30));
     ImGui::SetNextItemWidth(80);
-    if (ImGui::InputInt("seed", &seed)) s.tolerance_form.seed = std::uint64_t(std::max(seed, 0));
+    std::uint64_t seed = s.tolerance_form.seed;
+    if (ImGui::InputScalar("seed", ImGuiDataType_U64, &seed))
+        s.tolerance_form.seed = std::min<std::uint64_t>(seed, kMaxSeed);
     ImGui::SetNextItemWidth(200);
     if (ImGui::InputScalarN("source shift (mm, sd per axis)", ImGuiDataType_Double,
                             &t.source_shift_mm.x, 3, nullptr, nullptr, "%.3f"))
@@ -69,9 +100,9 @@ void form(WorkbenchState& s) {
     input_mm("correlation (mm)", t.surface_correlation_mm, "%.1f");
 }
 
-// The spreads of the result: one row per measure, the nominal luminaire beside them.
-void spreads_table(const ToleranceResult& r) {
-    const nlohmann::json j = tolerance_json(r);
+// The spreads of the result: one row per measure, the nominal luminaire beside them; a
+// dash where a run has no feasible realisation (or was stopped before it).
+void spreads_table(const ToleranceResult& r, const nlohmann::json& j) {
     struct Row {
         const char* key;
         std::string label;
@@ -96,7 +127,10 @@ void spreads_table(const ToleranceResult& r) {
             ImGui::Text("%.4g", j["nominal"].value(row.key, 0.0));
             for (const char* q : {"median", "p5", "p95"}) {
                 ImGui::TableNextColumn();
-                ImGui::Text("%.4g", j[row.key][q].get<double>());
+                if (j[row.key].is_null())
+                    ImGui::TextUnformatted("-");
+                else
+                    ImGui::Text("%.4g", j[row.key][q].get<double>());
             }
         }
         ImGui::EndTable();
@@ -106,6 +140,10 @@ void spreads_table(const ToleranceResult& r) {
     std::string line = fmt::format("{} 5-95 % by tolerance alone:", ranked);
     for (const auto& s : j["sensitivities"]) {
         const auto& m = s[ranked];
+        if (m.is_null()) {
+            line += fmt::format("  {} -", s["tolerance"].get<std::string>());
+            continue;
+        }
         line += fmt::format("  {}{} {:.3g}", s["tolerance"].get<std::string>(),
                             s["tolerance"] == j["most_sensitive"] ? " (most)" : "",
                             m["p95"].get<double>() - m["p5"].get<double>());
@@ -121,13 +159,13 @@ void spreads_table(const ToleranceResult& r) {
 
 void start_tolerance(Frame& f) {
     WorkbenchState& s = f.state;
-    if (!s.editor.scene) return add_log(s, "error: tolerance needs an open scene");
     fill_form(s);
+    if (const std::string why = start_problem(s); !why.empty())
+        return add_log(s, "error: tolerance: " + why);
+    // One run at a time: a second would replace the first's figures under its scene name.
+    if (f.worker.tolerance_pending())
+        return add_log(s, "error: tolerance: a tolerance run is already running or waiting");
     const ToleranceDesc& t = s.tolerance_form.tolerances;
-    if (const auto problem = tolerance_problem(t, s.editor.scene->source))
-        return add_log(s, "error: tolerance: " + problem->key + ": " + problem->reason);
-    if (active_tolerances(t).empty())
-        return add_log(s, "error: tolerance: no tolerance given (every one is 0)");
     const std::string out = new_run_folder(s, "tolerance");
     if (out.empty()) return; // the error is in the log
     f.worker.submit(ToleranceJob{
@@ -149,10 +187,12 @@ std::string set_tolerance_field(WorkbenchState& s, const std::string& key,
     try {
         if (key == "realisations" || key == "seed") {
             const double v = number(value);
-            if (v != std::floor(v) || v > 1e6 || (key == "realisations" && v < 1))
-                return fmt::format("{}: '{}' is not a count from {} to 1e6", key, value,
-                                   key == "seed" ? 0 : 1);
-            (key == "seed" ? s.tolerance_form.seed : t.realisations) = std::uint64_t(v);
+            const bool seed = key == "seed";
+            const double most = seed ? double(kMaxSeed) : 1e6;
+            if (v != std::floor(v) || v > most || (!seed && v < 1))
+                return fmt::format("{}: '{}' is not a whole number from {} to {:g}", key, value,
+                                   seed ? 0 : 1, most);
+            (seed ? s.tolerance_form.seed : t.realisations) = std::uint64_t(v);
         } else if (key == "source_shift_mm") {
             std::vector<double> parts;
             for (std::size_t from = 0; from <= value.size();) {
@@ -186,14 +226,24 @@ std::string set_tolerance_field(WorkbenchState& s, const std::string& key,
 
 bool tolerance_can_start(WorkbenchState& s) {
     fill_form(s);
-    return s.editor.scene &&
-           !tolerance_problem(s.tolerance_form.tolerances, s.editor.scene->source) &&
-           !active_tolerances(s.tolerance_form.tolerances).empty();
+    return start_problem(s).empty();
 }
 
-void tolerance_section(Frame& f, const ToleranceProgress& t) {
+void tolerance_section(Frame& f) {
     WorkbenchState& s = f.state;
     fill_form(s);
+    auto& view = s.tolerance_form.view;
+    if (const std::uint64_t g = f.worker.tolerance_generation();
+        !view || view->progress.generation != g) {
+        auto v = std::make_shared<ToleranceView>();
+        v->progress = f.worker.tolerance();
+        if (const auto& r = v->progress.result) {
+            v->summary = tolerance_json(*r);
+            v->chart = tolerance_chart(v->progress.scene_name, *r);
+        }
+        view = std::move(v);
+    }
+    const ToleranceProgress& t = view->progress;
     // Folded away, the results get the panel's height.
     ImGui::SetNextItemOpen(true, ImGuiCond_Once);
     if (ImGui::CollapsingHeader("tolerances (fird tolerance's options)")) {
@@ -201,11 +251,8 @@ void tolerance_section(Frame& f, const ToleranceProgress& t) {
         form(s);
         ImGui::EndDisabled();
     }
-    if (s.editor.scene)
-        if (const auto problem =
-                tolerance_problem(s.tolerance_form.tolerances, s.editor.scene->source))
-            ImGui::TextColored(ImVec4(1.0f, 0.4f, 0.4f, 1.0f), "%s: %s", problem->key.c_str(),
-                               problem->reason.c_str());
+    if (const std::string why = start_problem(s); !why.empty() && s.editor.scene)
+        ImGui::TextColored(ImVec4(1.0f, 0.4f, 0.4f, 1.0f), "%s", why.c_str());
     if (!t.running && !t.result) return;
     if (s.tolerance_form.last_scene != s.editor.path) {
         // Another scene's realisations: not this scene's figures.
@@ -214,13 +261,13 @@ void tolerance_section(Frame& f, const ToleranceProgress& t) {
     }
     ImGui::Text("%zu of %zu realisations traced%s", t.rows.size(), t.total,
                 t.result && t.result->stopped ? " (stopped)" : "");
-    if (t.result) spreads_table(*t.result);
+    if (t.result) spreads_table(*t.result, view->summary);
     ImGui::BeginChild("##tolerance");
     const float line = ImGui::GetTextLineHeightWithSpacing();
     const ImVec2 avail = ImGui::GetContentRegionAvail();
     const ImVec2 size(avail.x, std::max(11.0f * line, avail.y));
     if (t.result) {
-        chart_widget("##tolerance_chart", tolerance_chart(t.scene_name, *t.result), size);
+        chart_widget("##tolerance_chart", view->chart, size);
     } else {
         // While it runs: each realisation's efficiency in the order traced.
         plot::Series runs{.kind = plot::Series::Kind::Points,

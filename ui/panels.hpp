@@ -74,7 +74,7 @@ void start_tolerance(Frame& f);
 // Whether the form's tolerances can be drawn for the open scene (the Start button).
 bool tolerance_can_start(WorkbenchState& state);
 // The calibrate panel's tolerance form and results.
-void tolerance_section(Frame& f, const ToleranceProgress& progress);
+void tolerance_section(Frame& f);
 // The script's `tolerance KEY VALUE` (KEY as in a scene's [tolerance], or seed; a shift as
 // 0.1 or 0.1,0.1,0.2): the empty string when the form takes it, else why not.
 std::string set_tolerance_field(WorkbenchState& state, const std::string& key,

@@ -2,10 +2,9 @@
 // the windowed tests drive the workbench, and how users record a reproducible session.
 // An open's PATH is relative to the script's folder; a screenshot's to the working directory.
 //   open PATH | set NAME VALUE | trace | optimize [METHOD [scene|tailored]] |
-//   calibrate rays|semivariogram [NAME] | tolerance [KEY VALUE] | stop | wait FRAMES | wait-idle | pick-ray X Y | pick-ray INDEX |
-//   drag X Y DX DY [left|right] |
-//   resize W H | screenshot PATH | write-job [RANKS] | follow DIR | wait-follow [ROWS] |
-//   apply-best | quit
+//   calibrate rays|semivariogram [NAME] | tolerance [KEY VALUE] | stop | wait FRAMES | wait-idle |
+//   pick-ray X Y | pick-ray INDEX | drag X Y DX DY [left|right] | resize W H | screenshot PATH |
+//   write-job [RANKS] | follow DIR | wait-follow [ROWS] | apply-best | quit
 #pragma once
 
 #include <cstdint>

@@ -25,6 +25,8 @@
 
 namespace fird::ui {
 
+struct ToleranceView; // panel_tolerance.cpp
+
 struct SceneEditor {
     std::string path;                         // the scene file
     std::optional<Scene> scene;               // as loaded
@@ -158,9 +160,12 @@ struct WorkbenchState {
     // scene is opened, then as edited.
     struct ToleranceForm {
         ToleranceDesc tolerances;
-        std::uint64_t seed = 1;  // as fird tolerance --seed
-        std::string filled_from; // the scene path the form was filled from
-        std::string last_scene;  // the scene the last tolerance run was of
+        std::uint64_t seed = 1;    // as fird tolerance --seed
+        std::string filled_from;   // the scene path the form was filled from
+        std::string last_scene;    // the scene the last tolerance run was of
+        ToleranceDesc filled_with; // the scene's [tolerance] when it was filled
+        // What the panel shows of the worker's run, taken again only when it moved.
+        std::shared_ptr<const ToleranceView> view;
     } tolerance_form;
     std::deque<std::string> log;
     std::vector<std::string> recent;             // recently opened scenes, newest first

@@ -86,6 +86,18 @@ ToleranceProgress Worker::tolerance() const {
     return tolerance_;
 }
 
+bool Worker::tolerance_pending() const {
+    const std::lock_guard lock(mutex_);
+    return tolerance_.running || std::any_of(jobs_.begin(), jobs_.end(), [](const Job& j) {
+               return std::holds_alternative<ToleranceJob>(j);
+           });
+}
+
+std::uint64_t Worker::tolerance_generation() const {
+    const std::lock_guard lock(mutex_);
+    return tolerance_.generation;
+}
+
 std::vector<std::string> Worker::take_log() {
     const std::lock_guard lock(mutex_);
     return std::exchange(log_, {});
@@ -296,6 +308,9 @@ void Worker::run(const ToleranceJob& job) {
     {
         const std::lock_guard lock(mutex_);
         tolerance_ = {.running = true,
+                      // The nominal luminaire, then each run's realisations (run_tolerance).
+                      .total = 1 + job.tolerances.realisations *
+                                       (1 + active_tolerances(job.tolerances).size()),
                       .scene_name = job.scene.name,
                       .out_dir = job.out_dir,
                       .generation = tolerance_.generation + 1};

@@ -131,6 +131,10 @@ class Worker {
     SearchProgress search() const;
     CalibrationProgress calibration() const;
     ToleranceProgress tolerance() const;
+    // Cheap to ask each frame: whether a tolerance job runs or waits (a second is refused),
+    // and the generation of its progress (copy tolerance() again only when it moved).
+    bool tolerance_pending() const;
+    std::uint64_t tolerance_generation() const;
     // Messages since the last call (errors start with "error: ").
     std::vector<std::string> take_log();
 

@@ -73,7 +73,11 @@ double percentile(const std::vector<double>& sorted, double q) {
     return i + 1 < sorted.size() ? sorted[i] * (1.0 - f) + sorted[i + 1] * f : sorted[i];
 }
 
-nlohmann::json spread_json(const Spread& s) {
+// A kind with no rows (a run stopped before it, or every one of its realisations
+// infeasible) has no spread: null, never zeros that read as measured.
+nlohmann::json spread_json(const std::vector<double>& values) {
+    if (values.empty()) return nullptr;
+    const Spread s = spread_of(values);
     return {{"median", s.median}, {"p5", s.p5}, {"p95", s.p95}};
 }
 
@@ -101,10 +105,10 @@ double get_beam(const RealisationResult& r) {
 
 nlohmann::json metrics_json(const std::vector<RealisationResult>& rows, const std::string& kind,
                             bool l2) {
-    nlohmann::json j = {{"efficiency", spread_json(spread_of(metric(rows, kind, get_efficiency)))},
-                        {"peak_cd", spread_json(spread_of(metric(rows, kind, get_peak)))},
-                        {"beam_angle_deg", spread_json(spread_of(metric(rows, kind, get_beam)))}};
-    if (l2) j["l2"] = spread_json(spread_of(metric(rows, kind, get_l2)));
+    nlohmann::json j = {{"efficiency", spread_json(metric(rows, kind, get_efficiency))},
+                        {"peak_cd", spread_json(metric(rows, kind, get_peak))},
+                        {"beam_angle_deg", spread_json(metric(rows, kind, get_beam))}};
+    if (l2) j["l2"] = spread_json(metric(rows, kind, get_l2));
     return j;
 }
 
@@ -268,9 +272,16 @@ ToleranceResult run_tolerance(const vk::Context& ctx, const Scene& scene, const 
     out.metric = scene.optimize.metric;
     for (const RealisationResult& row : out.rows)
         out.infeasible += row.feasible ? 0 : 1;
+    // Ranked among the tolerances that have feasible rows, and only when each has: a run
+    // stopped before some tolerance's own runs names none.
     double widest = -1.0;
     for (const std::string& name : out.active) {
-        const Spread s = spread_of(metric(out.rows, name, desired ? get_l2 : get_efficiency));
+        const std::vector<double> v = metric(out.rows, name, desired ? get_l2 : get_efficiency);
+        if (v.empty()) {
+            out.most_sensitive.clear();
+            break;
+        }
+        const Spread s = spread_of(v);
         if (s.p95 - s.p5 > widest) {
             widest = s.p95 - s.p5;
             out.most_sensitive = name;

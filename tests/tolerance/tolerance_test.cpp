@@ -4,6 +4,7 @@
 // says a misplaced source does.
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <cmath>
 #include <numbers>
 #include <string>
@@ -101,6 +102,37 @@ TEST(BeamMetrics, ACosinePowerLobeHasItsAngleAndPeak) {
     const BeamMetrics m = beam_metrics(f);
     EXPECT_NEAR(m.beam_angle_deg, 2.0 * std::acos(std::pow(0.5, 0.1)) * 180.0 / pi, 0.5);
     EXPECT_NEAR(m.peak_cd, peak_cd, 0.01 * peak_cd);
+}
+
+// The workbench's Stop: a run stopped after the joint realisations has those rows alone,
+// says it was stopped, and gives the tolerances' own runs no spread and names no tolerance
+// the most sensitive (nothing measured them), where zeros would read as measured.
+TEST_F(VulkanTest, AStoppedRunKeepsItsRowsAndRanksNothingItDidNotTrace) {
+    Scene s = paraboloid();
+    s.trace.rays = 5000;
+    std::atomic<bool> stop{false};
+    const ToleranceRun run{.tolerances = {.realisations = 3,
+                                          .source_shift_mm = glm::dvec3(0.3),
+                                          .reflectance_sd = 0.01},
+                           .seed = 5,
+                           // The nominal luminaire, then the 3 joint realisations: stop there.
+                           .progress = [&](const RealisationResult&, std::size_t done,
+                                           std::size_t) { stop = done >= 4; },
+                           .stop = &stop};
+    const ToleranceResult r = run_tolerance(ctx(), s, run);
+    EXPECT_TRUE(r.stopped);
+    ASSERT_EQ(r.rows.size(), 3u);
+    for (const RealisationResult& row : r.rows)
+        EXPECT_EQ(row.kind, "joint");
+    EXPECT_EQ(r.most_sensitive, "");
+    const nlohmann::json j = tolerance_json(r);
+    EXPECT_TRUE(j.at("stopped").get<bool>());
+    EXPECT_TRUE(j.at("l2").is_object()); // the joint run's spread
+    EXPECT_TRUE(j.at("most_sensitive").is_null());
+    for (const auto& tolerance : j.at("sensitivities")) {
+        EXPECT_TRUE(tolerance.at("l2").is_null()) << tolerance;
+        EXPECT_TRUE(tolerance.at("efficiency").is_null()) << tolerance;
+    }
 }
 
 // A point source at a paraboloid's focus sends a beam to the zenith; shifted by 0.3 mm
