@@ -1,17 +1,42 @@
 // The far-field panel: desired, obtained and difference (or one of them, filling the
 // panel) in the columns that keep each readable, zoom onto the lit band's brightest part,
-// linear or log, a hover readout of the cell under the mouse, l2 and flux.
+// linear or log, a hover readout of the cell under the mouse (in the luminaire views, of
+// the direction or the plane's point), l2 and flux.
 #include <algorithm>
 #include <cmath>
 
+#include <fmt/format.h>
 #include <imgui.h>
 #include <imgui_internal.h> // SetItemUsingMouseWheel: the wheel zooms, not scrolls
+
+#include "photometry/luminaire_pictures.hpp"
 
 #include "panels.hpp"
 #include "view_textures.hpp"
 #include "views.hpp"
 
 namespace fird::ui {
+
+namespace {
+
+// The readout's lines: which panel, where, and the obtained, desired and difference values.
+std::string luminaire_readout_text(const LuminaireReadout& r) {
+    const char* panel = r.panel == LuminairePanel::Obtained  ? "obtained"
+                        : r.panel == LuminairePanel::Desired ? "desired"
+                                                             : "obtained - desired";
+    const char* unit = r.on_plane ? "lx" : "cd";
+    std::string text = fmt::format("{}\n", panel);
+    if (r.on_plane)
+        text += fmt::format("x {:.3g} m (along C0), y {:.3g} m (along C90)\n", r.x_m, r.y_m);
+    text += fmt::format("C {:.1f} deg, gamma {:.1f} deg from nadir\nobtained {:.4g} {}", r.c_deg,
+                        r.gamma_deg, r.obtained, unit);
+    if (r.desired)
+        text += fmt::format("\ndesired {:.4g} {}\ndifference {:+.4g} {}", *r.desired, unit,
+                            r.obtained - *r.desired, unit);
+    return text;
+}
+
+} // namespace
 
 void farfield_panel(Frame& f) {
     WorkbenchState& s = f.state;
@@ -105,6 +130,18 @@ void farfield_panel(Frame& f) {
                 90.0 - (at->row + 0.5) * 180.0 / grid_ff.height, lm,
                 lm / farfield_cell_solid_angle_sr(at->row, grid_ff.width, grid_ff.height));
         }
+    }
+    if (ImGui::IsItemHovered() && s.farfield.view > 0 && f.snapshot->obtained_table) {
+        // The luminaire views' readout: the direction (and point of the plane) under the
+        // mouse and what each table gives there, placed as the drawing places its panels.
+        const ImVec2 m = ImGui::GetIO().MousePos;
+        const auto& snap = *f.snapshot;
+        if (const auto at = luminaire_view_readout(
+                {0, 0, double(iw), double(ih)}, *options.luminaire, *snap.obtained_table,
+                snap.desired_table ? &*snap.desired_table : nullptr,
+                {.title = ff.title, .plane_distance_m = options.plane_distance_m},
+                snap.view_gamma_deg, m.x - origin.x, m.y - origin.y))
+            ImGui::SetTooltip("%s", luminaire_readout_text(*at).c_str());
     }
     if (scrolls) ImGui::EndChild();
     ImGui::End();

@@ -12,6 +12,7 @@
 #include "optimize/parameter_space.hpp"
 #include "optimize/search_report.hpp"
 #include "optimize/search_start.hpp"
+#include "photometry/luminaire_pictures.hpp"
 
 namespace fird::ui {
 
@@ -142,6 +143,12 @@ void Worker::publish(render::TracedScene traced, const std::map<std::string, dou
     s->obtained_profiles = plot::light_profiles(ff.obtained);
     s->obtained_lm = ff.obtained.total_lm();
     s->desired_lm = ff.desired ? ff.desired->total_lm() : 0.0;
+    // As draw_farfield_view takes them (a far field with light only).
+    if (s->obtained_lm > 0.0) s->obtained_table = view_table(ff.obtained);
+    if (s->desired_lm > 0.0) s->desired_table = view_table(*ff.desired);
+    if (s->obtained_table)
+        s->view_gamma_deg = luminaire_view_gamma_deg(
+            *s->obtained_table, s->desired_table ? &*s->desired_table : nullptr);
     const std::lock_guard lock(mutex_);
     s->generation = ++generation_;
     snapshot_ = std::move(s);

@@ -19,6 +19,7 @@
 
 #include "calibrate/calibration.hpp"
 #include "optimize/search.hpp"
+#include "photometry/candela_table.hpp"
 #include "plot/farfield_picture.hpp"
 #include "tolerance/tolerance.hpp"
 #include "traced_scene.hpp"
@@ -36,6 +37,10 @@ struct SceneSnapshot {
     // summing 1.6 million cells again (the zoom's bands, the flux in the panels' text).
     plot::FarFieldProfiles obtained_profiles;
     double obtained_lm = 0.0, desired_lm = 0.0;
+    // The candela tables the luminaire views draw (view_table), for their hover readout;
+    // none for a far field without light.
+    std::optional<CandelaTable> obtained_table, desired_table;
+    double view_gamma_deg = 0.0; // luminaire_view_gamma_deg of the two
 };
 
 struct SearchProgress {

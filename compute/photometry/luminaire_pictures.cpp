@@ -25,14 +25,6 @@ using plot::Rect;
 constexpr double kFontPx = 12.0;
 constexpr double kDeg = std::numbers::pi / 180.0;
 
-// The gamma range shown: where all but 0.5 % of the light of either table leaves, rounded
-// up to 10 deg, at least 30 deg.
-double shown_gamma_deg(const CandelaTable& a, const CandelaTable* b) {
-    double g = gamma_holding_deg(a, 0.995);
-    if (b) g = std::max(g, gamma_holding_deg(*b, 0.995));
-    return std::clamp(10.0 * std::ceil(g / 10.0), 30.0, 180.0);
-}
-
 // A panel's parts: the title line above, the picture, the colour bar to its right.
 struct Panel {
     Rect picture, bar;
@@ -154,9 +146,14 @@ void polar_panel(Canvas& cv, const Rect& a, const Intensity& f, double peak, boo
 
 // Isocandela lines in C-gamma: C across, gamma down from nadir; a second table's lines
 // dashed (the overlay of obtained and desired).
+// The isocandela panel's C-gamma frame: C 0-360 across, gamma 0-gamma_max down.
+Rect isocandela_frame(const Rect& a) {
+    return {a.x + 48, a.y + 34, std::max(40.0, a.w - 60), std::max(40.0, a.h - 34 - 62)};
+}
+
 void isocandela_panel(Canvas& cv, const Rect& a, const CandelaTable& t, const CandelaTable* dashed,
                       double peak, double gamma_max, const std::string& title) {
-    const Rect r{a.x + 48, a.y + 34, std::max(40.0, a.w - 60), std::max(40.0, a.h - 34 - 62)};
+    const Rect r = isocandela_frame(a);
     cv.text(a.x + a.w / 2, a.y + 20, title, 13.0, Align::Centre, kInk, 0.0, true);
     cv.stroke_rect(r.x, r.y, r.w, r.h, {kInk, 1.0});
     const plot::AxisMapping cx{plot::Scale::Linear, 0.0, 360.0, r.x, r.x + r.w};
@@ -237,6 +234,12 @@ void illuminance_panel(Canvas& cv, const Rect& a, const IlluminanceMap& m,
 
 } // namespace
 
+double luminaire_view_gamma_deg(const CandelaTable& a, const CandelaTable* b) {
+    double g = gamma_holding_deg(a, 0.995);
+    if (b) g = std::max(g, gamma_holding_deg(*b, 0.995));
+    return std::clamp(10.0 * std::ceil(g / 10.0), 30.0, 180.0);
+}
+
 const char* luminaire_view_name(LuminaireView view) {
     switch (view) {
     case LuminaireView::PolarMap:
@@ -268,23 +271,41 @@ CandelaTable view_table(const FarField& f) {
                                view_step_deg(f.height, 180.0, 1.0));
 }
 
-void draw_luminaire_view(Canvas& cv, const Rect& a, LuminaireView view,
-                         const CandelaTable& obtained, const CandelaTable* desired,
-                         const LuminaireViewOptions& o) {
-    // Side by side, or stacked where that leaves each panel's picture larger (a tall
-    // workbench panel): the picture's side is the panel's less its margins.
-    const int panels = desired ? 3 : 1;
+namespace {
+
+// Where a view's panels go in `a`: obtained, desired, difference side by side, or stacked
+// where that leaves each panel's picture larger (a tall workbench panel): the picture's
+// side is the panel's less its margins.
+struct ViewLayout {
+    Rect a;
+    int columns = 1;
+    double w = 0.0, h = 0.0;
+    Rect area(int k) const { return {a.x + (k % columns) * w, a.y + (k / columns) * h, w, h}; }
+};
+ViewLayout view_layout(const Rect& a, int panels) {
     const auto side = [&](int columns) {
         const int rows = (panels + columns - 1) / columns;
         return std::min(a.w / columns - 158.0, a.h / rows - 92.0);
     };
     const int columns = side(panels) >= side(1) ? panels : 1;
     const int rows = (panels + columns - 1) / columns;
-    const double w = a.w / columns, h = a.h / rows;
-    const auto area = [&](int k) {
-        return Rect{a.x + (k % columns) * w, a.y + (k / columns) * h, w, h};
-    };
-    const double gamma_max = shown_gamma_deg(obtained, desired);
+    return {a, columns, a.w / columns, a.h / rows};
+}
+
+// The illuminance plane's half width: out to where the light ends, at most 75 deg from
+// nadir (beyond, the plane is grazed and its width grows without bound).
+double plane_half_width_m(double distance_m, double gamma_max_deg) {
+    return distance_m * std::tan(std::min(gamma_max_deg, 75.0) * kDeg);
+}
+
+} // namespace
+
+void draw_luminaire_view(Canvas& cv, const Rect& a, LuminaireView view,
+                         const CandelaTable& obtained, const CandelaTable* desired,
+                         const LuminaireViewOptions& o) {
+    const ViewLayout layout = view_layout(a, desired ? 3 : 1);
+    const auto area = [&](int k) { return layout.area(k); };
+    const double gamma_max = luminaire_view_gamma_deg(obtained, desired);
     const double peak = std::max(obtained.peak_cd(), desired ? desired->peak_cd() : 0.0);
     const std::string name = o.title.empty() ? std::string() : o.title + ": ";
     switch (view) {
@@ -306,9 +327,7 @@ void draw_luminaire_view(Canvas& cv, const Rect& a, LuminaireView view,
         }
         break;
     case LuminaireView::Illuminance: {
-        // Out to where the light ends, at most 75 deg from nadir (beyond, the plane is
-        // grazed and its width grows without bound).
-        const double half = o.plane_distance_m * std::tan(std::min(gamma_max, 75.0) * kDeg);
+        const double half = plane_half_width_m(o.plane_distance_m, gamma_max);
         constexpr int samples = 240;
         const IlluminanceMap e = illuminance_on_plane(obtained, o.plane_distance_m, half, samples);
         std::optional<IlluminanceMap> d;
@@ -326,6 +345,51 @@ void draw_luminaire_view(Canvas& cv, const Rect& a, LuminaireView view,
         break;
     }
     }
+}
+
+std::optional<LuminaireReadout> luminaire_view_readout(const Rect& a, LuminaireView view,
+                                                       const CandelaTable& obtained,
+                                                       const CandelaTable* desired,
+                                                       const LuminaireViewOptions& o,
+                                                       double gamma_max, double px, double py) {
+    const int panels = desired ? 3 : 1;
+    const ViewLayout layout = view_layout(a, panels);
+    for (int k = 0; k < panels; ++k) {
+        const Rect area = layout.area(k);
+        // The picture (polar map, plane) or the C-gamma frame this panel draws.
+        const Rect r =
+            view == LuminaireView::Isocandela ? isocandela_frame(area) : panel_layout(area).picture;
+        if (!(px >= r.x && px < r.x + r.w && py >= r.y && py < r.y + r.h)) continue;
+        LuminaireReadout out{.panel = LuminairePanel(k)};
+        const double u = (px - r.x) / r.w, v = (py - r.y) / r.h; // 0..1, v down
+        if (view == LuminaireView::PolarMap) {
+            // As polar_panel draws it: nadir at the centre, C counter-clockwise from the right.
+            const double x = 2.0 * u - 1.0, y = 1.0 - 2.0 * v, rho = std::hypot(x, y);
+            if (rho > 1.0) return std::nullopt;
+            out.c_deg = std::atan2(y, x) / kDeg;
+            if (out.c_deg < 0.0) out.c_deg += 360.0;
+            out.gamma_deg = rho * gamma_max;
+        } else if (view == LuminaireView::Isocandela) {
+            out.c_deg = u * 360.0;
+            out.gamma_deg = v * gamma_max;
+        } else {
+            const double half = plane_half_width_m(o.plane_distance_m, gamma_max);
+            out.on_plane = true;
+            out.x_m = -half + 2.0 * half * u;
+            out.y_m = half - 2.0 * half * v;
+            const PlanePoint e = illuminance_at(obtained, o.plane_distance_m, out.x_m, out.y_m);
+            out.c_deg = e.c_deg;
+            out.gamma_deg = e.gamma_deg;
+            out.obtained = e.lux;
+            if (desired)
+                out.desired = illuminance_at(*desired, o.plane_distance_m, out.x_m, out.y_m).lux;
+            return out;
+        }
+        out.obtained = intensity_cd(obtained, out.c_deg, out.gamma_deg);
+        if (desired) out.desired = intensity_cd(*desired, out.c_deg, out.gamma_deg);
+        return out;
+    }
+    return std::nullopt;
 }
 
 void write_luminaire_views(const std::string& dir, const FarField& obtained,

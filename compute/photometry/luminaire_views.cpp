@@ -107,17 +107,21 @@ IlluminanceMap illuminance_on_plane(const CandelaTable& table, double distance_m
         .samples = std::max(samples, 1), .distance_m = distance_m, .half_width_m = half_width_m};
     m.lux.resize(std::size_t(m.samples) * m.samples);
     for (int iy = 0; iy < m.samples; ++iy)
-        for (int ix = 0; ix < m.samples; ++ix) {
-            const double x = m.position_m(ix), y = m.position_m(iy);
-            const double r = std::hypot(x, y);
-            const double gamma = std::atan2(r, distance_m);
-            double c = r > 0.0 ? std::atan2(y, x) / kDeg : 0.0;
-            if (c < 0.0) c += 360.0;
-            const double cos_g = std::cos(gamma);
-            m.lux[std::size_t(iy) * m.samples + ix] = intensity_cd(table, c, gamma / kDeg) * cos_g *
-                                                      cos_g * cos_g / (distance_m * distance_m);
-        }
+        for (int ix = 0; ix < m.samples; ++ix)
+            m.lux[std::size_t(iy) * m.samples + ix] =
+                illuminance_at(table, distance_m, m.position_m(ix), m.position_m(iy)).lux;
     return m;
+}
+
+PlanePoint illuminance_at(const CandelaTable& table, double distance_m, double x_m, double y_m) {
+    const double r = std::hypot(x_m, y_m);
+    const double gamma = std::atan2(r, distance_m);
+    double c = r > 0.0 ? std::atan2(y_m, x_m) / kDeg : 0.0;
+    if (c < 0.0) c += 360.0;
+    const double cos_g = std::cos(gamma);
+    return {intensity_cd(table, c, gamma / kDeg) * cos_g * cos_g * cos_g /
+                (distance_m * distance_m),
+            c, gamma / kDeg};
 }
 
 } // namespace fird

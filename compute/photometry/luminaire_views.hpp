@@ -49,4 +49,11 @@ struct IlluminanceMap {
 IlluminanceMap illuminance_on_plane(const CandelaTable& table, double distance_m,
                                     double half_width_m, int samples);
 
+// The illuminance (lux) at one point (x_m, y_m) of that plane, and the direction (C, gamma
+// in degrees) the light reaching it leaves in: the map's formula at that point.
+struct PlanePoint {
+    double lux, c_deg, gamma_deg;
+};
+PlanePoint illuminance_at(const CandelaTable& table, double distance_m, double x_m, double y_m);
+
 } // namespace fird
