@@ -158,8 +158,6 @@ int write_job(const GlobalOptions& global, const Args& a, const CLI::App& cmd) {
 #if FIRD_HAVE_MPI
     if (global.job && global.job->distributed())
         throw UsageError("--job-script writes a job: run it in one process, not under mpirun");
-#else
-    (void)global;
 #endif
     if (a.out.empty())
         throw UsageError("--job-script needs --out DIR: the folder the job's search writes");
@@ -191,6 +189,17 @@ int write_job(const GlobalOptions& global, const Args& a, const CLI::App& cmd) {
     if (a.refine) job.optimize_options.push_back("--refine");
     pass("--backend", a.backend);
     pass("--start", a.start);
+    // fird's own options as given (0: not given): the ranks run as this command would.
+    if (!global.device_name.empty())
+        job.global_options.insert(job.global_options.end(), {"--device", global.device_name});
+    if (global.validation) job.global_options.push_back("--validation");
+    if (global.max_device_memory_mb > 0.0)
+        job.global_options.insert(
+            job.global_options.end(),
+            {"--max-device-memory", fmt::format("{}", global.max_device_memory_mb)});
+    if (global.max_batch_rays > 0)
+        job.global_options.insert(job.global_options.end(),
+                                  {"--max-batch-rays", std::to_string(global.max_batch_rays)});
     if (cmd.count("--rank-timeout")) // --resume takes it too
         job.launch_options = {"--rank-timeout", fmt::format("{}", a.rank_timeout)};
     const WrittenJob w = write_cluster_job(job);

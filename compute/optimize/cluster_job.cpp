@@ -28,12 +28,16 @@ std::string fird_arguments(const ClusterJob& job, const std::string& here) {
         return text;
     };
     const std::string both = words(job.launch_options);
+    // fird's own options go before the subcommand, on both branches.
+    std::string global;
+    for (const std::string& o : job.global_options)
+        global.append(shell_quoted(o)).append(1, ' ');
     return fmt::format("if [[ -f \"{0}/options.json\" ]]; then\n"
-                       "  args=(optimize \"{0}/scene.toml\" --resume \"{0}\"{2})\n"
+                       "  args=({3}optimize \"{0}/scene.toml\" --resume \"{0}\"{2})\n"
                        "else\n"
-                       "  args=(optimize \"{0}/scene.toml\" --out \"{0}\"{1}{2})\n"
+                       "  args=({3}optimize \"{0}/scene.toml\" --out \"{0}\"{1}{2})\n"
                        "fi\n",
-                       here, words(job.optimize_options), both);
+                       here, words(job.optimize_options), both, global);
 }
 
 std::string run_script(const ClusterJob& job) {

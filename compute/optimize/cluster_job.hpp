@@ -30,6 +30,9 @@ struct ClusterJob {
     // fird optimize's options besides the scene and --out ("--method", "grid", ...) for the
     // search's start, and those that go with --resume too (--rank-timeout).
     std::vector<std::string> optimize_options, launch_options;
+    // fird's own options given with the job (--max-device-memory, --max-batch-rays,
+    // --validation, --device), before the subcommand on every start of the search.
+    std::vector<std::string> global_options;
     std::string fird; // the program the job runs (an absolute path; $FIRD overrides it)
     ClusterShape shape;
 };

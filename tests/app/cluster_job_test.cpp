@@ -117,6 +117,47 @@ TEST(ClusterJob, RunShAndSlurmShRunTheSearchTheDirectCommandRuns) {
     EXPECT_EQ(history_rows(job), history_rows(direct_search()));
 }
 
+// fird's own options given with --job-script go into both scripts before the subcommand,
+// on the first start and on a resumed one: a stand-in fird ($FIRD) records the words it
+// is started with.
+TEST(ClusterJob, FirdsOwnOptionsGoWithTheJob) {
+    const std::string job = fresh_dir("global_options"), bin = fresh_dir("record_fird");
+    ASSERT_EQ(run("--max-batch-rays 65536 --max-device-memory 300.5 --validation optimize " +
+                  kMirror + " --method grid --out " + job + " --job-script")
+                  .code,
+              0);
+    std::filesystem::create_directories(bin);
+    {
+        std::ofstream fake(bin + "/fird");
+        fake << "#!/bin/sh\nprintf '%s\\n' \"$@\" > \"$(dirname \"$0\")/words\"\n";
+    }
+    std::filesystem::permissions(bin + "/fird", std::filesystem::perms::owner_all);
+    const auto words = [&] {
+        std::ifstream in(bin + "/words");
+        std::vector<std::string> w;
+        for (std::string line; std::getline(in, line);)
+            w.push_back(line);
+        return w;
+    };
+    const std::vector<std::string> global{
+        "--validation", "--max-device-memory", "300.5", "--max-batch-rays", "65536",
+        "optimize",     job + "/scene.toml"};
+    ASSERT_EQ(shell("FIRD=" + bin + "/fird bash " + job + "/run.sh 1").code, 0);
+    auto w = words();
+    ASSERT_GE(w.size(), global.size());
+    EXPECT_EQ(std::vector<std::string>(w.begin(), w.begin() + std::ptrdiff_t(global.size())),
+              global);
+    EXPECT_EQ(w.at(global.size()), "--out");
+    // Once the search has begun (its options.json), the same options with --resume.
+    std::ofstream(job + "/options.json") << "{}";
+    ASSERT_EQ(shell("FIRD=" + bin + "/fird bash " + job + "/run.sh 1").code, 0);
+    w = words();
+    ASSERT_GE(w.size(), global.size());
+    EXPECT_EQ(std::vector<std::string>(w.begin(), w.begin() + std::ptrdiff_t(global.size())),
+              global);
+    EXPECT_EQ(w.at(global.size()), "--resume");
+}
+
 TEST(ClusterJob, TheJobsSceneIsTheSceneWithItsFilesFoundFromAnywhere) {
     // A scene naming a file by a relative path (an IES target beside it): the job's
     // scene.toml names it absolutely, so the job reads the same file from its own folder.
