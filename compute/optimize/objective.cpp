@@ -27,6 +27,7 @@ void Objective::begin_stage(const std::string& name, const Fidelity& fidelity) {
     stages_.push_back({.name = name, .fidelity = fidelity});
     stage_memo_.clear();
     prefetched_.clear();
+    prefetched_energy_.clear();
     infeasible_energy_.clear();
     stage_largest_energy_ = 0.0;
     threshold_applies_ = settings_.threshold_lm > 0.0 && fidelity.farfield_w == desired_.width &&
@@ -126,7 +127,13 @@ double Objective::trace(const std::vector<double>& x) {
         if (!std::isfinite(c.l2_lm))
             throw std::runtime_error(fmt::format(
                 "candidate {}: the far field's l2 is not finite ({})", c.index, c.l2_lm));
-        c.smoothness = smoothness_of(reflector);
+        if (const auto e = prefetched_energy_.find(x); e != prefetched_energy_.end()) {
+            const std::shared_future<double> energy = e->second;
+            prefetched_energy_.erase(e);
+            c.smoothness = energy.get(); // rethrows as smoothness_of would
+        } else {
+            c.smoothness = smoothness_of(reflector);
+        }
         c.score = candidate_score(c.l2_lm, c.smoothness, scene_.optimize);
         // A batch's candidate adds its share of the batch's time to its own checks.
         c.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
@@ -187,14 +194,25 @@ void Objective::prefetch(std::span<const std::vector<double>> xs) {
     const auto trace_here = [this](std::span<const std::vector<double>> points) {
         return trace_points(stage_evaluator(), scene_, space_, points);
     };
+    // The batch's bending energies (a weighted search), each on a host thread of its own
+    // while the device traces the batch: a batch of 16 waited for 16 in turn before.
+    std::vector<std::shared_future<double>> energies;
+    if (scene_.optimize.smoothness > 0.0)
+        for (const std::vector<double>& x : keys)
+            energies.push_back(std::async(std::launch::async, [this, reflector = space_.reflector(
+                                                                         scene_.reflector, x)] {
+                                   return smoothness_of(reflector);
+                               }).share());
     std::vector<CandidateResult> results =
         distributed ? settings_.distributed.trace(StageBatch{.fidelity = stage().fidelity,
                                                              .desired = desired_,
                                                              .points = keys,
                                                              .trace_here = trace_here})
                     : trace_here(keys);
-    for (std::size_t k = 0; k < keys.size(); ++k)
+    for (std::size_t k = 0; k < keys.size(); ++k) {
         prefetched_.emplace(keys[k], std::move(results[k]));
+        if (!energies.empty()) prefetched_energy_.emplace(keys[k], energies[k]);
+    }
 }
 
 double Objective::infeasible_score(const Feasibility& f, const std::vector<double>& x,

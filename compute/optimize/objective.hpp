@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cstdint>
+#include <future>
 #include <map>
 #include <memory>
 #include <optional>
@@ -99,6 +100,9 @@ class Objective {
     std::unique_ptr<Evaluator> evaluator_;
     // Traced by prefetch() and not yet asked for (x -> its result), this stage's only.
     std::map<std::vector<double>, CandidateResult> prefetched_;
+    // With a smoothness weight: the bending energies of the batch traced ahead, measured on
+    // host threads while the device traced it (they do not depend on the trace).
+    std::map<std::vector<double>, std::shared_future<double>> prefetched_energy_;
     double stage_desired_norm_lm_ = 0.0; // in the scene's metric
     double stage_flux_bound_ = 0.0;      // the largest metric norm of the source's flux
     bool threshold_applies_ = false;
