@@ -19,6 +19,7 @@
 #include "distributed/batch_farm.hpp"
 #include "distributed/calibration_shares.hpp"
 #include "distributed/job.hpp"
+#include "distributed/semivariogram_shares.hpp"
 #include "shared_work.hpp"
 #endif
 
@@ -40,6 +41,7 @@ struct SemivariogramArgs {
     std::uint32_t points = 101;
     std::uint64_t seed = 1;
     bool json = false;
+    std::optional<double> rank_timeout_s; // --rank-timeout (under mpirun)
 };
 
 Scene load_scene_with_target(const std::string& path) {
@@ -114,11 +116,8 @@ int run_rays(const GlobalOptions& global, const RaysArgs& a) {
 }
 
 int run_semivariogram(const GlobalOptions& global, const SemivariogramArgs& a) {
-#if FIRD_HAVE_MPI
-    if (global.job && global.job->distributed())
-        throw UsageError("fird calibrate semivariogram runs in one process; under mpirun or srun "
-                         "only calibrate rays shares its runs among ranks (-np 1 here)");
-#endif
+    if (a.rank_timeout_s && !(*a.rank_timeout_s > 0.0))
+        throw UsageError("--rank-timeout must be more than 0 s");
     SemivariogramOptions o{.points = a.points,
                            .rays = parse_count("--rays", a.rays, 4e9),
                            .seed = a.seed,
@@ -132,10 +131,27 @@ int run_semivariogram(const GlobalOptions& global, const SemivariogramArgs& a) {
             throw UsageError(
                 fmt::format("--parameter {}: not in {}'s [reflector.optimize]", name, scene.path));
     const auto ctx = make_context(global);
+#if FIRD_HAVE_MPI
+    // A rank other than 0 traces the series' points rank 0 sends it.
+    if (global.job && global.job->rank() > 0) {
+        const int code = distributed::serve_shares(
+            *global.job, distributed::semivariogram_worker(ctx, scene, o));
+        check_validation(ctx);
+        return code;
+    }
+#endif
     ProgressLine progress;
     SearchControl control;
     SemivariogramResult result;
-    {
+#if FIRD_HAVE_MPI
+    // Under mpirun: each series' points shared among the ranks.
+    std::optional<distributed::Farm> farm;
+    if (global.job && global.job->distributed()) {
+        farm.emplace(*global.job, &control, a.rank_timeout_s, std::string());
+        o.distributed = distributed::semivariogram_tracing(*farm);
+    }
+#endif
+    const auto calibrate = [&] {
         const InterruptScope interrupts(control);
         result = calibrate_semivariogram(
             ctx, scene, o, &control, [&](std::size_t, std::uint32_t j, double l2) {
@@ -143,7 +159,13 @@ int run_semivariogram(const GlobalOptions& global, const SemivariogramArgs& a) {
                     fmt::format("calibrate semivariogram: point {} of {}, l2 {:.4g} lm | {}", j + 1,
                                 o.points, l2, clock_time(progress.elapsed_s())));
             });
-    }
+        return result.time_s;
+    };
+#if FIRD_HAVE_MPI
+    if (const auto code = run_shared(farm, control, "series points", calibrate)) return *code;
+#else
+    calibrate();
+#endif
     progress.finish();
     check_validation(ctx);
     if (!a.out.empty()) write_semivariograms(a.out, result, scene.name);
@@ -223,6 +245,9 @@ void register_calibrate(CLI::App& app, const GlobalOptions& global, std::functio
                    "range (the paper's lower bound, never below the resolvable step)")
         ->transform(CLI::CheckedTransformer(std::map<std::string, StepRule>{
             {"range", StepRule::Range}, {"resolvable", StepRule::Resolvable}}));
+    sv->add_option("--rank-timeout", s->rank_timeout_s,
+                   "Under mpirun or srun: the longest wait (s) on a rank for its share of a "
+                   "series' points (default: 60 s plus ten times rank 0's own share)");
     sv->callback(
         [&global, &run, s] { run = [&global, s] { return run_semivariogram(global, *s); }; });
 }

@@ -98,7 +98,7 @@ int fird_main(int argc, char** argv, const fird::distributed::Job* job) {
                 std::fprintf(
                     stderr,
                     "fird: error: fird %s runs in one process; under mpirun or srun "
-                    "only fird optimize, calibrate rays and tolerance share their work among ranks "
+                    "only fird optimize, calibrate and tolerance share their work among ranks "
                     "(-np 1 here)\n",
                     subcommand.c_str());
             return 2;

@@ -310,22 +310,43 @@ SemivariogramResult calibrate_semivariogram(const vk::Context& ctx, const Scene&
                                    space.names.begin());
         ParameterSemivariogram s{.parameter = names[p]};
         const double spacing = (space.hi[k] - space.lo[k]) / (o.points - 1);
+        // Fresh rays per point, so its noise is in the series as in the paper: each point's
+        // seed follows from its place in the series, wherever it is traced.
+        std::vector<SeriesPoint> points;
+        std::vector<std::uint32_t> traced; // the series index of each point to trace
         for (std::uint32_t j = 0; j < o.points; ++j) {
-            check_stop(control);
-            ReflectorDesc r = centre;
             const double x = space.lo[k] + j * spacing;
-            r.parameters[names[p]] = x;
             s.x.push_back(x);
-            double l2 = std::numeric_limits<double>::quiet_NaN();
+            s.l2.push_back(std::numeric_limits<double>::quiet_NaN()); // infeasible: none
             ++stream;
-            if (candidate_feasibility(scene, r).feasible) {
-                // Fresh rays per point, so its noise is in the series as in the paper.
-                evaluator.set_seed(stream_seed(o.seed, stream, avoid_seed(scene)));
-                l2 = *evaluator.evaluate(r).l2_lm;
-            }
-            s.l2.push_back(l2);
-            if (on_point) on_point(p, j, l2);
+            ReflectorDesc r = centre;
+            r.parameters[names[p]] = x;
+            if (!candidate_feasibility(scene, r).feasible) continue;
+            points.push_back({names[p], x, stream_seed(o.seed, stream, avoid_seed(scene))});
+            traced.push_back(j);
         }
+        const SeriesTracer here = [&](std::span<const SeriesPoint> part) {
+            return trace_series_points(evaluator, scene, part);
+        };
+        // A point at a time here; across processes a few for each per exchange.
+        const std::size_t chunk = o.distributed.trace ? 4 * o.distributed.processes : 1;
+        std::uint32_t shown = 0; // the series' points reported so far
+        for (std::size_t first = 0; first < points.size(); first += chunk) {
+            check_stop(control);
+            const auto part =
+                std::span(points).subspan(first, std::min(chunk, points.size() - first));
+            const std::vector<double> l2s = o.distributed.trace
+                                                ? o.distributed.trace(part, desired.farfield, here)
+                                                : here(part);
+            for (std::size_t i = 0; i < part.size(); ++i)
+                s.l2[traced[first + i]] = l2s.at(i);
+            const std::uint32_t upto =
+                first + part.size() < points.size() ? traced[first + part.size()] : o.points;
+            for (; shown < upto; ++shown)
+                if (on_point) on_point(p, shown, s.l2[shown]);
+        }
+        for (; shown < o.points; ++shown)
+            if (on_point) on_point(p, shown, s.l2[shown]);
         s.empirical = empirical_semivariogram(s.l2, spacing);
         s.fits = fit_variograms(s.empirical);
         s.model = best_fit(s.fits);
@@ -348,6 +369,19 @@ SemivariogramResult calibrate_semivariogram(const vk::Context& ctx, const Scene&
     }
     result.time_s = seconds_since(t0);
     return result;
+}
+
+std::vector<double> trace_series_points(Evaluator& evaluator, const Scene& scene,
+                                        std::span<const SeriesPoint> points) {
+    const ReflectorDesc centre = desired_reflector(scene);
+    std::vector<double> l2s;
+    for (const SeriesPoint& point : points) {
+        ReflectorDesc r = centre;
+        r.parameters[point.parameter] = point.x;
+        evaluator.set_seed(point.seed);
+        l2s.push_back(*evaluator.evaluate(r).l2_lm);
+    }
+    return l2s;
 }
 
 double calibrated_step(const ParameterSemivariogram& p, StepRule rule) {

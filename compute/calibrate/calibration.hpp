@@ -112,6 +112,29 @@ RaysTable calibrate_rays(const vk::Context& ctx, const Scene& scene,
 enum class StepRule { Resolvable, Range };
 const char* step_rule_name(StepRule rule);
 
+// One point of a semivariogram's series: the desired reflector with parameter `parameter`
+// (of [reflector.optimize]) at `x`, traced with its own rays (`seed`).
+struct SeriesPoint {
+    std::string parameter;
+    double x = 0.0;
+    std::uint64_t seed = 0;
+};
+// Traces points of a series (each's l2 to the desired far field).
+using SeriesTracer = std::function<std::vector<double>(std::span<const SeriesPoint>)>;
+// Traces a series' points across processes (fird calibrate semivariogram under mpirun:
+// compute/distributed), as DistributedRuns does a row's pairs. Empty: all here.
+struct DistributedSeries {
+    std::size_t processes = 1;
+    std::function<std::vector<double>(std::span<const SeriesPoint>, const FarField& desired,
+                                      const SeriesTracer& here)>
+        trace;
+};
+
+// The points traced with `evaluator` (at the semivariogram's fidelity, the desired far field
+// set) as calibrate_semivariogram traces them.
+std::vector<double> trace_series_points(Evaluator& evaluator, const Scene& scene,
+                                        std::span<const SeriesPoint> points);
+
 struct SemivariogramOptions {
     std::vector<std::string> parameters; // empty: every parameter of [reflector.optimize]
     std::uint32_t points = 101;          // K regularly spaced values across the bounds
@@ -121,6 +144,9 @@ struct SemivariogramOptions {
     // and the resolvable step's common-random-number differences measured on each.
     std::uint32_t noise_runs = 8;
     StepRule step_rule = StepRule::Resolvable; // the step the result writes back
+    // The series' points shared among processes; the noise replicates and the resolvable
+    // step's probes stay in this one.
+    DistributedSeries distributed;
 };
 
 struct ParameterSemivariogram {

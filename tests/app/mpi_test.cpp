@@ -181,6 +181,33 @@ TEST(Mpi, ToleranceOnThreeRanksWritesWhatOneProcessWrites) {
     EXPECT_EQ(ja, jb);
 }
 
+// fird calibrate semivariogram: each series' points shared among the ranks (each point's
+// rays follow from its place in the series), the noise replicates and the resolvable step's
+// probes on rank 0: the same series, fits and steps as one process, less the times.
+TEST(Mpi, SemivariogramOnThreeRanksWritesWhatOneProcessWrites) {
+    const std::string one = fresh_dir("semivariogram1"), many = fresh_dir("semivariogram3");
+    const std::string args =
+        "calibrate semivariogram " + kMirror + " --points 9 --rays 2e4 --json --out ";
+    const Result a = one_process(args + one);
+    ASSERT_EQ(a.code, 0) << a.out;
+    const Result b = ranks(3, args + many);
+    ASSERT_EQ(b.code, 0) << b.out;
+    EXPECT_NE(b.out.find("series points traced on ranks 1-2"), std::string::npos) << b.out;
+    // Both parameters' series, 9 points each, a header: the same rows to the last digit.
+    const std::string series = read_text(one + "/series.csv");
+    EXPECT_EQ(std::count(series.begin(), series.end(), '\n'), 1 + 2 * 9) << series;
+    EXPECT_EQ(series, read_text(many + "/series.csv"));
+    EXPECT_EQ(read_text(one + "/semivariogram.csv"), read_text(many + "/semivariogram.csv"));
+    auto ja = nlohmann::json::parse(a.out.substr(a.out.find('{')));
+    auto jb = nlohmann::json::parse(b.out.substr(b.out.find('{')));
+    for (auto* j : {&ja, &jb}) {
+        j->erase("time_s");
+        for (auto& p : (*j)["parameters"])
+            p.erase("time_s");
+    }
+    EXPECT_EQ(ja, jb);
+}
+
 // fird calibrate rays (Table 1): each row's runs shared among the ranks in pairs (the
 // replicate estimate needs a pair's two far fields), summed in the runs' order on rank 0:
 // the same table as one process, less the rows' times.
@@ -266,11 +293,15 @@ TEST(Mpi, BadOptionsAreOneLineUsageErrors) {
     EXPECT_EQ(r.code, 2) << r.out;
     EXPECT_EQ(error_lines(r.out), 1) << r.out;
     EXPECT_NE(r.out.find("fird trace runs in one process"), std::string::npos) << r.out;
-    r = ranks(2, "calibrate semivariogram " + kMirror);
+    r = ranks(2, "calibrate semivariogram " + kMirror + " --rank-timeout 0");
     EXPECT_EQ(r.code, 2) << r.out;
     EXPECT_EQ(error_lines(r.out), 1) << r.out;
-    EXPECT_NE(r.out.find("fird calibrate semivariogram runs in one process"), std::string::npos)
+    EXPECT_NE(r.out.find("fird: error: --rank-timeout must be more than 0 s"), std::string::npos)
         << r.out;
+    r = ranks(2, "stress");
+    EXPECT_EQ(r.code, 2) << r.out;
+    EXPECT_EQ(error_lines(r.out), 1) << r.out;
+    EXPECT_NE(r.out.find("fird stress runs in one process"), std::string::npos) << r.out;
     // In one process the option is checked the same way.
     r = one_process("optimize " + kMirror + " --rank-timeout -1");
     EXPECT_EQ(r.code, 2) << r.out;
