@@ -73,6 +73,8 @@ struct LatticeProblem {
     std::pair<pagmo::vector_double, pagmo::vector_double> get_bounds() const { return {lo, hi}; }
 };
 
+} // namespace
+
 // Hansen's default population size, 4 + floor(3 ln n): 6 for two parameters, 14 for 36
 // (one submission of the fast path's batch, FastTracer::kMaxBatchCandidates = 16). pagmo's
 // CMA-ES needs at least 5.
@@ -80,7 +82,12 @@ std::uint64_t population_size(std::size_t n) {
     return std::max<std::uint64_t>(5, 4 + std::uint64_t(std::floor(3.0 * std::log(double(n)))));
 }
 
-} // namespace
+std::optional<std::uint64_t> generation_size(const std::string& method, std::size_t parameters) {
+    if (method == "cmaes" || method == "xnes" ||
+        (method == "auto" && parameters > kPopulationAbove))
+        return population_size(parameters);
+    return std::nullopt;
+}
 
 struct PopulationSearch::State {
     Objective* objective;

@@ -6,12 +6,14 @@
 
 #include <fmt/format.h>
 
+#include "calibrate/order_statistics.hpp"
 #include "evaluation/evaluation.hpp"
 #include "evaluation/evaluator.hpp"
 #include "io/atomic_file.hpp"
 #include "io/scene_file.hpp"
 #include "model/design_parameters.hpp"
 #include "model/surface.hpp"
+#include "optimize/methods.hpp"
 #include "plot/chart.hpp"
 
 namespace fird {
@@ -251,6 +253,37 @@ ProgressCharts progress_charts(const SearchResult& r) {
         }
         l2.series.push_back(std::move(points));
         l2.series.push_back(std::move(best));
+    }
+    // A population search: each generation's spread, the 10-90 % of the scores of each run
+    // of a generation's worth of consecutive evaluations in a stage (the start, traced
+    // alone, and memo answers shift a generation's edges by a candidate or two), shaded
+    // behind the points: it narrows as the population converges.
+    const std::optional<std::uint64_t> generation = r.population
+                                                        ? std::optional(r.population->size)
+                                                        : generation_size(r.method, r.names.size());
+    if (generation && *generation > 1) {
+        plot::Series band{.kind = plot::Series::Kind::Band,
+                          .label =
+                              fmt::format("each generation's 10-90 % ({} candidates)", *generation),
+                          .colour = {0.55, 0.55, 0.65, 0.25}};
+        for (std::size_t s = 0; s < r.stages.size(); ++s) {
+            std::vector<const Candidate*> stage;
+            for (const Candidate& c : r.history)
+                if (c.stage == s && c.feasible) stage.push_back(&c);
+            for (std::size_t first = 0; first + *generation <= stage.size(); first += *generation) {
+                std::vector<double> scores;
+                for (std::size_t k = first; k < first + *generation; ++k)
+                    scores.push_back(stage[k]->score);
+                std::sort(scores.begin(), scores.end());
+                // Across the generation's evaluations, flat: a step per generation.
+                for (const std::size_t k : {first, first + *generation - 1}) {
+                    band.x.push_back(double(stage[k]->index));
+                    band.y.push_back(sorted_quantile(scores, 0.1));
+                    band.y_upper.push_back(sorted_quantile(scores, 0.9));
+                }
+            }
+        }
+        if (!band.x.empty()) l2.series.insert(l2.series.begin(), std::move(band));
     }
     if (r.final_l2_lm) {
         // On the scores' axis: the final l2 plus the best's penalty.

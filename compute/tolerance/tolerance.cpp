@@ -10,6 +10,7 @@
 
 #include <fmt/format.h>
 
+#include "calibrate/order_statistics.hpp"
 #include "evaluation/desired_farfield.hpp"
 #include "io/atomic_file.hpp"
 #include "model/design_parameters.hpp"
@@ -63,14 +64,6 @@ Scene perturbed_scene(const Scene& base, const ToleranceDesc& tol, const Toleran
         surface_rms_mm = mesh.rms_mm;
     }
     return s;
-}
-
-double percentile(const std::vector<double>& sorted, double q) {
-    if (sorted.empty()) return 0.0;
-    const double at = q * double(sorted.size() - 1);
-    const auto i = std::size_t(std::floor(at));
-    const double f = at - double(i);
-    return i + 1 < sorted.size() ? sorted[i] * (1.0 - f) + sorted[i + 1] * f : sorted[i];
 }
 
 // A kind with no rows (a run stopped before it, or every one of its realisations
@@ -149,7 +142,7 @@ ToleranceDraw draw_tolerances(const ToleranceDesc& t, const Scene& scene, std::u
 
 Spread spread_of(std::vector<double> v) {
     std::sort(v.begin(), v.end());
-    return {percentile(v, 0.5), percentile(v, 0.05), percentile(v, 0.95)};
+    return {sorted_quantile(v, 0.5), sorted_quantile(v, 0.05), sorted_quantile(v, 0.95)};
 }
 
 namespace {

@@ -142,6 +142,49 @@ TEST(ProgressCharts, ParameterAxesSpanTheSearchBoxFromTheFirstEvaluation) {
     EXPECT_GE(x1, 10.0);
 }
 
+// A population search's progress chart shades each generation's spread: generations of 6
+// (CMA-ES over 2 parameters, 4 + floor(3 ln 2)) as runs of 6 consecutive feasible
+// candidates of a stage, from the 10 % to the 90 % quantile of their scores (linear between
+// order statistics: of six sorted scores s0..s5, (s0 + s1) / 2 and (s4 + s5) / 2), flat
+// across the
+// generation; an incomplete last generation and infeasible candidates are left out, and
+// a grid search has no band.
+TEST(ProgressCharts, APopulationSearchShadesEachGenerationsSpread) {
+    SearchResult r;
+    r.method = "cmaes";
+    r.names = {"a", "b"};
+    r.stages = {StageSummary{.name = "explore"}};
+    // Scores of generation 0: 10, 1, 9, 2, 8, 3 (an infeasible candidate among them); of
+    // generation 1: 5, 4.5, 4, 6, 5.5, 4.2; then two more.
+    const std::vector<double> scores{10, 1, 9, 2, 8, 3, 5, 4.5, 4, 6, 5.5, 4.2, 3, 3};
+    std::uint64_t index = 0;
+    for (std::size_t k = 0; k < scores.size(); ++k) {
+        if (k == 3)
+            r.history.push_back({.index = index++, .stage = 0, .x = {0.0, 0.0}, .feasible = false});
+        r.history.push_back({.index = index++,
+                             .stage = 0,
+                             .x = {0.0, 0.0},
+                             .l2_lm = scores[k],
+                             .score = scores[k]});
+    }
+    const auto band_of = [](const ProgressCharts& c) -> const plot::Series* {
+        for (const plot::Series& s : c.l2.series)
+            if (s.kind == plot::Series::Kind::Band) return &s;
+        return nullptr;
+    };
+    const ProgressCharts charts = progress_charts(r);
+    const plot::Series* band = band_of(charts);
+    ASSERT_NE(band, nullptr);
+    // Two generations, each two points: its first and last candidate's evaluation index.
+    ASSERT_EQ(band->x.size(), 4u);
+    EXPECT_EQ(band->x, (std::vector<double>{0.0, 6.0, 7.0, 12.0})); // index 3 is infeasible
+    // Generation 0 sorted: 1 2 3 8 9 10; generation 1: 4 4.2 4.5 5 5.5 6.
+    EXPECT_EQ(band->y, (std::vector<double>{1.5, 1.5, 4.1, 4.1}));
+    EXPECT_EQ(band->y_upper, (std::vector<double>{9.5, 9.5, 5.75, 5.75}));
+    r.method = "grid";
+    EXPECT_EQ(band_of(progress_charts(r)), nullptr);
+}
+
 // A zoomed far field looks at its brightest rows: a bright band at altitude 30..40 deg and a
 // little stray light at -60 deg stretch the lit band from about -62 to 42 deg; its middle
 // (-10 deg) is dark. A window of 20 deg must hold the bright band.
