@@ -19,11 +19,13 @@ namespace fird::ui {
 
 namespace {
 
-// The readout's lines: which panel, where, and the obtained, desired and difference values.
-std::string luminaire_readout_text(const LuminaireReadout& r) {
+// The readout's lines: which panel, where, and the obtained, desired and difference values
+// (the isocandela view's third panel overlays the two tables' lines).
+std::string luminaire_readout_text(const LuminaireReadout& r, bool isocandela) {
     const char* panel = r.panel == LuminairePanel::Obtained  ? "obtained"
                         : r.panel == LuminairePanel::Desired ? "desired"
-                                                             : "obtained - desired";
+                        : isocandela ? "obtained (solid) and desired (dashed)"
+                                     : "obtained - desired";
     const char* unit = r.on_plane ? "lx" : "cd";
     std::string text = fmt::format("{}\n", panel);
     if (r.on_plane)
@@ -141,7 +143,9 @@ void farfield_panel(Frame& f) {
                 snap.desired_table ? &*snap.desired_table : nullptr,
                 {.title = ff.title, .plane_distance_m = options.plane_distance_m},
                 snap.view_gamma_deg, m.x - origin.x, m.y - origin.y))
-            ImGui::SetTooltip("%s", luminaire_readout_text(*at).c_str());
+            ImGui::SetTooltip(
+                "%s", luminaire_readout_text(*at, *options.luminaire == LuminaireView::Isocandela)
+                          .c_str());
     }
     if (scrolls) ImGui::EndChild();
     ImGui::End();

@@ -128,6 +128,10 @@ void Worker::loop() {
         }
         const std::lock_guard lock(mutex_);
         running_ = false;
+        // A job that failed ends its progress too: the panel that copies a tolerance run's
+        // progress only when it moves must see it end.
+        if (std::holds_alternative<ToleranceJob>(job) && tolerance_.running)
+            ++tolerance_.generation;
         search_.running = calibration_.running = tolerance_.running = false;
     }
 }

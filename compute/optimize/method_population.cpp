@@ -73,8 +73,6 @@ struct LatticeProblem {
     std::pair<pagmo::vector_double, pagmo::vector_double> get_bounds() const { return {lo, hi}; }
 };
 
-} // namespace
-
 // Hansen's default population size, 4 + floor(3 ln n): 6 for two parameters, 14 for 36
 // (one submission of the fast path's batch, FastTracer::kMaxBatchCandidates = 16). pagmo's
 // CMA-ES needs at least 5.
@@ -82,12 +80,7 @@ std::uint64_t population_size(std::size_t n) {
     return std::max<std::uint64_t>(5, 4 + std::uint64_t(std::floor(3.0 * std::log(double(n)))));
 }
 
-std::optional<std::uint64_t> generation_size(const std::string& method, std::size_t parameters) {
-    if (method == "cmaes" || method == "xnes" ||
-        (method == "auto" && parameters > kPopulationAbove))
-        return population_size(parameters);
-    return std::nullopt;
-}
+} // namespace
 
 struct PopulationSearch::State {
     Objective* objective;
@@ -160,14 +153,21 @@ StopReason PopulationSearch::run_stage(std::uint64_t max_evaluations) {
         // each point recorded in pagmo's order; a stop (budget, threshold, interruption)
         // comes out of here, between generations as far as pagmo is concerned.
         const std::uint64_t before = f.evaluations();
+        // Its candidates carry its number (the progress chart's generation bands).
+        f.set_generation(std::uint32_t(s.report->generations + 1));
         try {
             (void)f.evaluate_all(points);
         } catch (const SearchStopped& stop) {
+            f.set_generation(std::nullopt);
             s.report->verdict =
                 fmt::format("stopped ({}) in generation {}", stop_reason_name(stop.reason),
                             s.report->generations + 1);
             throw;
+        } catch (...) {
+            f.set_generation(std::nullopt);
+            throw;
         }
+        f.set_generation(std::nullopt);
         // The generation itself, every point answered from the stage's memo.
         s.generation.mode = Generation::Mode::Answer;
         s.population = std::visit(evolve, s.algorithm);

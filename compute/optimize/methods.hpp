@@ -5,7 +5,6 @@
 #include <cstdint>
 #include <memory>
 #include <optional>
-#include <string>
 #include <vector>
 
 #include <nlopt.hpp>
@@ -87,14 +86,6 @@ void run_refine(Objective& objective, std::uint32_t lattice_stage, const Confirm
 // lattice: DIRECT's budget grows as 12 m (m + 1) and a lattice neighbourhood with pairs of
 // steps as 2 m^2, both out of reach at tens of heights (docs/optimization.md).
 constexpr std::size_t kPopulationAbove = 6;
-
-// Candidates per generation of a population search over `parameters` free parameters:
-// Hansen's default, 4 + floor(3 ln n), at least 5 (pagmo's CMA-ES needs 5).
-std::uint64_t population_size(std::size_t parameters);
-
-// The generation size of a search by `method` ("cmaes", "xnes", or "auto" beyond
-// kPopulationAbove) over `parameters` parameters; none for the other methods.
-std::optional<std::uint64_t> generation_size(const std::string& method, std::size_t parameters);
 
 // A population search's first spread, a fraction of each parameter's box: a quarter, as the
 // NLopt methods' first step (CMA-ES wants the optimum within about two of them of the start).

@@ -1,7 +1,10 @@
 #include "objective.hpp"
 
+#include <atomic>
 #include <chrono>
 #include <cmath>
+#include <exception>
+#include <future>
 #include <limits>
 #include <set>
 #include <stdexcept>
@@ -128,9 +131,10 @@ double Objective::trace(const std::vector<double>& x) {
             throw std::runtime_error(fmt::format(
                 "candidate {}: the far field's l2 is not finite ({})", c.index, c.l2_lm));
         if (const auto e = prefetched_energy_.find(x); e != prefetched_energy_.end()) {
-            const std::shared_future<double> energy = e->second;
+            const Measured energy = e->second;
             prefetched_energy_.erase(e);
-            c.smoothness = energy.get(); // rethrows as smoothness_of would
+            if (energy.error) std::rethrow_exception(energy.error); // as smoothness_of would
+            c.smoothness = energy.value;
         } else {
             c.smoothness = smoothness_of(reflector);
         }
@@ -194,21 +198,35 @@ void Objective::prefetch(std::span<const std::vector<double>> xs) {
     const auto trace_here = [this](std::span<const std::vector<double>> points) {
         return trace_points(stage_evaluator(), scene_, space_, points);
     };
-    // The batch's bending energies (a weighted search), each on a host thread of its own
-    // while the device traces the batch: a batch of 16 waited for 16 in turn before.
-    std::vector<std::shared_future<double>> energies;
-    if (scene_.optimize.smoothness > 0.0)
-        for (const std::vector<double>& x : keys)
-            energies.push_back(std::async(std::launch::async, [this, reflector = space_.reflector(
-                                                                         scene_.reflector, x)] {
-                                   return smoothness_of(reflector);
-                               }).share());
+    // The batch's bending energies (a weighted search), measured on up to a core's worth of
+    // host threads while the device traces the batch (one after another, before, they
+    // waited for it), each exactly as alone; an error is kept for its candidate.
+    std::vector<Measured> energies(scene_.optimize.smoothness > 0.0 ? keys.size() : 0);
+    std::vector<ReflectorDesc> shapes;
+    for (std::size_t k = 0; k < energies.size(); ++k)
+        shapes.push_back(space_.reflector(scene_.reflector, keys[k]));
+    std::atomic<std::size_t> next_energy{0};
+    std::vector<std::future<void>> measuring;
+    const std::size_t threads =
+        std::min<std::size_t>(energies.size(), std::max(1u, std::thread::hardware_concurrency()));
+    for (std::size_t t = 0; t < threads; ++t)
+        measuring.push_back(std::async(std::launch::async, [&] {
+            for (std::size_t k; (k = next_energy++) < energies.size();) {
+                try {
+                    energies[k].value = smoothness_of(shapes[k]);
+                } catch (...) {
+                    energies[k].error = std::current_exception();
+                }
+            }
+        }));
     std::vector<CandidateResult> results =
         distributed ? settings_.distributed.trace(StageBatch{.fidelity = stage().fidelity,
                                                              .desired = desired_,
                                                              .points = keys,
                                                              .trace_here = trace_here})
                     : trace_here(keys);
+    for (std::future<void>& m : measuring)
+        m.get();
     for (std::size_t k = 0; k < keys.size(); ++k) {
         prefetched_.emplace(keys[k], std::move(results[k]));
         if (!energies.empty()) prefetched_energy_.emplace(keys[k], energies[k]);
@@ -265,6 +283,7 @@ std::pair<FarField, FarField> Objective::noise_pair(const std::vector<double>& x
 }
 
 const Candidate& Objective::record(Candidate c) {
+    c.generation = generation_;
     StageSummary& s = stages_.back();
     ++s.evaluations;
     if (!c.feasible) ++s.infeasible;

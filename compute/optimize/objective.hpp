@@ -6,7 +6,7 @@
 #pragma once
 
 #include <cstdint>
-#include <future>
+#include <exception>
 #include <map>
 #include <memory>
 #include <optional>
@@ -57,6 +57,9 @@ class Objective {
     // The current stage's best feasible candidate, if any.
     const Candidate* stage_best() const;
     std::uint64_t evaluations() const { return history_.size(); }
+    // The population generation the candidates recorded from now on belong to (none:
+    // not a population's).
+    void set_generation(std::optional<std::uint32_t> generation) { generation_ = generation; }
     std::uint64_t remaining() const;
     // The score of an infeasible candidate: above any traced l2 (l2 <= ||desired|| + the
     // largest norm the source's flux can have in the metric: the flux itself for l2),
@@ -100,9 +103,14 @@ class Objective {
     std::unique_ptr<Evaluator> evaluator_;
     // Traced by prefetch() and not yet asked for (x -> its result), this stage's only.
     std::map<std::vector<double>, CandidateResult> prefetched_;
+    std::optional<std::uint32_t> generation_;
     // With a smoothness weight: the bending energies of the batch traced ahead, measured on
     // host threads while the device traced it (they do not depend on the trace).
-    std::map<std::vector<double>, std::shared_future<double>> prefetched_energy_;
+    struct Measured {
+        double value = 0.0;
+        std::exception_ptr error; // what measuring it threw, rethrown when it is recorded
+    };
+    std::map<std::vector<double>, Measured> prefetched_energy_;
     double stage_desired_norm_lm_ = 0.0; // in the scene's metric
     double stage_flux_bound_ = 0.0;      // the largest metric norm of the source's flux
     bool threshold_applies_ = false;

@@ -13,7 +13,6 @@
 #include "io/scene_file.hpp"
 #include "model/design_parameters.hpp"
 #include "model/surface.hpp"
-#include "optimize/methods.hpp"
 #include "plot/chart.hpp"
 
 namespace fird {
@@ -254,37 +253,33 @@ ProgressCharts progress_charts(const SearchResult& r) {
         l2.series.push_back(std::move(points));
         l2.series.push_back(std::move(best));
     }
-    // A population search: each generation's spread, the 10-90 % of the scores of each run
-    // of a generation's worth of consecutive evaluations in a stage (the start, traced
-    // alone, and memo answers shift a generation's edges by a candidate or two), shaded
-    // behind the points: it narrows as the population converges.
-    const std::optional<std::uint64_t> generation = r.population
-                                                        ? std::optional(r.population->size)
-                                                        : generation_size(r.method, r.names.size());
-    if (generation && *generation > 1) {
-        plot::Series band{.kind = plot::Series::Kind::Band,
-                          .label =
-                              fmt::format("each generation's 10-90 % ({} candidates)", *generation),
-                          .colour = {0.55, 0.55, 0.65, 0.25}};
-        for (std::size_t s = 0; s < r.stages.size(); ++s) {
-            std::vector<const Candidate*> stage;
-            for (const Candidate& c : r.history)
-                if (c.stage == s && c.feasible) stage.push_back(&c);
-            for (std::size_t first = 0; first + *generation <= stage.size(); first += *generation) {
-                std::vector<double> scores;
-                for (std::size_t k = first; k < first + *generation; ++k)
-                    scores.push_back(stage[k]->score);
-                std::sort(scores.begin(), scores.end());
-                // Across the generation's evaluations, flat: a step per generation.
-                for (const std::size_t k : {first, first + *generation - 1}) {
-                    band.x.push_back(double(stage[k]->index));
-                    band.y.push_back(sorted_quantile(scores, 0.1));
-                    band.y_upper.push_back(sorted_quantile(scores, 0.9));
-                }
+    // A population search: each generation's spread, the 10-90 % quantile of its feasible
+    // candidates' scores (each candidate carries its generation; answers from the memo add
+    // none), flat across the generation's evaluations and shaded behind the points: it
+    // narrows as the population converges.
+    plot::Series band{.kind = plot::Series::Kind::Band,
+                      .label = "each generation's 10-90 %",
+                      .colour = {0.55, 0.55, 0.65, 0.25}};
+    for (std::size_t first = 0; first < r.history.size();) {
+        const Candidate& c = r.history[first];
+        std::size_t end = first + 1; // the generation's rows: [first, end)
+        while (end < r.history.size() && r.history[end].generation == c.generation &&
+               r.history[end].stage == c.stage)
+            ++end;
+        std::vector<double> scores;
+        for (std::size_t k = first; k < end; ++k)
+            if (r.history[k].feasible) scores.push_back(r.history[k].score);
+        if (c.generation && scores.size() >= 2) {
+            std::sort(scores.begin(), scores.end());
+            for (const std::size_t k : {first, end - 1}) {
+                band.x.push_back(double(r.history[k].index));
+                band.y.push_back(sorted_quantile(scores, 0.1));
+                band.y_upper.push_back(sorted_quantile(scores, 0.9));
             }
         }
-        if (!band.x.empty()) l2.series.insert(l2.series.begin(), std::move(band));
+        first = end;
     }
+    if (!band.x.empty()) l2.series.insert(l2.series.begin(), std::move(band));
     if (r.final_l2_lm) {
         // On the scores' axis: the final l2 plus the best's penalty.
         const double penalty =

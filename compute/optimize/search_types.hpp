@@ -87,6 +87,9 @@ struct Candidate {
     double score = std::numeric_limits<double>::quiet_NaN();
     double ms = 0.0;       // wall time of its evaluation
     bool replayed = false; // read from the history of a resumed search, not traced
+    // A population search's generation (from 1; its start, traced alone, has none), for the
+    // progress chart; not in history.csv.
+    std::optional<std::uint32_t> generation;
 };
 
 // l2_lm + smoothness x the weight of `optimize`; l2_lm itself without a weight (to the bit).

@@ -142,31 +142,38 @@ TEST(ProgressCharts, ParameterAxesSpanTheSearchBoxFromTheFirstEvaluation) {
     EXPECT_GE(x1, 10.0);
 }
 
-// A population search's progress chart shades each generation's spread: generations of 6
-// (CMA-ES over 2 parameters, 4 + floor(3 ln 2)) as runs of 6 consecutive feasible
-// candidates of a stage, from the 10 % to the 90 % quantile of their scores (linear between
-// order statistics: of six sorted scores s0..s5, (s0 + s1) / 2 and (s4 + s5) / 2), flat
-// across the
-// generation; an incomplete last generation and infeasible candidates are left out, and
-// a grid search has no band.
+// A population search's progress chart shades each generation's spread: the 10 % to the
+// 90 % quantile of its feasible candidates' scores (linear between order statistics: of
+// six sorted scores s0..s5, (s0 + s1) / 2 and (s4 + s5) / 2), flat from its first to its
+// last row; the start (no generation) and a generation of one feasible score get none,
+// and a search whose candidates carry no generation (a grid) has no band.
 TEST(ProgressCharts, APopulationSearchShadesEachGenerationsSpread) {
     SearchResult r;
     r.method = "cmaes";
     r.names = {"a", "b"};
     r.stages = {StageSummary{.name = "explore"}};
-    // Scores of generation 0: 10, 1, 9, 2, 8, 3 (an infeasible candidate among them); of
-    // generation 1: 5, 4.5, 4, 6, 5.5, 4.2; then two more.
-    const std::vector<double> scores{10, 1, 9, 2, 8, 3, 5, 4.5, 4, 6, 5.5, 4.2, 3, 3};
     std::uint64_t index = 0;
-    for (std::size_t k = 0; k < scores.size(); ++k) {
-        if (k == 3)
-            r.history.push_back({.index = index++, .stage = 0, .x = {0.0, 0.0}, .feasible = false});
+    const auto add = [&](std::optional<std::uint32_t> generation, double score,
+                         bool feasible = true) {
         r.history.push_back({.index = index++,
                              .stage = 0,
                              .x = {0.0, 0.0},
-                             .l2_lm = scores[k],
-                             .score = scores[k]});
-    }
+                             .feasible = feasible,
+                             .l2_lm = feasible ? score : NAN,
+                             .score = feasible ? score : NAN,
+                             .generation = generation});
+    };
+    add(std::nullopt, 20.0); // the start, alone
+    // Generation 1: 10, 1, 9, an infeasible candidate, 2, 8, 3 (rows 1 to 7).
+    for (const double v : {10.0, 1.0, 9.0})
+        add(1, v);
+    add(1, 0.0, false);
+    for (const double v : {2.0, 8.0, 3.0})
+        add(1, v);
+    // Generation 2: 5, 4.5, 4, 6, 5.5, 4.2 (rows 8 to 13); generation 3: one candidate.
+    for (const double v : {5.0, 4.5, 4.0, 6.0, 5.5, 4.2})
+        add(2, v);
+    add(3, 3.0);
     const auto band_of = [](const ProgressCharts& c) -> const plot::Series* {
         for (const plot::Series& s : c.l2.series)
             if (s.kind == plot::Series::Kind::Band) return &s;
@@ -175,13 +182,12 @@ TEST(ProgressCharts, APopulationSearchShadesEachGenerationsSpread) {
     const ProgressCharts charts = progress_charts(r);
     const plot::Series* band = band_of(charts);
     ASSERT_NE(band, nullptr);
-    // Two generations, each two points: its first and last candidate's evaluation index.
-    ASSERT_EQ(band->x.size(), 4u);
-    EXPECT_EQ(band->x, (std::vector<double>{0.0, 6.0, 7.0, 12.0})); // index 3 is infeasible
-    // Generation 0 sorted: 1 2 3 8 9 10; generation 1: 4 4.2 4.5 5 5.5 6.
+    EXPECT_EQ(band->x, (std::vector<double>{1.0, 7.0, 8.0, 13.0}));
+    // Generation 1 sorted: 1 2 3 8 9 10; generation 2: 4 4.2 4.5 5 5.5 6.
     EXPECT_EQ(band->y, (std::vector<double>{1.5, 1.5, 4.1, 4.1}));
     EXPECT_EQ(band->y_upper, (std::vector<double>{9.5, 9.5, 5.75, 5.75}));
-    r.method = "grid";
+    for (Candidate& c : r.history)
+        c.generation.reset();
     EXPECT_EQ(band_of(progress_charts(r)), nullptr);
 }
 
