@@ -5,8 +5,8 @@ of tests/io/write_ray_files.py gives the header), and the scenes that trace them
 analytic emitters of the same light, all on the LED die's paraboloid at every ray of the
 file:
 
-  cylinder.toml / rayfile_cylinder.toml   a 1 mm x 0.3 mm cylinder along x (FIRD's analytic
-                                           one), and a file of rays drawn from that cylinder
+  cylinder.toml / rayfile_cylinder.toml   FIRD's analytic cylinder along x, 1 mm long and
+                                           0.3 mm in radius, and a file of rays drawn from it
   disk.toml / rayfile_disk.toml           a Lambertian disk of radius 0.5 mm facing down, and
                                            a file of rays drawn from that disk
 
@@ -113,7 +113,7 @@ def main(out, rays):
     write_file(os.path.join(out, "cylinder.tm25ray"), rays, cylinder_ray, rng)
     write_file(os.path.join(out, "disk.tm25ray"), rays, disk_ray, rng)
     sources = {
-        "cylinder": ("a 1 x 0.3 mm cylinder", 'type = "cylinder"\naxis = [1.0, 0.0, 0.0]\n'
+        "cylinder": ("a cylinder 1 mm long, 0.3 mm in radius", 'type = "cylinder"\naxis = [1.0, 0.0, 0.0]\n'
                      'length_mm = {length_mm}\nradius_mm = {radius_mm}\nemittance = "cosine"'
                      .format(**CYLINDER)),
         "rayfile_cylinder": ("a ray file drawn from that cylinder",
