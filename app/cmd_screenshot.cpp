@@ -29,15 +29,6 @@ struct Args {
          json = false;
 };
 
-std::pair<std::uint32_t, std::uint32_t> parse_size(const std::string& text) {
-    const auto x = text.find('x');
-    if (x == std::string::npos) throw UsageError(fmt::format("--size {}: not WxH", text));
-    const auto w = parse_count("--size", text.substr(0, x), 8192);
-    const auto h = parse_count("--size", text.substr(x + 1), 8192);
-    if (w < 64 || h < 64) throw UsageError(fmt::format("--size {}: at least 64x64", text));
-    return {std::uint32_t(w), std::uint32_t(h)};
-}
-
 render::OrbitCamera parse_camera(const std::string& text, render::OrbitCamera c) {
     const auto parts = split_list(text);
     if (parts.size() != 3) throw UsageError(fmt::format("--camera {}: not AZ,EL,DIST", text));
@@ -60,7 +51,7 @@ render::OrbitCamera parse_camera(const std::string& text, render::OrbitCamera c)
 }
 
 int run_screenshot(const GlobalOptions& global, const Args& a) {
-    const auto [w, h] = parse_size(a.size);
+    const auto [w, h] = parse_size("--size", a.size, 64, 8192);
     static const std::vector<std::string> views{
         "viewport", "farfield", "plots", "all", "workbench", "polar", "isocandela", "illuminance"};
     if (std::find(views.begin(), views.end(), a.view) == views.end())

@@ -54,6 +54,18 @@ std::vector<std::uint64_t> parse_counts(const std::string& option, const std::st
     return out;
 }
 
+std::pair<std::uint32_t, std::uint32_t> parse_size(const std::string& option,
+                                                   const std::string& text, std::uint32_t min_px,
+                                                   std::uint32_t max_px) {
+    const auto x = text.find('x');
+    if (x == std::string::npos) throw UsageError(fmt::format("{} {}: not WxH", option, text));
+    const auto w = parse_count(option, text.substr(0, x), max_px);
+    const auto h = parse_count(option, text.substr(x + 1), max_px);
+    if (w < min_px || h < min_px)
+        throw UsageError(fmt::format("{} {}: at least {}x{}", option, text, min_px, min_px));
+    return {std::uint32_t(w), std::uint32_t(h)};
+}
+
 std::map<std::string, double> parse_assignments(const std::string& option,
                                                 const std::string& text) {
     std::map<std::string, double> out;

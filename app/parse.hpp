@@ -6,6 +6,7 @@
 #include <map>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <CLI/CLI.hpp>
@@ -22,6 +23,11 @@ std::vector<std::string> split_list(const std::string& text, char separator = ',
 std::uint64_t parse_count(const std::string& option, const std::string& text, double max = 1e10);
 std::vector<std::uint64_t> parse_counts(const std::string& option, const std::string& text,
                                         double max = 1e10);
+
+// WxH in whole pixels, each side in [min_px, max_px]; errors name the option.
+std::pair<std::uint32_t, std::uint32_t> parse_size(const std::string& option,
+                                                   const std::string& text, std::uint32_t min_px,
+                                                   std::uint32_t max_px);
 
 // A check for a number option: finite and within [lo, hi] (CLI::Range lets NaN through).
 CLI::Validator finite_range(double lo, double hi);

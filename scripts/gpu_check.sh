@@ -9,7 +9,7 @@
 #   - ray-bounces per second of the bounce loop (fird trace --profile);
 #   - the per-candidate time at 1e6 rays, alone and in batches of 16 (Evaluator::evaluate_batch);
 #   - the search time of fird optimize (auto) on Model A;
-#   - the workbench's frame time p50/p99 while a search runs (under xvfb-run, when there).
+#   - the workbench's frame time p50/p99 while a search runs (offscreen: no display needed).
 #
 # Usage: scripts/gpu_check.sh [--quick] [--no-build] [--no-tests] [--fird PATH] [--device NAME]
 #                             [--out FILE]
@@ -20,8 +20,9 @@
 #   --fird      the fird binary to measure (default build/release/app/fird; implies --no-build)
 #   --device    the Vulkan device (fird --device: a substring of its name)
 #   --out       the markdown file (default: gpu_check.md in the working directory)
-# Every step is bounded by a timeout; a step that fails or times out is reported in the
-# table as such and the script goes on (exit 1 at the end if any did).
+# Every step is bounded by a timeout (at most GPU_CHECK_STEP_LIMIT_S seconds where that is
+# set: a lease of device time); a step that fails or times out is reported in the table as
+# such and the script goes on (exit 1 at the end if any did).
 set -uo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 quick=0 build=1 tests=1 device="" out="$PWD/gpu_check.md" fird="$root/build/release/app/fird"
@@ -39,6 +40,8 @@ while (($#)); do
   shift
 done
 case "$out" in /*) ;; *) out="$PWD/$out" ;; esac
+# Debian's python3 where there is one (the tables need only its standard library).
+py=/usr/bin/python3; [ -x "$py" ] || py=python3
 scale=1; ((quick)) && scale=100
 work="$(mktemp -d)"
 trap 'rm -rf "$work"' EXIT
@@ -49,6 +52,7 @@ note() { echo "gpu_check: $*" >&2; }
 step() { # NAME TIMEOUT_S COMMAND...: runs bounded, logs to $work/NAME.log, returns its status
   local name="$1" limit="$2"
   shift 2
+  [ -n "${GPU_CHECK_STEP_LIMIT_S:-}" ] && ((GPU_CHECK_STEP_LIMIT_S < limit)) && limit=$GPU_CHECK_STEP_LIMIT_S
   note "$name"
   timeout "$limit" "$@" >"$work/$name.out" 2>"$work/$name.log"
   local rc=$?
@@ -67,7 +71,7 @@ dev=(); [ -n "$device" ] && dev=(--device "$device")
 
 suite="not run"
 if ((tests)); then
-  if step tests 1800 bash -c "cd '$root/build/release' && FIRD_VALIDATION=1 ctest -j $(nproc) --output-on-failure"; then
+  if step tests 1800 bash -c "cd '$root/build/release' && FIRD_VALIDATION=1 ctest -j $(nproc) --output-on-failure ${FIRD_GPU_CHECK_CTEST_ARGS:-}"; then
     suite="passed: $(grep -Eo '[0-9]+ tests passed|tests passed, [0-9]+ tests failed out of [0-9]+' "$work/tests.out" | tail -1)"
   else
     suite="FAILED: $(grep -E 'tests passed|tests failed' "$work/tests.out" | tail -1)"
@@ -86,33 +90,25 @@ for m in A B C; do
 done
 stages="1e5,1e6,1e7"; ((quick)) && stages="1e3,1e4,1e5"
 step search_A 1200 "$fird" "${dev[@]}" optimize "$root/scenes/model_a.toml" --json --rays "$stages" --seed 1
-frames="no X server (xvfb-run not found)"
-if command -v xvfb-run >/dev/null; then
-  script="$root/scripts/workbench_latency.fird"
-  if step workbench 900 xvfb-run -a -s "-screen 0 1440x900x24" "$fird" "${dev[@]}" gui --script "$script" --stats; then
-    frames="$(/usr/bin/python3 - "$work/workbench.out" <<'PY' 2>/dev/null || echo "unreadable stats"
+# The workbench with no window (fird gui --offscreen): its frames drawn into an image on the
+# frames' queue, so a machine without a display (a data-centre GPU's) measures it too.
+frames="failed (see the log above)"
+script="$root/scripts/workbench_latency.fird"
+if step workbench 900 "$fird" "${dev[@]}" gui --offscreen 1440x900 --script "$script" --stats; then
+  frames="$("$py" - "$work/workbench.out" <<'PY' 2>/dev/null || echo "unreadable stats"
 import json, sys
-t = open(sys.argv[1]).read()
-for i in (k for k, ch in enumerate(t) if ch == "{"):  # the stats object among other output
-    try:
-        j = json.JSONDecoder().raw_decode(t[i:])[0]
-    except ValueError:
-        continue
-    if "frame_ms_p99" in j:
-        print(f"p50 {j['frame_ms_p50']:.1f} ms, p99 {j['frame_ms_p99']:.1f} ms over {j['frames']} frames")
-        break
-else:
-    sys.exit(1)
+j = json.load(open(sys.argv[1]))
+print(f"p50 {j['frame_ms_p50']:.1f} ms, p99 {j['frame_ms_p99']:.1f} ms over {j['frames']} frames "
+      f"(build p99 {j['build_ms_p99']:.1f} ms, draw p99 {j['present_ms_p99']:.1f} ms), "
+      f"{j['evaluations']} evaluations in the session, worker on "
+      f"{'a queue of its own' if j.get('separate_work_queue') else 'the frames queue'}")
 PY
 )"
-  else
-    frames="failed (see the log above)"
-  fi
 fi
 device_name="$("$fird" "${dev[@]}" info 2>/dev/null | sed -n 's/^chosen: //p' | head -1)"
 compute_queue="$("$fird" "${dev[@]}" info 2>/dev/null | sed -n 's/^compute queue: //p' | head -1)"
 
-/usr/bin/python3 - "$work" "$out" "$quick" "$suite" "$frames" "$device_name" "$(($(date +%s) - start_s))" "$compute_queue" <<'EOF'
+"$py" - "$work" "$out" "$quick" "$suite" "$frames" "$device_name" "$(($(date +%s) - start_s))" "$compute_queue" <<'EOF'
 import csv, json, os, sys
 work, out, quick, suite, frames, device, elapsed, compute_queue = sys.argv[1:]
 quick = quick == "1"
@@ -162,7 +158,7 @@ except (OSError, ValueError, KeyError):
     search = "failed"
 lines += ["", f"Search of Model A (fird optimize, auto, stages {'1e3,1e4,1e5' if quick else '1e5,1e6,1e7'} rays, "
           f"seed 1): {search}.", "",
-          f"Workbench while a search of Model A runs (scripts/workbench_latency.fird): {frames}.", ""]
+          f"Workbench while a search of Model A runs (scripts/workbench_latency.fird, offscreen 1440 x 900): {frames}.", ""]
 text = "\n".join(lines)
 tmp = out + ".tmp"
 with open(tmp, "w") as f:

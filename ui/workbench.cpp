@@ -26,6 +26,7 @@
 #include "views.hpp"
 #include "vk/check.hpp"
 #include "vk/context.hpp"
+#include "vk/submission.hpp"
 
 namespace fird::ui {
 
@@ -91,6 +92,25 @@ std::vector<std::uint8_t> draw_offscreen(const vk::Context& ctx, ImGuiRenderer& 
                        VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
     });
     return target.read_rgba(ctx);
+}
+
+// A frame of `fird gui --offscreen`: drawn into `target` on the frames' queue and waited
+// for, as a presented frame's fence is; nothing is read back (the frame time is the
+// window's without a display).
+void draw_frame_offscreen(const vk::Context& ctx, ImGuiRenderer& renderer, const ImDrawData* data,
+                          const render::OffscreenTarget& target) {
+    const vk::Submission frame(
+        ctx,
+        [&](VkCommandBuffer cb) {
+            vk::transition(cb, target.colour(), VK_IMAGE_LAYOUT_UNDEFINED,
+                           VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL);
+            renderer.record(cb, data, target.colour().view(), render::kColourFormat,
+                            {target.width(), target.height()}, 0, kClear);
+            vk::transition(cb, target.colour(), VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
+                           VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
+        },
+        "fird.workbench.frame");
+    frame.wait();
 }
 
 void present(const vk::Context& ctx, ImGui_ImplVulkanH_Window& wd, ImGuiRenderer& renderer,
@@ -172,68 +192,94 @@ void write_png(const std::string& path, const std::vector<std::uint8_t>& rgba, s
 
 } // namespace
 
+// The window of an interactive session: GLFW's, its surface and swapchain, and the files
+// dropped on it. None with `fird gui --offscreen`.
+struct WindowSurface {
+    GLFWwindow* window = nullptr;
+    ImGui_ImplVulkanH_Window wd;
+    std::vector<std::string> dropped;
+};
+
 int run_workbench(const WorkbenchOptions& options) {
     const auto started = std::chrono::steady_clock::now();
     double first_frame_ms = 0.0;
+    const bool offscreen = options.offscreen_w > 0 && options.offscreen_h > 0;
     // A script is read (and refused) before anything opens.
     std::optional<ScriptRunner> script;
     if (!options.script.empty()) script.emplace(parse_script(options.script));
-    const Glfw glfw;
-    if (!glfwVulkanSupported()) throw std::runtime_error("GLFW finds no Vulkan loader");
-    Settings settings = load_settings();
-    glfwWindowHint(GLFW_CLIENT_API, GLFW_NO_API);
-    GLFWwindow* window =
-        glfwCreateWindow(settings.window_w, settings.window_h, "FIRD workbench", nullptr, nullptr);
-    if (!window) throw std::runtime_error("cannot create the workbench window");
-    std::vector<std::string> dropped;
-    glfwSetWindowUserPointer(window, &dropped);
-    glfwSetDropCallback(window, [](GLFWwindow* w, int count, const char** paths) {
-        auto* d = static_cast<std::vector<std::string>*>(glfwGetWindowUserPointer(w));
-        for (int i = 0; i < count; ++i)
-            d->emplace_back(paths[i]);
-    });
-
-    std::uint32_t ext_count = 0;
-    const char** exts = glfwGetRequiredInstanceExtensions(&ext_count);
+    std::optional<Glfw> glfw;
+    std::optional<WindowSurface> win;
+    // Offscreen, the session starts from the stated defaults and saves nothing: a run
+    // without a display is measured the same way on every machine and leaves the user's
+    // window and layout alone.
+    Settings settings = offscreen ? Settings{} : load_settings();
     vk::ContextOptions ctx_options{.validation = options.validation,
                                    .device_name = options.device_name,
-                                   .device_extensions = {VK_KHR_SWAPCHAIN_EXTENSION_NAME},
                                    .max_batch_rays = options.max_batch_rays ? options.max_batch_rays
                                                                             : kWorkbenchBatchRays,
                                    .yield_between_passes = true};
-    for (std::uint32_t i = 0; i < ext_count; ++i)
-        ctx_options.instance_extensions.emplace_back(exts[i]);
+    if (!offscreen) {
+        glfw.emplace();
+        if (!glfwVulkanSupported()) throw std::runtime_error("GLFW finds no Vulkan loader");
+        glfwWindowHint(GLFW_CLIENT_API, GLFW_NO_API);
+        win.emplace();
+        win->window = glfwCreateWindow(settings.window_w, settings.window_h, "FIRD workbench",
+                                       nullptr, nullptr);
+        if (!win->window) throw std::runtime_error("cannot create the workbench window");
+        glfwSetWindowUserPointer(win->window, &win->dropped);
+        glfwSetDropCallback(win->window, [](GLFWwindow* w, int count, const char** paths) {
+            auto* d = static_cast<std::vector<std::string>*>(glfwGetWindowUserPointer(w));
+            for (int i = 0; i < count; ++i)
+                d->emplace_back(paths[i]);
+        });
+        std::uint32_t ext_count = 0;
+        const char** exts = glfwGetRequiredInstanceExtensions(&ext_count);
+        for (std::uint32_t i = 0; i < ext_count; ++i)
+            ctx_options.instance_extensions.emplace_back(exts[i]);
+        ctx_options.device_extensions.emplace_back(VK_KHR_SWAPCHAIN_EXTENSION_NAME);
+    }
     const auto ctx = vk::Context::create(ctx_options);
 
-    VkSurfaceKHR surface = VK_NULL_HANDLE;
-    FIRD_VK_CHECK(glfwCreateWindowSurface(ctx.instance(), window, nullptr, &surface));
-    VkBool32 can_present = VK_FALSE;
-    FIRD_VK_CHECK(vkGetPhysicalDeviceSurfaceSupportKHR(ctx.physical_device(), ctx.queue_family(),
-                                                       surface, &can_present));
-    if (!can_present) throw std::runtime_error("the chosen device cannot present to this window");
-    ImGui_ImplVulkanH_Window wd;
-    wd.Surface = surface;
-    const VkFormat formats[] = {VK_FORMAT_B8G8R8A8_UNORM, VK_FORMAT_R8G8B8A8_UNORM};
-    wd.SurfaceFormat = ImGui_ImplVulkanH_SelectSurfaceFormat(
-        ctx.physical_device(), surface, formats, 2, VK_COLORSPACE_SRGB_NONLINEAR_KHR);
-    const VkPresentModeKHR modes[] = {VK_PRESENT_MODE_FIFO_KHR};
-    wd.PresentMode = ImGui_ImplVulkanH_SelectPresentMode(ctx.physical_device(), surface, modes, 1);
-    int width = 0, height = 0;
-    glfwGetFramebufferSize(window, &width, &height);
+    int width = int(options.offscreen_w), height = int(options.offscreen_h);
     constexpr std::uint32_t kMinImages = 2;
-    resize_swapchain(ctx, wd, width, height, kMinImages);
+    if (win) {
+        ImGui_ImplVulkanH_Window& wd = win->wd;
+        VkSurfaceKHR surface = VK_NULL_HANDLE;
+        FIRD_VK_CHECK(glfwCreateWindowSurface(ctx.instance(), win->window, nullptr, &surface));
+        VkBool32 can_present = VK_FALSE;
+        FIRD_VK_CHECK(vkGetPhysicalDeviceSurfaceSupportKHR(
+            ctx.physical_device(), ctx.queue_family(), surface, &can_present));
+        if (!can_present)
+            throw std::runtime_error("the chosen device cannot present to this window (fird gui "
+                                     "--offscreen WxH runs the workbench without one)");
+        wd.Surface = surface;
+        const VkFormat formats[] = {VK_FORMAT_B8G8R8A8_UNORM, VK_FORMAT_R8G8B8A8_UNORM};
+        wd.SurfaceFormat = ImGui_ImplVulkanH_SelectSurfaceFormat(
+            ctx.physical_device(), surface, formats, 2, VK_COLORSPACE_SRGB_NONLINEAR_KHR);
+        const VkPresentModeKHR modes[] = {VK_PRESENT_MODE_FIFO_KHR};
+        wd.PresentMode =
+            ImGui_ImplVulkanH_SelectPresentMode(ctx.physical_device(), surface, modes, 1);
+        glfwGetFramebufferSize(win->window, &width, &height);
+        resize_swapchain(ctx, wd, width, height, kMinImages);
+    }
+    // Offscreen, the frames' image (a script's `resize` makes a new one).
+    std::optional<render::OffscreenTarget> target;
+    if (offscreen)
+        target.emplace(ctx, std::uint32_t(width), std::uint32_t(height), "fird.workbench.frame");
 
     const ImGuiScope imgui;
     // The layout is FIRD's own (ui/layout.hpp, kept in settings.txt): Dear ImGui keeps no
     // window positions of its own.
     ImGui::GetIO().IniFilename = nullptr;
-    float xscale = 1.0f, yscale = 1.0f;
-    glfwGetWindowContentScale(window, &xscale, &yscale);
-    if (xscale > 1.0f) {
-        ImGui::GetStyle().ScaleAllSizes(xscale); // HiDPI
-        ImGui::GetIO().FontGlobalScale = xscale;
+    if (win) {
+        float xscale = 1.0f, yscale = 1.0f;
+        glfwGetWindowContentScale(win->window, &xscale, &yscale);
+        if (xscale > 1.0f) {
+            ImGui::GetStyle().ScaleAllSizes(xscale); // HiDPI
+            ImGui::GetIO().FontGlobalScale = xscale;
+        }
+        ImGui_ImplGlfw_InitForVulkan(win->window, true);
     }
-    ImGui_ImplGlfw_InitForVulkan(window, true);
     int exit_code = 0;
     std::vector<double> frame_ms;
     // Where a frame's time goes (for --stats): building it (panels, view redraws and their
@@ -248,31 +294,46 @@ int run_workbench(const WorkbenchOptions& options) {
     // The followed folder and the job written last, if any.
     nlohmann::json followed = nullptr, job = nullptr, tolerance = nullptr;
     {
-        // A slot per swapchain image, and one more for the scripts' screenshots.
-        ImGuiRenderer renderer(ctx, wd.ImageCount + 1);
+        // A slot per swapchain image (offscreen: one for the frames), and one more for the
+        // scripts' screenshots.
+        const std::uint32_t frame_slots = win ? win->wd.ImageCount : 1;
+        ImGuiRenderer renderer(ctx, frame_slots + 1);
         Session session(ctx);
         session.state.recent = settings.recent;
         session.state.layout = settings.layout;
         session.state.runs_dir = settings.runs_dir.empty() ? runs_directory() : settings.runs_dir;
         if (!options.scene.empty()) open_file(session.state, options.scene);
         bool rebuild = false;
-        for (std::uint32_t n = 0; !glfwWindowShouldClose(window) && !session.state.quit; ++n) {
+        auto last_frame = std::chrono::steady_clock::now();
+        for (std::uint32_t n = 0;
+             !(win && glfwWindowShouldClose(win->window)) && !session.state.quit; ++n) {
             if (options.max_frames && n >= options.max_frames) break;
             const auto t0 = std::chrono::steady_clock::now();
-            glfwPollEvents();
-            for (const std::string& path : std::exchange(dropped, {}))
-                open_file(session.state, path);
-            glfwGetFramebufferSize(window, &width, &height);
-            if (width != wd.Width || height != wd.Height) rebuild = true; // resized
-            if (rebuild) {
-                glfwGetFramebufferSize(window, &width, &height);
-                if (width > 0 && height > 0) {
-                    resize_swapchain(ctx, wd, width, height, kMinImages);
-                    wd.FrameIndex = 0;
-                    rebuild = false;
+            if (win) {
+                ImGui_ImplVulkanH_Window& wd = win->wd;
+                glfwPollEvents();
+                for (const std::string& path : std::exchange(win->dropped, {}))
+                    open_file(session.state, path);
+                glfwGetFramebufferSize(win->window, &width, &height);
+                if (width != wd.Width || height != wd.Height) rebuild = true; // resized
+                if (rebuild) {
+                    glfwGetFramebufferSize(win->window, &width, &height);
+                    if (width > 0 && height > 0) {
+                        resize_swapchain(ctx, wd, width, height, kMinImages);
+                        wd.FrameIndex = 0;
+                        rebuild = false;
+                    }
                 }
+                ImGui_ImplGlfw_NewFrame();
+            } else {
+                // What GLFW's backend sets each frame: the display and the time since the
+                // last frame (no mouse but a script's, no keyboard).
+                ImGuiIO& io = ImGui::GetIO();
+                io.DisplaySize = ImVec2(float(width), float(height));
+                io.DeltaTime = std::max(
+                    1e-4f,
+                    std::chrono::duration<float>(t0 - std::exchange(last_frame, t0)).count());
             }
-            ImGui_ImplGlfw_NewFrame();
             if (const ScriptedMouse& m = session.state.scripted_mouse; m.active) {
                 // A script's drag plays in place of the window's mouse.
                 ImGuiIO& io = ImGui::GetIO();
@@ -301,14 +362,23 @@ int run_workbench(const WorkbenchOptions& options) {
                                 const ImDrawData* d = ImGui::GetDrawData();
                                 const auto w = std::uint32_t(d->DisplaySize.x),
                                            h = std::uint32_t(d->DisplaySize.y);
-                                write_png(path,
-                                          draw_offscreen(ctx, renderer, d, w, h, wd.ImageCount), w,
-                                          h);
+                                write_png(path, draw_offscreen(ctx, renderer, d, w, h, frame_slots),
+                                          w, h);
                                 ImGui::NewFrame(); // the frame goes on to the window below
                                 Frame again = session.frame();
                                 build_frame(again);
                             },
-                        .resize = [&](int w, int h) { glfwSetWindowSize(window, w, h); }};
+                        .resize =
+                            [&](int w, int h) {
+                                if (win) {
+                                    glfwSetWindowSize(win->window, w, h);
+                                    return;
+                                }
+                                width = w;
+                                height = h;
+                                target.emplace(ctx, std::uint32_t(w), std::uint32_t(h),
+                                               "fird.workbench.frame");
+                            }};
                     more = script->step(f, host);
                 } catch (const std::exception& e) {
                     std::fprintf(stderr, "fird: error: %s\n", e.what());
@@ -319,8 +389,14 @@ int run_workbench(const WorkbenchOptions& options) {
             ImGui::Render();
             const auto built = std::chrono::steady_clock::now();
             const ImDrawData* data = ImGui::GetDrawData();
-            if (data->DisplaySize.x > 0 && data->DisplaySize.y > 0)
-                present(ctx, wd, renderer, data, rebuild);
+            if (data->DisplaySize.x > 0 && data->DisplaySize.y > 0) {
+                if (win)
+                    present(ctx, win->wd, renderer, data, rebuild);
+                else if (data->DisplaySize.x == float(target->width()) &&
+                         data->DisplaySize.y == float(target->height()))
+                    draw_frame_offscreen(ctx, renderer, data, *target);
+                // (else: the frame built before a script's resize; the next one is drawn)
+            }
             const auto t1 = std::chrono::steady_clock::now();
             frame_ms.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
             build_ms.push_back(std::chrono::duration<double, std::milli>(built - t0).count());
@@ -365,11 +441,14 @@ int run_workbench(const WorkbenchOptions& options) {
             FIRD_VK_CHECK(vkDeviceWaitIdle(ctx.device()));
         }
     }
-    glfwGetWindowSize(window, &settings.window_w, &settings.window_h);
-    save_settings(settings);
-    ImGui_ImplGlfw_Shutdown();
-    ImGui_ImplVulkanH_DestroyWindow(ctx.instance(), ctx.device(), &wd, nullptr);
-    glfwDestroyWindow(window);
+    target.reset();
+    if (win) {
+        glfwGetWindowSize(win->window, &settings.window_w, &settings.window_h);
+        save_settings(settings);
+        ImGui_ImplGlfw_Shutdown();
+        ImGui_ImplVulkanH_DestroyWindow(ctx.instance(), ctx.device(), &win->wd, nullptr);
+        glfwDestroyWindow(win->window);
+    }
     if (options.stats)
         std::printf("%s\n", nlohmann::json{{"frame_ms_p50", percentile(frame_ms, 0.5)},
                                            {"frame_ms_p99", percentile(frame_ms, 0.99)},
@@ -379,6 +458,9 @@ int run_workbench(const WorkbenchOptions& options) {
                                            {"present_ms_p99", percentile(present_ms, 0.99)},
                                            {"frames", frame_ms.size()},
                                            {"first_frame_ms", first_frame_ms},
+                                           {"offscreen", offscreen},
+                                           {"device", ctx.summary().name},
+                                           {"separate_work_queue", ctx.separate_work_queue()},
                                            {"rays_traced", rays},
                                            {"evaluations", evaluations},
                                            {"window", window_size},

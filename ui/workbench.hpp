@@ -18,9 +18,13 @@ struct WorkbenchOptions {
     // Stop after this many frames (0: run until the window closes); for smoke tests.
     std::uint32_t max_frames = 0;
     bool stats = false; // print frame-time statistics as JSON at exit
+    // Both > 0: no window; the frames are drawn into an image of this size on the frames'
+    // queue, the session starts from the default settings and saves none.
+    std::uint32_t offscreen_w = 0, offscreen_h = 0;
 };
 
-// Runs the frame loop; returns the process exit code. Throws on a missing display.
+// Runs the frame loop; returns the process exit code. Throws on a missing display (with a
+// window).
 int run_workbench(const WorkbenchOptions& options);
 
 // The whole workbench frame for a scene, traced (full rays) and drawn offscreen:

@@ -14,7 +14,9 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "image_regions.hpp"
 #include "io/scene_file.hpp"
+#include "plot/canvas.hpp"
 
 namespace fird::test {
 namespace {
@@ -264,6 +266,36 @@ TEST(ToleranceInTheWindow, TracesTheRealisationsTheCommandTraces) {
     std::ifstream json(t.at("dir").get<std::string>() + "/tolerance.json");
     ASSERT_TRUE(json);
     EXPECT_TRUE(std::filesystem::exists(t.at("dir").get<std::string>() + "/tolerance.png"));
+}
+
+// tests/ui/offscreen_session.fird, run with no display (fird gui --offscreen 1600x1000): the
+// far field drawn changed with the parameter and the log did not (as in the windowed
+// session), the resize gave frames of the new size, the panels tile them exactly as they
+// tile the windowed session's window at that size, and nothing was saved.
+TEST(OffscreenSession, DrawsTheWorkbenchWithNoDisplayAsTheWindowDoes) {
+    const auto stats = read_stats("offscreen_stats.json");
+    EXPECT_TRUE(stats.at("offscreen").get<bool>());
+    EXPECT_GT(stats.at("frames").get<int>(), 5);
+    expect_tiled(stats, 1000, 650);
+    EXPECT_EQ(stats.at("panels"), read_stats("layout_small.json").at("panels"));
+
+    int wa = 0, ha = 0, wb = 0, hb = 0, ws = 0, hs = 0;
+    const auto before = plot::read_png_rgba("offscreen_before.png", wa, ha);
+    const auto after = plot::read_png_rgba("offscreen_after.png", wb, hb);
+    plot::read_png_rgba("offscreen_small.png", ws, hs);
+    EXPECT_EQ(wa, 1600);
+    EXPECT_EQ(ha, 1000);
+    ASSERT_EQ(wb, wa);
+    ASSERT_EQ(hb, ha);
+    EXPECT_EQ(ws, 1000);
+    EXPECT_EQ(hs, 650);
+    // The far-field panel (right, top) and the log panel (left, bottom), as in
+    // WindowedSession.AParameterChangeChangesTheFarFieldShown.
+    EXPECT_GT(region_difference(before, after, wa, ha, 0.66, 0.08, 0.99, 0.58), 2.0);
+    EXPECT_LT(region_difference(before, after, wa, ha, 0.01, 0.70, 0.22, 0.99), 0.5);
+    // An offscreen session leaves the user's settings alone.
+    EXPECT_FALSE(std::filesystem::exists(std::filesystem::path(FIRD_UI_OFFSCREEN_CONFIG_DIR) /
+                                         "fird/settings.txt"));
 }
 
 } // namespace
