@@ -94,6 +94,8 @@ void Evaluator::set_desired(const FarField& desired) {
     desired_ = vk::Buffer(*ctx_, values.size() * 4, vk::kStorageUsage, vk::MemoryUse::Device,
                           "fird.evaluator.desired");
     desired_.upload(*ctx_, std::span<const float>(values));
+    if (metric() != FarFieldMetric::L2)
+        row_weights_ = metric_row_weights(*ctx_, metric(), f->width, f->height);
     l2_scratch_ = vk::Buffer(*ctx_, ReducePass::scratch_bytes(values.size()), vk::kStorageUsage,
                              vk::MemoryUse::Device, "fird.evaluator.l2.scratch");
     l2_sums_ = vk::Buffer(*ctx_, kL2SumStride, vk::kStorageUsage, vk::MemoryUse::Readback,

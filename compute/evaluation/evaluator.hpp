@@ -126,7 +126,9 @@ class Evaluator {
     }
 
   private:
-    ReduceDifference difference() const { return {metric(), fidelity_.farfield_w}; }
+    ReduceDifference difference() const {
+        return {metric(), fidelity_.farfield_w, row_weights_.get() ? &row_weights_ : nullptr};
+    }
     FastTracer& fast();
     const FastTracer& fast() const;
     // The reference backend's evaluation of one candidate (its far field kept).
@@ -143,6 +145,7 @@ class Evaluator {
     // evaluate()'s reduction: its levels, and the sums read back (one per candidate of a
     // batch, kL2SumStride bytes apart: storage-buffer offsets are aligned).
     vk::Buffer l2_scratch_, l2_sums_;
+    vk::Buffer row_weights_; // the metric's weight per far-field row (weighted metrics)
     static constexpr VkDeviceSize kL2SumStride = 256;
     std::optional<double> desired_norm_lm_;
     bool traced_ = false;

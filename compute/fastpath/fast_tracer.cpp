@@ -61,15 +61,19 @@ FastTracer::FastTracer(const vk::Context& ctx, const Scene& scene, std::uint64_t
         throw std::invalid_argument(
             "the fast path counts far-field rays in 32 bits: use fewer than 2^32 rays");
     // Constant memory whatever the ray count: batches no larger than one storage
-    // buffer binding allows (lavapipe: 128 MiB = 4M rays), and at most 8M rays.
+    // buffer binding allows (lavapipe: 128 MiB = 4M rays), and at most 8M rays, or 32M
+    // (two ray tables of 1 GiB) on a device with 16 GiB or more of its own memory, where
+    // the paper's 1e7 rays are then one submission (an H200 traces them in ~1-9 ms).
     const auto& limits = ctx.limits();
+    const std::uint64_t most_rays =
+        limits.device_local_heap_bytes >= (16ull << 30) ? 1ull << 25 : 1ull << 23;
     // A batch is also no larger than one dispatch covers (maxComputeWorkGroupCount[0]
     // workgroups of the smallest size that walks it: lavapipe's 65535 x 64 < 4M rays).
     const std::uint64_t dispatch_rays =
         std::uint64_t(limits.max_workgroup_count[0]) *
         std::min(FIRD_TRACE_WORKGROUP_SIZE, FIRD_RAYSET_WORKGROUP_SIZE);
     submission_rays_ =
-        std::min<std::uint64_t>({limits.max_storage_buffer_range / kRayBytes, 1ull << 23,
+        std::min<std::uint64_t>({limits.max_storage_buffer_range / kRayBytes, most_rays,
                                  dispatch_rays, max_batch_rays ? max_batch_rays : ~0ull,
                                  ctx.max_batch_rays() ? ctx.max_batch_rays() : ~0ull});
     // A ray file's batch is read on the host into a buffer of its own: batches of at most

@@ -18,7 +18,7 @@ std::uint32_t groups_for(std::uint32_t count) {
 ReducePass::ReducePass(const vk::Context& ctx)
     : pipeline_(ctx, fird_spv_reduce_sum_comp,
                 {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-                 VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+                 VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
                 sizeof(gpu::ReducePush), "fird.reduce_sum") {}
 
 // Storage-buffer offsets must respect minStorageBufferOffsetAlignment (<= 256 by spec).
@@ -39,9 +39,12 @@ VkDeviceSize ReducePass::scratch_bytes(std::uint64_t count) {
 void ReducePass::record(VkCommandBuffer cb, const vk::Buffer& a, const vk::Buffer* b,
                         std::uint32_t count, const vk::Buffer& scratch, const vk::Buffer& result,
                         VkDeviceSize result_offset, ReduceDifference difference) const {
-    const bool weighted = b && difference.metric == FarFieldMetric::CandelaL2;
+    bool weighted = b && difference.metric == FarFieldMetric::CandelaL2;
     if (weighted && (difference.width == 0 || count % difference.width != 0))
         throw std::invalid_argument("ReducePass: a weighted difference needs the grid's width");
+    if (weighted && (!difference.row_weights ||
+                     difference.row_weights->size() < (count / difference.width) * sizeof(float)))
+        throw std::invalid_argument("ReducePass: a weighted difference needs a weight per row");
     // Level 0 reads a (and b); later levels read the previous level's partials, placed
     // one after another in scratch (offsets keep every level's binding distinct).
     const vk::Buffer* input = &a;
@@ -60,7 +63,8 @@ void ReducePass::record(VkCommandBuffer cb, const vk::Buffer& a, const vk::Buffe
         other.buffer.offset = b ? 0 : input_offset;
         vk::Binding out = vk::storage(last ? result : scratch);
         out.buffer.offset = last ? result_offset : scratch_offset;
-        const vk::Binding bindings[] = {in, other, out};
+        const vk::Binding weights = vk::storage(weighted ? *difference.row_weights : *input);
+        const vk::Binding bindings[] = {in, other, out, weights};
         const gpu::ReducePush push{.count = n,
                                    .mode = mode,
                                    .width = weighted ? difference.width : 1u,
@@ -73,12 +77,31 @@ void ReducePass::record(VkCommandBuffer cb, const vk::Buffer& a, const vk::Buffe
         n = groups;
         mode = gpu::kReduceSum;
         b = nullptr;
+        weighted = false;
         if (last) break;
     } while (true);
 }
 
+vk::Buffer metric_row_weights(const vk::Context& ctx, FarFieldMetric metric, std::uint32_t width,
+                              std::uint32_t height) {
+    std::vector<float> w(height);
+    for (std::uint32_t row = 0; row < height; ++row)
+        w[row] = float(metric_cell_weight(metric, row, width, height));
+    vk::Buffer out(ctx, w.size() * sizeof(float), vk::kStorageUsage, vk::MemoryUse::Device,
+                   "fird.reduce.row_weights");
+    out.upload(ctx, std::span<const float>(w));
+    return out;
+}
+
 double ReducePass::run(const vk::Context& ctx, const vk::Buffer& a, const vk::Buffer* b,
                        std::uint32_t count, ReduceDifference difference) const {
+    vk::Buffer row_weights;
+    if (b && difference.metric != FarFieldMetric::L2 && !difference.row_weights &&
+        difference.width > 0) {
+        row_weights =
+            metric_row_weights(ctx, difference.metric, difference.width, count / difference.width);
+        difference.row_weights = &row_weights;
+    }
     vk::Buffer scratch(ctx, scratch_bytes(count), vk::kStorageUsage, vk::MemoryUse::Device,
                        "fird.reduce.scratch");
     vk::Buffer result(ctx, sizeof(float), vk::kStorageUsage, vk::MemoryUse::Readback,

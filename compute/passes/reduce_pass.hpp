@@ -11,11 +11,19 @@
 namespace fird {
 
 // How a reduction's difference is weighted: a far-field metric over a grid of `width`
-// columns (count / width rows); L2 needs no grid.
+// columns (count / width rows), each row's weight read from `row_weights`
+// (metric_row_weights; the convenience calls make them when null, record() needs them);
+// L2 needs no grid.
 struct ReduceDifference {
     FarFieldMetric metric = FarFieldMetric::L2;
     std::uint32_t width = 0;
+    const vk::Buffer* row_weights = nullptr;
 };
+
+// metric_cell_weight of each row of a width x height far field, computed in double and
+// stored as floats in a device buffer, for ReduceDifference::row_weights.
+vk::Buffer metric_row_weights(const vk::Context& ctx, FarFieldMetric metric, std::uint32_t width,
+                              std::uint32_t height);
 
 class ReducePass {
   public:

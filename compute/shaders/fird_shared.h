@@ -25,6 +25,11 @@ FIRD_CONSTANT(uint, kReduceItemsPerThread, 8u);
 FIRD_CONSTANT(uint, kReduceBindingA, 0u);       // float[count]
 FIRD_CONSTANT(uint, kReduceBindingB, 1u);       // float[count] (mode kReduceSquaredDifference)
 FIRD_CONSTANT(uint, kReduceBindingPartial, 2u); // float[groups]
+// float[height]: each row's metric weight, computed on the host in double (mode
+// kReduceCandelaSquaredDifference; a shader's sin and cos may be as coarse as 2^-11 by
+// Vulkan's precision rules, and are on some drivers, which the polar cells' weights do not
+// survive).
+FIRD_CONSTANT(uint, kReduceBindingRowWeight, 3u);
 FIRD_CONSTANT(uint, kReduceSum, 0u);
 FIRD_CONSTANT(uint, kReduceSquaredDifference, 1u);
 // (a - b)^2 / (4 pi omega), omega the cell's solid angle (farfield.hpp's candela_l2)

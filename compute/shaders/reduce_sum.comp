@@ -9,20 +9,10 @@ layout(local_size_x = FIRD_REDUCE_WORKGROUP_SIZE) in;
 layout(std430, binding = kReduceBindingA) readonly buffer A { float a[]; };
 layout(std430, binding = kReduceBindingB) readonly buffer B { float b[]; };
 layout(std430, binding = kReduceBindingPartial) writeonly buffer Partial { float partial[]; };
+layout(std430, binding = kReduceBindingRowWeight) readonly buffer RowWeight { float row_weight[]; };
 layout(push_constant) uniform Push { ReducePush pc; };
 
 shared float sums[kReduceWorkgroupSize];
-
-// 1 / (4 pi omega) for the cells of `row` (farfield.hpp metric_cell_weight): omega =
-// (2 pi / W) (cos a - cos b) over the row's polar angles a < b, written as
-// 2 sin((a + b) / 2) sin((b - a) / 2), which keeps float's precision at the poles (there
-// cos a - cos b would cancel to a few digits).
-float candela_weight(uint row) {
-    const float pi = 3.14159265358979;
-    const float half_row = 0.5 * pi / float(pc.height);
-    const float omega = 2.0 * pi / float(pc.width) * 2.0 * sin(half_row * float(2u * row + 1u)) * sin(half_row);
-    return 1.0 / (4.0 * pi * omega);
-}
 
 void main() {
     const uint span = kReduceWorkgroupSize * kReduceItemsPerThread;
@@ -36,7 +26,9 @@ void main() {
                 s += d * d;
             } else if (pc.mode == kReduceCandelaSquaredDifference) {
                 const float d = a[i] - b[i];
-                s += d * d * candela_weight(i / pc.width);
+                // 1 / (4 pi omega) for the row's cells (farfield.hpp metric_cell_weight, in
+                // double on the host: ReducePass's row weights).
+                s += d * d * row_weight[i / pc.width];
             } else {
                 s += a[i];
             }

@@ -66,6 +66,7 @@ void Buffer::upload(const Context& ctx, std::span<const std::byte> bytes, VkDevi
     Buffer staging(ctx, bytes.size(), VK_BUFFER_USAGE_TRANSFER_SRC_BIT, MemoryUse::Upload,
                    "fird.staging.upload");
     std::memcpy(staging.data(), bytes.data(), bytes.size());
+    ctx.count_staging_copy();
     ctx.submit_and_wait([&](VkCommandBuffer cb) {
         const VkBufferCopy region{.srcOffset = 0, .dstOffset = offset, .size = bytes.size()};
         vkCmdCopyBuffer(cb, staging.get(), get(), 1, &region);
@@ -81,6 +82,7 @@ void Buffer::download(const Context& ctx, std::span<std::byte> bytes, VkDeviceSi
     }
     Buffer staging(ctx, bytes.size(), VK_BUFFER_USAGE_TRANSFER_DST_BIT, MemoryUse::Readback,
                    "fird.staging.readback");
+    ctx.count_staging_copy();
     ctx.submit_and_wait([&](VkCommandBuffer cb) {
         const VkBufferCopy region{.srcOffset = offset, .dstOffset = 0, .size = bytes.size()};
         vkCmdCopyBuffer(cb, get(), staging.get(), 1, &region);

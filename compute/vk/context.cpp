@@ -251,7 +251,8 @@ struct Context::State {
     bool validation = false;
     bool debug_utils = false;
     std::atomic<std::uint64_t> validation_errors{0};
-    std::atomic<std::uint64_t> submissions{0}; // through submit_and_wait, from every thread
+    std::atomic<std::uint64_t> submissions{0};    // through submit_and_wait, from every thread
+    std::atomic<std::uint64_t> staging_copies{0}; // of those, Buffer's staging copies
     VkPhysicalDeviceMemoryProperties memory{};
     // A command pool per thread that submits (pools are not thread-safe), and one lock
     // for the queue: the compute worker and the window's frames submit side by side.
@@ -467,6 +468,14 @@ std::uint64_t Context::validation_errors() const {
     return state_->validation_errors.load();
 }
 
+std::uint64_t Context::staging_copies() const {
+    return state_->staging_copies.load();
+}
+
+void Context::count_staging_copy() const {
+    ++state_->staging_copies;
+}
+
 std::uint64_t Context::submissions() const {
     return state_->submissions.load();
 }
@@ -594,9 +603,13 @@ bool Context::separate_work_queue() const {
 void Context::submit_and_wait(const std::function<void(VkCommandBuffer)>& record) const {
     State::ThreadSubmitter& t = state_->submitter_for_this_thread(*this);
     if (t.busy) { // a submission from inside another's recording: buffers of its own
+        // (An upload through a staging buffer while a frame records, say: on a device whose
+        // working memory is not host-visible. begin_recording resets the buffer, which
+        // the pool must allow.)
         State::ThreadSubmitter nested;
         const VkCommandPoolCreateInfo info{.sType = VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO,
-                                           .flags = VK_COMMAND_POOL_CREATE_TRANSIENT_BIT,
+                                           .flags = VK_COMMAND_POOL_CREATE_TRANSIENT_BIT |
+                                                    VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT,
                                            .queueFamilyIndex = state_->queue_family};
         VkCommandPool p = VK_NULL_HANDLE;
         FIRD_VK_CHECK(vkCreateCommandPool(state_->device, &info, nullptr, &p));

@@ -122,6 +122,11 @@ class Context {
     // Command buffers submitted through submit_and_wait since creation (each one a host
     // wait): what an evaluation costs in round trips (fird trace --json --profile).
     std::uint64_t submissions() const;
+    // Of those, the copies through a staging buffer (vk::Buffer's upload and download
+    // where its memory is not host-visible, as on a discrete GPU; none on lavapipe), kept
+    // apart so that a count of the work's submissions reads the same on every device.
+    std::uint64_t staging_copies() const;
+    void count_staging_copy() const; // by vk::Buffer, before each such submission
     // vkAllocateMemory objects alive now and made since creation (every buffer's and
     // image's memory comes from one): fird trace --json --profile reports the evaluation's.
     MemoryAllocationCounts memory_allocations() const;

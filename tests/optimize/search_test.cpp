@@ -114,9 +114,12 @@ TEST_F(SearchRules, TheGridTracesSeveralCandidatesASubmissionWithTheSingleEvalua
     Scene s = scene("mirror_search.toml");
     s.reflector.optimize = {{"sx", {-0.1, 0.1, 0.1}}, {"z0", {-2.0, 6.0, 1.0}}};
     s.trace.rays = 5000;
-    const std::uint64_t before = ctx().submissions();
+    const std::uint64_t before = ctx().submissions(), copies_before = ctx().staging_copies();
     const SearchOutcome out = search(ctx(), s, SearchMethod::Grid);
-    const std::uint64_t submitted = ctx().submissions() - before;
+    // Staging copies aside (none where the working memory is host-visible; 8 more on
+    // NVIDIA's driver, 2026-12-04): what is left is the same on every device.
+    const std::uint64_t submitted =
+        ctx().submissions() - before - (ctx().staging_copies() - copies_before);
     const SearchResult& r = out.result;
     ASSERT_EQ(r.stages.size(), 1u);
     Evaluator single(ctx(), s, r.stages[0].fidelity);

@@ -13,6 +13,7 @@
 
 #include <glm/geometric.hpp>
 
+#include "evaluation/evaluation.hpp"
 #include "golden_image.hpp"
 #include "io/scene_file.hpp"
 #include "plot/canvas.hpp"
@@ -195,12 +196,22 @@ TEST_F(Views, ViewportColoursByCurvatureAndMarksTheTightestBend) {
     expect_like_view_golden(rgba, kW, kH, "viewport_curvature.png");
 }
 
+// The pictures of a far field traced by the CPU reference: the drawing is what is tested,
+// and its input is then the same on every device (on NVIDIA's driver, 2026-12-04, the fast
+// path's far field at these 20000 rays moved a few rays into neighbouring cells, as float
+// precision lets it, which at a few rays a cell shows in the picture).
 TEST_F(Views, FarFieldAndPlotsMatchTheirGoldens) {
+    const Scene& s = traced_->scene;
+    ASSERT_FALSE(traced_->farfield.desired); // no target: the obtained far field alone
+    render::FarFieldContent farfield = traced_->farfield;
+    farfield.obtained =
+        trace_reference(s.source, Surface::make(s.reflector, s.holder), reference_options(s))
+            .farfield;
     plot::Canvas far{640, 400};
-    render::draw_farfield_view(far, {0, 0, 640, 400}, traced_->farfield, {});
+    render::draw_farfield_view(far, {0, 0, 640, 400}, farfield, {});
     expect_like_view_golden(far.rgba(), 640, 400, "farfield.png");
     plot::Canvas plots{kW * 2, kH * 2};
-    render::draw_profile_plots(plots, {0, 0, kW * 2.0, kH * 2.0}, traced_->farfield);
+    render::draw_profile_plots(plots, {0, 0, kW * 2.0, kH * 2.0}, farfield);
     expect_like_view_golden(plots.rgba(), kW * 2, kH * 2, "plots.png");
 }
 
