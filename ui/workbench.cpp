@@ -12,6 +12,7 @@
 #define GLFW_INCLUDE_NONE
 #define GLFW_INCLUDE_VULKAN
 #include <GLFW/glfw3.h>
+#include <fmt/format.h>
 #include <imgui.h>
 #include <imgui_impl_glfw.h>
 #include <imgui_impl_vulkan.h>
@@ -262,10 +263,20 @@ int run_workbench(const WorkbenchOptions& options) {
         glfwGetFramebufferSize(win->window, &width, &height);
         resize_swapchain(ctx, wd, width, height, kMinImages);
     }
-    // Offscreen, the frames' image (a script's `resize` makes a new one).
+    // Offscreen, the frames' image (a script's `resize` makes a new one), no larger than the
+    // device's images may be.
+    const auto offscreen_target = [&](int w, int h) {
+        const std::uint32_t most = ctx.limits().max_image_dimension_2d;
+        if (std::uint32_t(w) > most || std::uint32_t(h) > most)
+            throw std::runtime_error(fmt::format(
+                "offscreen frames of {} x {}: this device's images are at most {} pixels a side", w,
+                h, most));
+        return render::OffscreenTarget(ctx, std::uint32_t(w), std::uint32_t(h),
+                                       "fird.workbench.frame");
+    };
     std::optional<render::OffscreenTarget> target;
-    if (offscreen)
-        target.emplace(ctx, std::uint32_t(width), std::uint32_t(height), "fird.workbench.frame");
+    if (offscreen) target.emplace(offscreen_target(width, height));
+    std::uint64_t frames_drawn = 0;
 
     const ImGuiScope imgui;
     // The layout is FIRD's own (ui/layout.hpp, kept in settings.txt): Dear ImGui keeps no
@@ -374,10 +385,12 @@ int run_workbench(const WorkbenchOptions& options) {
                                     glfwSetWindowSize(win->window, w, h);
                                     return;
                                 }
+                                // Made before the old one goes: a size refused leaves
+                                // the frames as they were.
+                                render::OffscreenTarget resized = offscreen_target(w, h);
+                                target.emplace(std::move(resized));
                                 width = w;
                                 height = h;
-                                target.emplace(ctx, std::uint32_t(w), std::uint32_t(h),
-                                               "fird.workbench.frame");
                             }};
                     more = script->step(f, host);
                 } catch (const std::exception& e) {
@@ -392,9 +405,11 @@ int run_workbench(const WorkbenchOptions& options) {
             if (data->DisplaySize.x > 0 && data->DisplaySize.y > 0) {
                 if (win)
                     present(ctx, win->wd, renderer, data, rebuild);
-                else if (data->DisplaySize.x == float(target->width()) &&
-                         data->DisplaySize.y == float(target->height()))
+                else if (target && data->DisplaySize.x == float(target->width()) &&
+                         data->DisplaySize.y == float(target->height())) {
                     draw_frame_offscreen(ctx, renderer, data, *target);
+                    ++frames_drawn;
+                }
                 // (else: the frame built before a script's resize; the next one is drawn)
             }
             const auto t1 = std::chrono::steady_clock::now();
@@ -404,6 +419,10 @@ int run_workbench(const WorkbenchOptions& options) {
             if (n == 0)
                 first_frame_ms = std::chrono::duration<double, std::milli>(t1 - started).count();
             if (script && !more) break;
+            // Offscreen frames come at most 60 a second, as a window's on a 60 Hz display:
+            // a script's `wait N` frames and its bounds in frames last as long in either
+            // (the frame times above leave this wait out).
+            if (offscreen) std::this_thread::sleep_until(t0 + std::chrono::microseconds(16667));
         }
         session.worker.stop();
         rays = session.worker.rays_traced();
@@ -459,6 +478,9 @@ int run_workbench(const WorkbenchOptions& options) {
                                            {"frames", frame_ms.size()},
                                            {"first_frame_ms", first_frame_ms},
                                            {"offscreen", offscreen},
+                                           // offscreen: the frames drawn into the image
+                                           {"frames_drawn", offscreen ? nlohmann::json(frames_drawn)
+                                                                      : nlohmann::json(nullptr)},
                                            {"device", ctx.summary().name},
                                            {"separate_work_queue", ctx.separate_work_queue()},
                                            {"rays_traced", rays},

@@ -62,11 +62,14 @@ FastTracer::FastTracer(const vk::Context& ctx, const Scene& scene, std::uint64_t
             "the fast path counts far-field rays in 32 bits: use fewer than 2^32 rays");
     // Constant memory whatever the ray count: batches no larger than one storage
     // buffer binding allows (lavapipe: 128 MiB = 4M rays), and at most 8M rays, or 32M
-    // (two ray tables of 1 GiB) on a device with 16 GiB or more of its own memory, where
-    // the paper's 1e7 rays are then one submission (an H200 traces them in ~1-9 ms).
+    // (two ray tables of 1 GiB) on a discrete GPU with 16 GiB or more of its own memory,
+    // where the paper's 1e7 rays are then one submission (an H200 traces them in ~1-9 ms,
+    // 32M in ~25 ms: far from any driver's timeout). An integrated GPU's "own" memory is
+    // the system's: it keeps 8M.
     const auto& limits = ctx.limits();
-    const std::uint64_t most_rays =
-        limits.device_local_heap_bytes >= (16ull << 30) ? 1ull << 25 : 1ull << 23;
+    const bool big_discrete =
+        ctx.summary().type == "discrete" && limits.device_local_heap_bytes >= (16ull << 30);
+    const std::uint64_t most_rays = big_discrete ? 1ull << 25 : 1ull << 23;
     // A batch is also no larger than one dispatch covers (maxComputeWorkGroupCount[0]
     // workgroups of the smallest size that walks it: lavapipe's 65535 x 64 < 4M rays).
     const std::uint64_t dispatch_rays =

@@ -35,10 +35,10 @@ Scene paraboloid() {
     return load_scene(std::string(FIRD_SOURCE_DIR) + "/scenes/test/focused_paraboloid.toml");
 }
 
-void expect_like_view_golden(const std::vector<std::uint8_t>& rgba, int w, int h,
-                             const char* name) {
-    test::expect_like_golden(rgba, w, h,
-                             (fs::path(FIRD_SOURCE_DIR) / "tests/render/golden" / name).string());
+void expect_like_view_golden(const std::vector<std::uint8_t>& rgba, int w, int h, const char* name,
+                             test::Drawn drawn) {
+    test::expect_like_golden(
+        rgba, w, h, (fs::path(FIRD_SOURCE_DIR) / "tests/render/golden" / name).string(), drawn);
 }
 
 class Views : public VulkanTest {
@@ -96,7 +96,7 @@ TEST_F(Views, ViewportMatchesItsGolden) {
                               .quadtree_level = 5,
                               .height_colours = true};
     const auto rgba = render::render_viewport(ctx(), renderer, traced_->viewport, o, kW, kH);
-    expect_like_view_golden(rgba, kW, kH, "viewport.png");
+    expect_like_view_golden(rgba, kW, kH, "viewport.png", test::Drawn::OnDevice);
 }
 
 // Coloured by slope: the paraboloid's steepest point (the press measures') is marked by a
@@ -115,7 +115,7 @@ TEST_F(Views, ViewportColoursBySlopeAndMarksTheSteepestPoint) {
     EXPECT_EQ(magenta_near(render::render_viewport(ctx(), renderer, traced_->viewport, o, kW, kH),
                            o.camera, at),
               0);
-    expect_like_view_golden(rgba, kW, kH, "viewport_slope.png");
+    expect_like_view_golden(rgba, kW, kH, "viewport_slope.png", test::Drawn::OnDevice);
 }
 
 // Coloured by curvature: seen from above, the paraboloid z = z0 + r^2 / (4 f) (f = 3 mm)
@@ -193,7 +193,7 @@ TEST_F(Views, ViewportColoursByCurvatureAndMarksTheTightestBend) {
     }
     // The mark's arms reach out from under the point source drawn above the apex.
     EXPECT_GT(magenta_near(rgba, o.camera, *c.tightest_mm), 3);
-    expect_like_view_golden(rgba, kW, kH, "viewport_curvature.png");
+    expect_like_view_golden(rgba, kW, kH, "viewport_curvature.png", test::Drawn::OnDevice);
 }
 
 // The pictures of a far field traced by the CPU reference: the drawing is what is tested,
@@ -209,10 +209,10 @@ TEST_F(Views, FarFieldAndPlotsMatchTheirGoldens) {
             .farfield;
     plot::Canvas far{640, 400};
     render::draw_farfield_view(far, {0, 0, 640, 400}, farfield, {});
-    expect_like_view_golden(far.rgba(), 640, 400, "farfield.png");
+    expect_like_view_golden(far.rgba(), 640, 400, "farfield.png", test::Drawn::OnHost);
     plot::Canvas plots{kW * 2, kH * 2};
     render::draw_profile_plots(plots, {0, 0, kW * 2.0, kH * 2.0}, farfield);
-    expect_like_view_golden(plots.rgba(), kW * 2, kH * 2, "plots.png");
+    expect_like_view_golden(plots.rgba(), kW * 2, kH * 2, "plots.png", test::Drawn::OnHost);
 }
 
 // The recorded walk of the picked ray: every node it tests contains the ray's position

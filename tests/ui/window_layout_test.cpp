@@ -276,6 +276,9 @@ TEST(OffscreenSession, DrawsTheWorkbenchWithNoDisplayAsTheWindowDoes) {
     const auto stats = read_stats("offscreen_stats.json");
     EXPECT_TRUE(stats.at("offscreen").get<bool>());
     EXPECT_GT(stats.at("frames").get<int>(), 5);
+    // Every frame was drawn into the image but the one built before the resize (whose
+    // size the new image no longer has).
+    EXPECT_GE(stats.at("frames_drawn").get<int>(), stats.at("frames").get<int>() - 1);
     expect_tiled(stats, 1000, 650);
     EXPECT_EQ(stats.at("panels"), read_stats("layout_small.json").at("panels"));
 

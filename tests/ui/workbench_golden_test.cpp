@@ -37,7 +37,8 @@ TEST_P(WorkbenchFrame, MatchesItsGolden) {
     expect_like_golden(rgba, w, h,
                        (fs::path(FIRD_SOURCE_DIR) / "tests/ui/golden" /
                         ("workbench_" + std::to_string(w) + "x" + std::to_string(h) + ".png"))
-                           .string());
+                           .string(),
+                       Drawn::OnDevice);
 }
 
 // The smallest window the layout is checked at, the default, and a large desktop's.

@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "passes/reduce_pass.hpp"
+#include "reduction_bound.hpp"
 #include "vk/buffer.hpp"
 #include "vulkan_fixture.hpp"
 
@@ -62,14 +63,12 @@ INSTANTIATE_TEST_SUITE_P(Sizes, ReduceTest, ::testing::Values(0u, 1u, 17u, 2049u
 // The candela metric's weighting on the device (each cell's squared difference over 4 pi
 // times its solid angle, the weights computed per row in double on the host and read as
 // floats) against the CPU's farfield_distance in double, on the paper's grid, whose polar
-// cells are ~570x smaller than its equatorial ones. The bound is float rounding alone: each
-// term (a - b)^2 w carries at most 5 roundings (the difference, the square, the weight's
-// float, the product, its first addition), and each partial sum passes through at most
-// 8 serial additions per thread and log2(256) in shared memory per level of the tree, two
-// levels for 1.62 M cells. For positive terms the sum's relative error is then at most
-// (5 + 2 (8 + 8)) u, u = 2^-24, and the square root halves it: 1.1e-6. (Weights computed
-// in the shader with sin missed it 23-fold on NVIDIA's driver, 2026-12-04: Vulkan allows
-// sin an absolute error of 2^-11.)
+// cells are ~570x smaller than its equatorial ones. The bound is float rounding alone
+// (reduction_bound.hpp): each term (a - b)^2 w carries at most 5 roundings (the
+// difference, the square, the weight's float, the product, its first addition), then the
+// tree's additions, two levels for 1.62 M cells: 1.1e-6 for the square root. (Weights
+// computed in the shader with sin missed it 23-fold on NVIDIA's driver, 2026-12-04:
+// Vulkan allows sin an absolute error of 2^-11.)
 TEST_F(VulkanTest, CandelaWeightedDifferenceMatchesTheCpuMetric) {
     constexpr std::uint32_t w = 1800, h = 900;
     const auto a = random_floats(w * h, 11);
@@ -79,7 +78,8 @@ TEST_F(VulkanTest, CandelaWeightedDifferenceMatchesTheCpuMetric) {
     const ReducePass pass(ctx());
     const double got = std::sqrt(pass.sum_squared_difference(
         ctx(), upload(ctx(), a), upload(ctx(), b), w * h, {FarFieldMetric::CandelaL2, w}));
-    const double bound = 0.5 * (5 + 2 * (8 + 8)) * std::ldexp(1.0, -24);
+    const double bound = reduction_relative_bound(std::uint64_t(w) * h, 5, true);
+    EXPECT_LT(bound, 1.2e-6); // the figure stated above
     EXPECT_NEAR(got, expected, bound * expected);
     // And a constant intensity difference of 3 cd everywhere is 3 cd: the metric is an RMS
     // over the sphere (cells of lm = cd x solid angle).

@@ -1,0 +1,30 @@
+// The largest relative error of a device reduction's result (reduce_sum.comp) that float
+// rounding alone allows, for a sum of `count` nonnegative terms each carrying at most
+// `term_roundings` roundings: every partial sum passes through at most
+// kReduceItemsPerThread serial additions per thread and log2(kReduceWorkgroupSize) in
+// shared memory at each level of the tree, and for nonnegative terms the relative error
+// of the sum is at most (term roundings + additions along a path) u, u = 2^-24 (first
+// order). `root`: the bound of the square root of that sum (half).
+#pragma once
+
+#include <bit>
+#include <cmath>
+#include <cstdint>
+
+#include "fird_shared.h"
+
+namespace fird::test {
+
+inline double reduction_relative_bound(std::uint64_t count, int term_roundings, bool root) {
+    const std::uint64_t span =
+        std::uint64_t(gpu::kReduceWorkgroupSize) * gpu::kReduceItemsPerThread;
+    int levels = 0;
+    for (std::uint64_t n = count; n > 1; n = (n + span - 1) / span)
+        ++levels;
+    const int per_level =
+        int(gpu::kReduceItemsPerThread) + std::bit_width(gpu::kReduceWorkgroupSize) - 1;
+    const double bound = (term_roundings + std::max(levels, 1) * per_level) * std::ldexp(1.0, -24);
+    return root ? 0.5 * bound : bound;
+}
+
+} // namespace fird::test
