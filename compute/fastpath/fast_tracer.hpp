@@ -14,6 +14,7 @@
 #include <glm/vec4.hpp>
 
 #include "fastpath/mesh_raster.hpp"
+#include "fastpath/pass_bindings.hpp"
 #include "fastpath/reflector_state.hpp"
 #include "fastpath/walk_step.hpp"
 #include "fird_shared.h"
@@ -22,7 +23,6 @@
 #include "model/source.hpp"
 #include "passes/reduce_pass.hpp"
 #include "vk/buffer.hpp"
-#include "vk/compute_pipeline.hpp"
 #include "vk/timer.hpp"
 
 namespace fird {
@@ -266,14 +266,20 @@ class FastTracer {
     FastPathSkips skips_;
 
     std::array<std::uint32_t, FIRD_SPEC_COUNT> spec_; // the scene's fixed shader choices
-    vk::ComputePipeline rayset_pipeline_, heightfield_pipeline_, maxmip_pipeline_, trace_pipeline_,
-        to_lm_pipeline_, order_pipeline_, bucket_scan_pipeline_, walk_start_pipeline_,
-        bounce_args_pipeline_;
+    passes::RaysetPass rayset_pipeline_;
+    passes::HeightfieldPass heightfield_pipeline_;
+    passes::MaxMipPass maxmip_pipeline_;
+    passes::TracePass trace_pipeline_;
+    passes::ToLmPass to_lm_pipeline_;
+    passes::OrderPass order_pipeline_;
+    passes::BucketScanPass bucket_scan_pipeline_;
+    passes::WalkStartPass walk_start_pipeline_;
+    passes::BounceArgsPass bounce_args_pipeline_;
     vk::Buffer counters_, rays_ping_, rays_pong_, hits_, texel_hits_, walk_;
-    std::optional<vk::ComputePipeline> trace_walk_pipeline_;    // built when a walk is asked for
-    std::optional<vk::ComputePipeline> trace_profile_pipeline_; // built when profiling
+    std::optional<passes::TracePass> trace_walk_pipeline_;    // built when a walk is asked for
+    std::optional<passes::TracePass> trace_profile_pipeline_; // built when profiling
     // Built when hits are recorded or texel hits counted.
-    std::optional<vk::ComputePipeline> trace_diagnostics_pipeline_;
+    std::optional<passes::TracePass> trace_diagnostics_pipeline_;
     vk::Buffer profile_;
     vk::Buffer order_buckets_;
     // A photometric source's table (fird_shared.h); one unused float for the others.

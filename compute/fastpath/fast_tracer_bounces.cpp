@@ -15,41 +15,37 @@ namespace fird {
 
 using namespace fast_tracer_detail;
 
-vk::ComputePipeline
+passes::TracePass
 fast_tracer_detail::trace_pipeline(const vk::Context& ctx,
                                    std::array<std::uint32_t, FIRD_SPEC_COUNT> spec,
                                    std::initializer_list<int> variant, const char* name) {
     for (const int id : variant)
         spec[std::size_t(id)] = 1;
-    return vk::ComputePipeline(
-        ctx, fird_spv_trace_comp,
-        {kSB, kSB, kSB, kSB, kTB, kTB, kTB, kSB, kSB, kSB, kSB, kSB, kSB, kSB, kSB, kSB},
-        sizeof(gpu::TracePush), name, spec);
+    return passes::TracePass(ctx, fird_spv_trace_comp, name, spec);
 }
 
 void FastTracer::dispatch_trace(VkCommandBuffer cb, const vk::Buffer& in, const vk::Buffer& out,
                                 const vk::Buffer& counters, const vk::Buffer& farfield,
                                 const gpu::TracePush& push, bool record_walk,
                                 std::optional<std::uint32_t> groups) {
-    const vk::Binding b[] = {
-        vk::storage(state().params_buffer),
-        vk::storage(in),
-        vk::storage(out),
-        vk::storage(counters),
-        vk::texel(params_.hit_mode == gpu::kHitModePaper ? state().paper_view
-                                                         : state().refined_view),
-        vk::texel(params_.hit_mode == gpu::kHitModePaper ? state().paper_view
-                                                         : state().corners_view),
-        vk::texel(state().gradients_view),
-        vk::storage(farfield),
-        vk::storage(hits_),
-        vk::storage(order_buckets_),
-        vk::storage(texel_hits_),
-        vk::storage(walk_),
-        vk::storage(profile_),
-        vk::storage(state().walk_start),
-        vk::storage(state().control),
-        vk::storage(loop_)};
+    const bool paper = params_.hit_mode == gpu::kHitModePaper;
+    const passes::TraceBindings b{
+        .params = vk::storage(state().params_buffer),
+        .rays_in = vk::storage(in),
+        .rays_out = vk::storage(out),
+        .counters = vk::storage(counters),
+        .pyramid = vk::texel(paper ? state().paper_view : state().refined_view),
+        .heights = vk::texel(paper ? state().paper_view : state().corners_view),
+        .gradients = vk::texel(state().gradients_view),
+        .farfield = vk::storage(farfield),
+        .hits = vk::storage(hits_),
+        .buckets = vk::storage(order_buckets_),
+        .texel_hits = vk::storage(texel_hits_),
+        .walk = vk::storage(walk_),
+        .profile = vk::storage(profile_),
+        .walk_start = vk::storage(state().walk_start),
+        .control = vk::storage(state().control),
+        .loop = vk::storage(loop_)};
     // The variant that does what the push constants ask and no more (the walk-recording
     // one also records hits; profile counts come from plain runs only).
     const bool diagnostics = push.record_hits != 0u || push.count_texel_hits != 0u;
@@ -57,14 +53,14 @@ void FastTracer::dispatch_trace(VkCommandBuffer cb, const vk::Buffer& in, const 
         trace_diagnostics_pipeline_.emplace(
             trace_pipeline(*ctx_, spec_, {FIRD_SPEC_DIAGNOSTICS}, "fird.trace.diagnostics"));
     }
-    const vk::ComputePipeline& p = record_walk               ? *trace_walk_pipeline_
-                                   : diagnostics             ? *trace_diagnostics_pipeline_
-                                   : trace_profile_pipeline_ ? *trace_profile_pipeline_
-                                                             : trace_pipeline_;
+    const passes::TracePass& p = record_walk               ? *trace_walk_pipeline_
+                                 : diagnostics             ? *trace_diagnostics_pipeline_
+                                 : trace_profile_pipeline_ ? *trace_profile_pipeline_
+                                                           : trace_pipeline_;
     if (groups)
-        p.dispatch(cb, b, &push, *groups);
+        p.dispatch(cb, b, push, *groups);
     else
-        p.dispatch_indirect(cb, b, &push, loop_, gpu::kLoopTraceArgs * 4);
+        p.dispatch_indirect(cb, b, push, loop_, gpu::kLoopTraceArgs * 4);
 }
 
 void FastTracer::record_bounces(VkCommandBuffer cb, const vk::Buffer& rays, std::uint64_t first,

@@ -36,29 +36,31 @@ void FastTracer::record_heightfield(VkCommandBuffer cb, FastRun& run) {
     timed(cb, &run.timings.heightfield_ms, nullptr, [&] {
         constexpr std::uint32_t g = FIRD_HEIGHTFIELD_WORKGROUP_SIZE;
         if (!mesh_) {
-            const vk::Binding hf[] = {vk::storage(state().params_buffer),
-                                      vk::storage(state().paper_tree),
-                                      vk::storage(state().gradients), vk::storage(state().control),
-                                      vk::storage(state().corners)};
-            heightfield_pipeline_.dispatch(cb, hf, nullptr, groups(params_.hf_w + 1, g),
+            const passes::HeightfieldBindings hf{.params = vk::storage(state().params_buffer),
+                                                 .heights = vk::storage(state().paper_tree),
+                                                 .gradients = vk::storage(state().gradients),
+                                                 .control = vk::storage(state().control),
+                                                 .corners = vk::storage(state().corners)};
+            heightfield_pipeline_.dispatch(cb, hf, {}, groups(params_.hf_w + 1, g),
                                            groups(params_.hf_h + 1, g));
             vk::barrier_all(cb);
         }
-        const vk::Binding mm[] = {vk::storage(state().params_buffer),
-                                  vk::storage(state().paper_tree),
-                                  vk::storage(state().refined_tree), vk::storage(state().corners)};
+        const passes::MaxMipBindings mm{.params = vk::storage(state().params_buffer),
+                                        .paper = vk::storage(state().paper_tree),
+                                        .refined = vk::storage(state().refined_tree),
+                                        .corners = vk::storage(state().corners)};
         for (std::uint32_t level = 0; level < params_.levels; ++level) {
             const gpu::MaxMipPush push{.level = level};
-            maxmip_pipeline_.dispatch(cb, mm, &push, groups(params_.level_w[level], g),
+            maxmip_pipeline_.dispatch(cb, mm, push, groups(params_.level_w[level], g),
                                       groups(params_.level_h[level], g));
             vk::barrier_all(cb);
         }
-        const vk::Binding ws[] = {vk::storage(state().params_buffer),
-                                  vk::storage(params_.hit_mode == gpu::kHitModePaper
-                                                  ? state().paper_tree
-                                                  : state().refined_tree),
-                                  vk::storage(state().walk_start)};
-        walk_start_pipeline_.dispatch(cb, ws, nullptr, 1);
+        const passes::WalkStartBindings ws{
+            .params = vk::storage(state().params_buffer),
+            .pyramid = vk::storage(params_.hit_mode == gpu::kHitModePaper ? state().paper_tree
+                                                                          : state().refined_tree),
+            .level = vk::storage(state().walk_start)};
+        walk_start_pipeline_.dispatch(cb, ws, {}, 1);
     });
     vk::barrier_all(cb);
 }

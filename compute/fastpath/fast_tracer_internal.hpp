@@ -7,13 +7,11 @@
 #include <cstdint>
 #include <initializer_list>
 
+#include "fastpath/pass_bindings.hpp"
 #include "fird_shared.h"
-#include "vk/compute_pipeline.hpp"
 
 namespace fird::fast_tracer_detail {
 
-inline constexpr VkDescriptorType kSB = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-inline constexpr VkDescriptorType kTB = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
 inline constexpr std::uint64_t kRayBytes = 32;
 inline constexpr std::uint64_t kCountersBytes =
     std::uint64_t(gpu::kTallyCopies) * gpu::kCounterCount * 4;
@@ -35,11 +33,11 @@ inline std::uint64_t wide(const std::uint32_t* pair) {
     return std::uint64_t(pair[0]) | (std::uint64_t(pair[1]) << 32);
 }
 
-// trace.comp's pipeline (fast_tracer_bounces.cpp): bindings 0..kTraceBindLoop, uniform
-// texel buffers at 4-6, storage else. `variant` lists the specialization constants
-// (FIRD_SPEC_RECORD_WALK, _PROFILE, _DIAGNOSTICS) switched on over the scene's.
-vk::ComputePipeline trace_pipeline(const vk::Context& ctx,
-                                   std::array<std::uint32_t, FIRD_SPEC_COUNT> spec,
-                                   std::initializer_list<int> variant, const char* name);
+// trace.comp's pass (fast_tracer_bounces.cpp; its bindings in pass_bindings.hpp).
+// `variant` lists the specialization constants (FIRD_SPEC_RECORD_WALK, _PROFILE,
+// _DIAGNOSTICS) switched on over the scene's.
+passes::TracePass trace_pipeline(const vk::Context& ctx,
+                                 std::array<std::uint32_t, FIRD_SPEC_COUNT> spec,
+                                 std::initializer_list<int> variant, const char* name);
 
 } // namespace fird::fast_tracer_detail

@@ -26,9 +26,11 @@ void FastTracer::record_rayset(VkCommandBuffer cb, std::uint64_t first, std::uin
         vk::barrier_all(cb);
     }
     timed(cb, &run.timings.rayset_ms, nullptr, [&] {
-        const vk::Binding b[] = {vk::storage(state().params_buffer), vk::storage(rays),
-                                 vk::storage(counters_), vk::storage(order_buckets_),
-                                 vk::storage(emitter_table_for(first))};
+        const passes::RaysetBindings b{.params = vk::storage(state().params_buffer),
+                                       .rays = vk::storage(rays),
+                                       .counters = vk::storage(counters_),
+                                       .buckets = vk::storage(order_buckets_),
+                                       .emitter_table = vk::storage(emitter_table_for(first))};
         const gpu::RaysetPush push{
             .first_lo = std::uint32_t(first),
             .first_hi = std::uint32_t(first >> 32),
@@ -36,7 +38,7 @@ void FastTracer::record_rayset(VkCommandBuffer cb, std::uint64_t first, std::uin
             // Direct light binned: the rays that miss the holder
             // are traced too, and leave as direct light.
             .keep_all = skips_.discard_before_trace && params_.bin_direct == 0u ? 0u : 1u};
-        rayset_pipeline_.dispatch(cb, b, &push, groups(n, FIRD_RAYSET_WORKGROUP_SIZE));
+        rayset_pipeline_.dispatch(cb, b, push, groups(n, FIRD_RAYSET_WORKGROUP_SIZE));
     });
     vk::barrier_all(cb);
 }
@@ -93,24 +95,28 @@ void FastTracer::read_ray_file_batch(std::uint64_t first, std::uint64_t n) const
 }
 
 void FastTracer::record_bounce_args(VkCommandBuffer cb, std::uint32_t stage, std::uint32_t bounce) {
-    const vk::Binding b[] = {vk::storage(counters_), vk::storage(loop_)};
+    const passes::BounceArgsBindings b{.counters = vk::storage(counters_),
+                                       .loop = vk::storage(loop_)};
     const gpu::BounceArgsPush push{.stage = stage,
                                    .bounce = bounce,
                                    .trace_empty = skips_.skip_empty_bounces ? 0u : 1u,
                                    .groups_max = ctx_->limits().max_workgroup_count[0]};
-    bounce_args_pipeline_.dispatch(cb, b, &push, 1);
+    bounce_args_pipeline_.dispatch(cb, b, push, 1);
     vk::barrier_all(cb);
 }
 
 void FastTracer::record_order(VkCommandBuffer cb, const vk::Buffer& from, const vk::Buffer& to,
                               bool reflected) {
-    const vk::Binding scan[] = {vk::storage(order_buckets_)};
-    bucket_scan_pipeline_.dispatch_indirect(cb, scan, nullptr, loop_, gpu::kLoopScanArgs * 4);
+    bucket_scan_pipeline_.dispatch_indirect(cb, {.buckets = vk::storage(order_buckets_)}, {}, loop_,
+                                            gpu::kLoopScanArgs * 4);
     vk::barrier_all(cb);
-    const vk::Binding b[] = {vk::storage(state().params_buffer), vk::storage(from), vk::storage(to),
-                             vk::storage(order_buckets_), vk::storage(loop_)};
+    const passes::OrderBindings b{.params = vk::storage(state().params_buffer),
+                                  .rays_in = vk::storage(from),
+                                  .rays_out = vk::storage(to),
+                                  .buckets = vk::storage(order_buckets_),
+                                  .loop = vk::storage(loop_)};
     const gpu::RaysetOrderPush push{.reflected = reflected ? 1u : 0u};
-    order_pipeline_.dispatch_indirect(cb, b, &push, loop_, gpu::kLoopOrderArgs * 4);
+    order_pipeline_.dispatch_indirect(cb, b, push, loop_, gpu::kLoopOrderArgs * 4);
     vk::barrier_all(cb);
 }
 

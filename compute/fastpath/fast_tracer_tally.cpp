@@ -41,13 +41,13 @@ void FastTracer::record_batch_start(VkCommandBuffer cb, std::optional<std::uint6
 void FastTracer::record_to_lm(VkCommandBuffer cb, FastRun& run) {
     const std::uint32_t cells = farfield_cells();
     timed(cb, &run.timings.histogram_ms, nullptr, [&] {
-        const vk::Binding b[] = {vk::storage(state().farfield_counts),
-                                 vk::storage(state().farfield_lm)};
+        const passes::ToLmBindings b{.counts = vk::storage(state().farfield_counts),
+                                     .lumens = vk::storage(state().farfield_lm)};
         const gpu::ToLmPush push{.count = cells,
                                  .lm_per_ray = float(run.energy_per_ray_lm),
                                  .layers = params_.farfield_layers,
                                  .reflectance = params_.reflectance};
-        to_lm_pipeline_.dispatch(cb, b, &push, groups(cells, FIRD_REDUCE_WORKGROUP_SIZE));
+        to_lm_pipeline_.dispatch(cb, b, push, groups(cells, FIRD_REDUCE_WORKGROUP_SIZE));
     });
     vk::barrier_all(cb);
 }

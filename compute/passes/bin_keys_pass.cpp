@@ -6,16 +6,13 @@
 namespace fird {
 
 BinKeysPass::BinKeysPass(const vk::Context& ctx)
-    : pipeline_(ctx, fird_spv_bin_keys_comp,
-                {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
-                sizeof(gpu::BinKeysPush), "fird.bin_keys") {}
+    : pipeline_(ctx, fird_spv_bin_keys_comp, "fird.bin_keys") {}
 
 void BinKeysPass::record(VkCommandBuffer cb, const vk::Buffer& keys, std::uint32_t count,
                          const vk::Buffer& bins, std::uint32_t bin_count) const {
     if (count == 0) return; // nothing to dispatch
-    const vk::Binding bindings[] = {vk::storage(keys), vk::storage(bins)};
     const gpu::BinKeysPush push{.count = count, .bin_count = bin_count};
-    pipeline_.dispatch(cb, bindings, &push,
+    pipeline_.dispatch(cb, {.keys = vk::storage(keys), .bins = vk::storage(bins)}, push,
                        (count + gpu::kBinKeysWorkgroupSize - 1) / gpu::kBinKeysWorkgroupSize);
 }
 

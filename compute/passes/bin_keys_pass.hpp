@@ -1,13 +1,27 @@
 // Atomic histogram of integer keys on the device (the far field's binning primitive).
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <vector>
 
+#include "fird_shared.h"
 #include "vk/buffer.hpp"
-#include "vk/compute_pipeline.hpp"
+#include "vk/typed_pass.hpp"
 
 namespace fird {
+
+// bin_keys.comp's bindings by name (vk::TypedPass).
+struct BinKeysBindings {
+    vk::Binding keys, bins;
+    static constexpr auto fields() {
+        using B = BinKeysBindings;
+        return std::array<vk::BindingField<B>, 2>{{
+            {gpu::kBinKeysBindingKeys, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, &B::keys},
+            {gpu::kBinKeysBindingBins, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, &B::bins},
+        }};
+    }
+};
 
 class BinKeysPass {
   public:
@@ -22,7 +36,7 @@ class BinKeysPass {
                                    std::uint32_t bin_count) const;
 
   private:
-    vk::ComputePipeline pipeline_;
+    vk::TypedPass<BinKeysBindings, gpu::BinKeysPush> pipeline_;
 };
 
 } // namespace fird

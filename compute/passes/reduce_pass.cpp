@@ -16,10 +16,7 @@ std::uint32_t groups_for(std::uint32_t count) {
 } // namespace
 
 ReducePass::ReducePass(const vk::Context& ctx)
-    : pipeline_(ctx, fird_spv_reduce_sum_comp,
-                {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-                 VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
-                sizeof(gpu::ReducePush), "fird.reduce_sum") {}
+    : pipeline_(ctx, fird_spv_reduce_sum_comp, "fird.reduce_sum") {}
 
 // Storage-buffer offsets must respect minStorageBufferOffsetAlignment (<= 256 by spec).
 static VkDeviceSize align_offset(VkDeviceSize bytes) {
@@ -63,13 +60,16 @@ void ReducePass::record(VkCommandBuffer cb, const vk::Buffer& a, const vk::Buffe
         other.buffer.offset = b ? 0 : input_offset;
         vk::Binding out = vk::storage(last ? result : scratch);
         out.buffer.offset = last ? result_offset : scratch_offset;
-        const vk::Binding weights = vk::storage(weighted ? *difference.row_weights : *input);
-        const vk::Binding bindings[] = {in, other, out, weights};
+        const ReduceBindings bindings{.a = in,
+                                      .b = other,
+                                      .partial = out,
+                                      .row_weight =
+                                          vk::storage(weighted ? *difference.row_weights : *input)};
         const gpu::ReducePush push{.count = n,
                                    .mode = mode,
                                    .width = weighted ? difference.width : 1u,
                                    .height = weighted ? count / difference.width : 1u};
-        pipeline_.dispatch(cb, bindings, &push, groups > 0 ? groups : 1);
+        pipeline_.dispatch(cb, bindings, push, groups > 0 ? groups : 1);
         vk::barrier_all(cb);
         input = &scratch;
         input_offset = scratch_offset;

@@ -2,11 +2,13 @@
 // two (the l2 distance's radicand), without reading the inputs back.
 #pragma once
 
+#include <array>
 #include <cstdint>
 
 #include "farfield/farfield.hpp"
+#include "fird_shared.h"
 #include "vk/buffer.hpp"
-#include "vk/compute_pipeline.hpp"
+#include "vk/typed_pass.hpp"
 
 namespace fird {
 
@@ -24,6 +26,22 @@ struct ReduceDifference {
 // stored as floats in a device buffer, for ReduceDifference::row_weights.
 vk::Buffer metric_row_weights(const vk::Context& ctx, FarFieldMetric metric, std::uint32_t width,
                               std::uint32_t height);
+
+// reduce_sum.comp's bindings by name (vk::TypedPass): the inputs (b unused by a plain
+// sum), the level's partial sums, and the rows' metric weights (weighted differences).
+struct ReduceBindings {
+    vk::Binding a, b, partial, row_weight;
+    static constexpr auto fields() {
+        using B = ReduceBindings;
+        constexpr VkDescriptorType kStorage = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+        return std::array<vk::BindingField<B>, 4>{{
+            {gpu::kReduceBindingA, kStorage, &B::a},
+            {gpu::kReduceBindingB, kStorage, &B::b},
+            {gpu::kReduceBindingPartial, kStorage, &B::partial},
+            {gpu::kReduceBindingRowWeight, kStorage, &B::row_weight},
+        }};
+    }
+};
 
 class ReducePass {
   public:
@@ -47,7 +65,7 @@ class ReducePass {
   private:
     double run(const vk::Context& ctx, const vk::Buffer& a, const vk::Buffer* b,
                std::uint32_t count, ReduceDifference difference) const;
-    vk::ComputePipeline pipeline_;
+    vk::TypedPass<ReduceBindings, gpu::ReducePush> pipeline_;
 };
 
 } // namespace fird

@@ -7,8 +7,8 @@
 #include "fird_shared.h"
 
 layout(local_size_x = FIRD_REDUCE_WORKGROUP_SIZE) in;
-layout(std430, binding = 0) readonly buffer Counts { uint counts[]; };
-layout(std430, binding = 1) writeonly buffer Lumens { float lm[]; };
+layout(std430, binding = kToLmBindCounts) readonly buffer Counts { uint counts[]; };
+layout(std430, binding = kToLmBindLumens) writeonly buffer Lumens { float lm[]; };
 layout(push_constant) uniform Push { ToLmPush pc; };
 
 void main() {

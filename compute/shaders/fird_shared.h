@@ -314,6 +314,8 @@ struct BounceArgsPush {
 
 // counts_to_lm.comp: the far field's cells, each ray's lumens, and the layers of counts
 // per reflection order weighed by the reflectance's powers (SceneParams.farfield_layers).
+FIRD_CONSTANT(uint, kToLmBindCounts, 0u); // uint[count * layers]
+FIRD_CONSTANT(uint, kToLmBindLumens, 1u); // float[count]
 struct ToLmPush {
     uint count;
     float lm_per_ray;

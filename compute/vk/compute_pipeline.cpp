@@ -8,10 +8,10 @@
 namespace fird::vk {
 
 ComputePipeline::ComputePipeline(const Context& ctx, std::span<const std::uint32_t> spirv,
-                                 std::initializer_list<VkDescriptorType> binding_types,
+                                 std::span<const VkDescriptorType> binding_types,
                                  std::uint32_t push_constant_bytes, std::string_view name,
                                  std::span<const std::uint32_t> specialization)
-    : types_(binding_types), push_bytes_(push_constant_bytes) {
+    : types_(binding_types.begin(), binding_types.end()), push_bytes_(push_constant_bytes) {
     const VkDevice dev = ctx.device();
     std::vector<VkDescriptorSetLayoutBinding> bindings;
     for (std::uint32_t i = 0; i < types_.size(); ++i)

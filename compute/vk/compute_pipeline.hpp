@@ -1,9 +1,9 @@
 // A compute pipeline from embedded SPIR-V whose bindings are pushed per dispatch
 // (VK_KHR_push_descriptor), so each pass owns its bindings without descriptor pools.
+// Passes use it through vk::TypedPass (typed_pass.hpp), which names the bindings.
 #pragma once
 
 #include <cstdint>
-#include <initializer_list>
 #include <span>
 #include <string_view>
 #include <vector>
@@ -42,7 +42,7 @@ class ComputePipeline {
     // binding_types[i] is the descriptor type at binding i of set 0; specialization[i]
     // is the value of the 32-bit specialization constant with constant_id i.
     ComputePipeline(const Context& ctx, std::span<const std::uint32_t> spirv,
-                    std::initializer_list<VkDescriptorType> binding_types,
+                    std::span<const VkDescriptorType> binding_types,
                     std::uint32_t push_constant_bytes, std::string_view name,
                     std::span<const std::uint32_t> specialization = {});
 
