@@ -156,7 +156,10 @@ TEST(BadInput, FilesThatAreMissingUnreadableOrDirectories) {
     std::ofstream(script) << "# a form field without its value\ntolerance realisations\n";
     check({{"gui --script " + dir(), 1, dir()},
            {"gui --script " + script, 1,
-            "bad_tolerance.fird:2: tolerance (start) or tolerance KEY VALUE"}});
+            "bad_tolerance.fird:2: tolerance (start) or tolerance KEY VALUE"},
+           // An offscreen frame's size, refused before anything opens.
+           {"gui --offscreen 100x100", 2, "--offscreen 100x100: at least 200x200"},
+           {"gui --offscreen wide", 2, "--offscreen wide: not WxH"}});
 #endif
     // A photometric target that is broken, and a mesh that is missing.
     const std::string target = dir() + "/ies_target.toml";
