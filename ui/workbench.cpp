@@ -78,38 +78,33 @@ struct Session {
     }
 };
 
-// The frame's draw data into an offscreen RGBA8 image, read back.
-// `slot`: the renderer's buffers to use, none a presented frame may still read.
+// Records the frame's draw data into `target` (left ready to copy). `slot`: the
+// renderer's buffers to use, none a frame still in flight may read.
+void record_into(VkCommandBuffer cb, ImGuiRenderer& renderer, const ImDrawData* data,
+                 const render::OffscreenTarget& target, std::uint32_t slot) {
+    vk::transition(cb, target.colour(), VK_IMAGE_LAYOUT_UNDEFINED,
+                   VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL);
+    renderer.record(cb, data, target.colour().view(), render::kColourFormat,
+                    {target.width(), target.height()}, slot, kClear);
+    vk::transition(cb, target.colour(), VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
+                   VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
+}
+
+// The frame's draw data into an offscreen RGBA8 image, read back (a screenshot).
 std::vector<std::uint8_t> draw_offscreen(const vk::Context& ctx, ImGuiRenderer& renderer,
                                          const ImDrawData* data, std::uint32_t w, std::uint32_t h,
                                          std::uint32_t slot) {
     const render::OffscreenTarget target(ctx, w, h, "fird.workbench.offscreen");
-    ctx.submit_and_wait([&](VkCommandBuffer cb) {
-        vk::transition(cb, target.colour(), VK_IMAGE_LAYOUT_UNDEFINED,
-                       VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL);
-        renderer.record(cb, data, target.colour().view(), render::kColourFormat, {w, h}, slot,
-                        kClear);
-        vk::transition(cb, target.colour(), VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
-                       VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
-    });
+    ctx.submit_and_wait([&](VkCommandBuffer cb) { record_into(cb, renderer, data, target, slot); });
     return target.read_rgba(ctx);
 }
 
 // A frame of `fird gui --offscreen`: drawn into `target` on the frames' queue and waited
-// for, as a presented frame's fence is; nothing is read back (the frame time is the
-// window's without a display).
+// for; nothing is read back.
 void draw_frame_offscreen(const vk::Context& ctx, ImGuiRenderer& renderer, const ImDrawData* data,
                           const render::OffscreenTarget& target) {
     const vk::Submission frame(
-        ctx,
-        [&](VkCommandBuffer cb) {
-            vk::transition(cb, target.colour(), VK_IMAGE_LAYOUT_UNDEFINED,
-                           VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL);
-            renderer.record(cb, data, target.colour().view(), render::kColourFormat,
-                            {target.width(), target.height()}, 0, kClear);
-            vk::transition(cb, target.colour(), VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
-                           VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
-        },
+        ctx, [&](VkCommandBuffer cb) { record_into(cb, renderer, data, target, 0); },
         "fird.workbench.frame");
     frame.wait();
 }
