@@ -23,25 +23,24 @@ namespace {
 
 void print_cad_report(const std::string& dir, const CadReport& r) {
     const std::string surface =
-        r.exact ? fmt::format("the family's B-spline, exact ({} x {} control heights)", r.fit_nx,
-                              r.fit_ny)
-                : fmt::format("B-spline fitted to {} x {} heights", r.fit_nx, r.fit_ny);
+        r.revolved ? fmt::format("the profile's B-spline meridian ({} heights) revolved, exact, "
+                                 "trimmed to the holder (edges within {:.2g} mm)",
+                                 r.fit_nx, r.trim_tolerance_mm)
+        : r.exact  ? fmt::format("the family's B-spline, exact ({} x {} control heights)", r.fit_nx,
+                                 r.fit_ny)
+                   : fmt::format("B-spline fitted to {} x {} heights", r.fit_nx, r.fit_ny);
     std::printf("%s", fmt::format("CAD surface: {}{}; largest deviation {:.2g} mm at ({:.2f}, "
                                   "{:.2f}) mm on {} x {} points\n",
                                   r.creased ? "the family without its clamp, " : "", surface,
                                   r.max_deviation_mm, r.worst_xy_mm.x, r.worst_xy_mm.y, r.check_nx,
                                   r.check_ny)
                           .c_str());
-    if (r.creased) {
+    if (r.creased)
         std::printf("%s", fmt::format("trimmed where the holder's z range clamps it, flat "
                                       "beyond; crease edges within {:.2g} mm\n",
                                       r.edge_tolerance_mm)
                               .c_str());
-        std::printf("%s", fmt::format("STL: OpenCASCADE's tessellation, facets within {:.2g} mm "
-                                      "of the faces\n",
-                                      r.stl_chord_mm)
-                              .c_str());
-    } else {
+    if (r.stl_nx > 0) { // a grid's STL: the surface sampled, its back radius measured
         std::printf("%s",
                     fmt::format("smallest radius of curvature towards the back: {:.4g} mm "
                                 "at ({:.2f}, {:.2f}) mm (a sheet must be thinner)\n",
@@ -51,7 +50,20 @@ void print_cad_report(const std::string& dir, const CadReport& r) {
                                       "surface\n",
                                       r.stl_nx, r.stl_ny, r.stl_chord_mm)
                               .c_str());
+    } else {
+        std::printf("%s", fmt::format("STL: OpenCASCADE's tessellation, facets within {:.2g} mm "
+                                      "of the faces\n",
+                                      r.stl_chord_mm)
+                              .c_str());
     }
+    if (r.bend)
+        std::printf("%s", fmt::format("sheet: {} crease edge(s), {:.1f} mm, bent with radius {:g} "
+                                      "mm; the bends leave the family by up to {:.3g} mm at "
+                                      "({:.2f}, {:.2f}) mm\n",
+                                      r.bend->creases, r.bend->crease_length_mm, r.bend->radius_mm,
+                                      r.bend->max_deviation_mm, r.bend->worst_xy_mm.x,
+                                      r.bend->worst_xy_mm.y)
+                              .c_str());
     for (const ExportedFile& f : r.files)
         std::printf("%s",
                     fmt::format("{}/{}: {:.2f} MB\n", dir, f.name, double(f.bytes) * 1e-6).c_str());
@@ -62,7 +74,10 @@ nlohmann::json cad_json(const CadReport& r) {
     for (const ExportedFile& f : r.files)
         files.push_back({{"name", f.name}, {"bytes", f.bytes}});
     return {{"exact", r.exact},
+            {"form", r.revolved ? "revolved" : "height_field"},
+            {"trim_edge_tolerance_mm", r.trim_tolerance_mm},
             {"creased", r.creased},
+            {"crease_edge_tolerance_mm", r.edge_tolerance_mm},
             {"max_deviation_mm", r.max_deviation_mm},
             {"worst_at_mm", {r.worst_xy_mm.x, r.worst_xy_mm.y}},
             {"fit_grid", {r.fit_nx, r.fit_ny}},
@@ -70,6 +85,13 @@ nlohmann::json cad_json(const CadReport& r) {
             {"back_radius_mm",
              std::isfinite(r.back_radius_mm) ? nlohmann::json(r.back_radius_mm) : nullptr},
             {"stl_chord_mm", r.stl_chord_mm},
+            {"bend", r.bend ? nlohmann::json{{"radius_mm", r.bend->radius_mm},
+                                             {"creases", r.bend->creases},
+                                             {"crease_length_mm", r.bend->crease_length_mm},
+                                             {"max_deviation_mm", r.bend->max_deviation_mm},
+                                             {"worst_at_mm",
+                                              {r.bend->worst_xy_mm.x, r.bend->worst_xy_mm.y}}}
+                            : nlohmann::json(nullptr)},
             {"files", files}};
 }
 
@@ -125,6 +147,9 @@ void register_export(CLI::App& app, const GlobalOptions& global, std::function<i
     cmd->add_option("--thickness", a->cad_options.thickness_mm,
                     "Thicken the CAD reflector into a solid sheet this thick, mm, its back face "
                     "offset along the normal (default: the surface alone)");
+    cmd->add_option("--bend-radius", a->cad_options.bend_radius_mm,
+                    "With --thickness on a reflector the holder clamps: the radius its creases "
+                    "are bent to, mm (default: twice the thickness)");
     cmd->add_option("--manufacturability", a->press,
                     "Write the press's report here: manufacturability.json and .png (slope, "
                     "radius of curvature, depth, area, rim walls, [reflector.constraints]); "

@@ -1,5 +1,6 @@
 #include "cad_crease.hpp"
 
+#include <cmath>
 #include <optional>
 #include <stdexcept>
 
@@ -52,7 +53,7 @@ Creases clamp_creases(const Surface& surface) {
     return c;
 }
 
-TopoDS_Shape creased_shell(const Handle(Geom_BSplineSurface) & unclamped, const Surface& surface,
+TopoDS_Shape creased_shell(const TopoDS_Shape& unclamped, const Surface& surface,
                            const Creases& creases) {
     const Holder& h = surface.holder();
     const auto plane = [&](double z) {
@@ -64,7 +65,7 @@ TopoDS_Shape creased_shell(const Handle(Geom_BSplineSurface) & unclamped, const 
     // edges, so the shell below is connected without sewing.
     BRepAlgoAPI_BuilderAlgo fuse;
     TopTools_ListOfShape arguments;
-    arguments.Append(BRepBuilderAPI_MakeFace(unclamped, 1e-7).Face());
+    arguments.Append(unclamped);
     if (creases.top) arguments.Append(plane(h.max_mm.z));
     if (creases.floor) arguments.Append(plane(h.min_mm.z));
     fuse.SetArguments(arguments);
@@ -82,11 +83,16 @@ TopoDS_Shape creased_shell(const Handle(Geom_BSplineSurface) & unclamped, const 
         if (!p) continue; // a sliver with no interior
         const bool flat = !Handle(Geom_Plane)::DownCast(BRep_Tool::Surface(piece)).IsNull();
         const double raw = surface.raw(p->X(), p->Y());
+        // The holder's top or floor (a flat of the family's own, a profile's beyond its
+        // radius, is the family's).
+        const bool holder_plane =
+            flat && (std::abs(p->Z() - h.max_mm.z) < 1e-9 || std::abs(p->Z() - h.min_mm.z) < 1e-9);
         // The family between the two, a flange where it rises above the top, a floor where
         // it dips below the holder's floor.
-        const bool keep = !flat ? p->Z() > h.min_mm.z && p->Z() < h.max_mm.z
-                                : (p->Z() > 0.5 * (h.min_mm.z + h.max_mm.z) ? raw > h.max_mm.z
-                                                                            : raw < h.min_mm.z);
+        const bool keep =
+            !holder_plane
+                ? p->Z() > h.min_mm.z && p->Z() < h.max_mm.z
+                : (p->Z() > 0.5 * (h.min_mm.z + h.max_mm.z) ? raw > h.max_mm.z : raw < h.min_mm.z);
         if (keep) {
             builder.Add(shell, piece);
             ++faces;

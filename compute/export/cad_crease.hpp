@@ -6,7 +6,6 @@
 // holder (docs/export.md).
 #pragma once
 
-#include <Geom_BSplineSurface.hxx>
 #include <TopoDS_Shape.hxx>
 
 #include "model/surface.hpp"
@@ -22,9 +21,9 @@ struct Creases {
 Creases clamp_creases(const Surface& surface);
 
 // The shell of the trimmed face and the flat pieces, with shared crease edges; `unclamped`
-// is the fitted (or exact) surface of the unclamped family over the holder rectangle.
-// Throws std::runtime_error where OpenCASCADE's boolean fails.
-TopoDS_Shape creased_shell(const Handle(Geom_BSplineSurface)& unclamped, const Surface& surface,
+// is the face (or shell) of the fitted (or exact) unclamped family over the holder
+// rectangle, its normal up. Throws std::runtime_error where OpenCASCADE's boolean fails.
+TopoDS_Shape creased_shell(const TopoDS_Shape& unclamped, const Surface& surface,
                            const Creases& creases);
 
 } // namespace fird

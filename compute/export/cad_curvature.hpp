@@ -4,8 +4,10 @@
 // curvature at or under the thickness.
 #pragma once
 
-#include <Geom_BSplineSurface.hxx>
+#include <Geom_Surface.hxx>
 #include <glm/vec2.hpp>
+
+#include "model/scene.hpp"
 
 namespace fird {
 
@@ -14,7 +16,10 @@ struct BackCurvature {
     glm::dvec2 where_xy_mm{0.0};
 };
 
-// Principal curvatures on an nx x ny grid over the surface's parameter rectangle.
-BackCurvature smallest_back_radius(const Handle(Geom_BSplineSurface) & s, int nx, int ny);
+// Principal curvatures on an nx x ny grid over the surface's parameter rectangle, at the
+// points over the holder rectangle (a revolved surface's disc reaches beyond it), signed
+// about the upward normal whichever way the parameters run.
+BackCurvature smallest_back_radius(const Handle(Geom_Surface) & s, const Holder& holder, int nx,
+                                   int ny);
 
 } // namespace fird

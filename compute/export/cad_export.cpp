@@ -8,8 +8,10 @@
 #include <BRep_Tool.hxx>
 #include <Standard_Failure.hxx>
 
+#include "cad_bend.hpp"
 #include "cad_crease.hpp"
 #include "cad_curvature.hpp"
+#include "cad_revolution.hpp"
 #include "cad_step.hpp"
 #include "cad_stl.hpp"
 #include "cad_surface.hpp"
@@ -39,29 +41,118 @@ std::string file_in(const std::string& directory, const char* name) {
     return (std::filesystem::path(directory) / name).string();
 }
 
-// A reflector clamped to the holder's z range: the unclamped family fitted (or exact) and
-// trimmed there, flat beyond; no sheet (the crease would need a bend radius).
-CadReport export_creased(const Surface& surface, const Creases& creases, const CadOptions& o,
-                         const std::string& directory) {
-    if (o.thickness_mm > 0.0)
+// The bend radius a sheet's creases (and a profile's kink) get: the option's, else twice
+// the thickness (the back face's bends then have the thickness for their radius). Where a
+// crease bends towards the back (the family rising into the holder's top, a profile rising
+// into its flat), the back face bends with the radius less the thickness: it must exceed
+// the thickness.
+double bend_radius(const CadOptions& o, bool bends_back) {
+    const double radius = o.bend_radius_mm > 0.0 ? o.bend_radius_mm : 2.0 * o.thickness_mm;
+    if (bends_back && radius <= o.thickness_mm)
         throw CadOptionError(fmt::format(
-            "--thickness {:g}: the reflector meets the holder's {} in a crease (it is clamped "
-            "there), and a sheet needs a bend radius there, which this export does not make; "
-            "export the surface alone",
-            o.thickness_mm, creases.top ? "top" : "floor"));
-    const CadSurface cad = make_cad_surface(surface, o.tolerance_mm, Heights::Unclamped);
-    CadReport r = report_of(cad);
-    r.creased = true;
-    const TopoDS_Shape shell = creased_shell(cad.surface, surface, creases);
-    r.edge_tolerance_mm = BRep_Tool::MaxTolerance(shell, TopAbs_EDGE);
+            "--bend-radius {:g}: must exceed --thickness {:g}, for the reflector bends towards "
+            "its back at a crease (its back face bends with the radius less the thickness)",
+            radius, o.thickness_mm));
+    return radius;
+}
+
+// A shell of faces meeting in creases as the surface, or as a sheet with the creases bent
+// (cad_bend); its STL is OpenCASCADE's tessellation (no grid follows a crease).
+CadReport write_creased_part(const TopoDS_Shape& shell, CadReport r, const Surface& surface,
+                             bool bends_back, const CadOptions& o, const std::string& directory) {
     r.stl_chord_mm = o.tolerance_mm;
+    TopoDS_Shape part = shell;
+    if (o.thickness_mm > 0.0) {
+        Bend bend;
+        part = bent_sheet(shell, surface, bend_radius(o, bends_back), o.thickness_mm, bend);
+        r.bend = bend;
+    }
     create_output_directory(directory);
-    write_step(shell, file_in(directory, "reflector.step"));
+    write_step(part, file_in(directory, "reflector.step"));
     r.files.push_back(
         {"reflector.step", std::filesystem::file_size(file_in(directory, "reflector.step"))});
     r.files.push_back(
         {"reflector.stl",
-         write_tessellated_stl(shell, o.tolerance_mm, file_in(directory, "reflector.stl"))});
+         write_tessellated_stl(part, o.tolerance_mm, file_in(directory, "reflector.stl"))});
+    return r;
+}
+
+// A reflector clamped to the holder's z range: the unclamped family's faces (fitted or
+// exact) trimmed there, flat beyond (cad_crease).
+CadReport export_creased(const TopoDS_Shape& unclamped, CadReport r, const Surface& surface,
+                         const Creases& creases, bool kink_bends_back, const CadOptions& o,
+                         const std::string& directory) {
+    if (o.thickness_mm > 0.0) (void)bend_radius(o, creases.top || kink_bends_back);
+    r.creased = true;
+    const TopoDS_Shape shell = creased_shell(unclamped, surface, creases);
+    r.edge_tolerance_mm = BRep_Tool::MaxTolerance(shell, TopAbs_EDGE);
+    return write_creased_part(shell, r, surface, creases.top || kink_bends_back, o, directory);
+}
+
+// Refuses a sheet thicker than the smallest radius bending towards its back.
+void refuse_folding_sheet(const CadOptions& o, const CadReport& r) {
+    if (o.thickness_mm > 0.0 && o.thickness_mm >= r.back_radius_mm)
+        throw CadOptionError(fmt::format(
+            "--thickness {:g}: the back face would intersect itself where the surface bends "
+            "towards it with a radius of {:.3g} mm at ({:.2f}, {:.2f}) mm; use a thinner sheet",
+            o.thickness_mm, r.back_radius_mm, r.back_radius_xy_mm.x, r.back_radius_xy_mm.y));
+}
+
+// Writes the face (or its sheet) as STEP and the sampled grid as STL.
+void write_part(const TopoDS_Shape& face, const SurfaceGrid& grid, const CadOptions& o,
+                const std::string& directory, CadReport& r) {
+    const TopoDS_Shape shape = reflector_shape(face, o.thickness_mm);
+    create_output_directory(directory);
+    const std::string step = file_in(directory, "reflector.step");
+    write_step(shape, step);
+    r.files.push_back({"reflector.step", std::filesystem::file_size(step)});
+    const std::string stl = file_in(directory, "reflector.stl");
+    r.files.push_back({"reflector.stl", write_reflector_stl(grid, o.thickness_mm, stl)});
+}
+
+// The profile family, exactly: its meridian revolved (cad_revolution), trimmed to the
+// holder, creased where the holder clamps it.
+CadReport export_revolved(const Surface& surface, const Creases& creases, const CadOptions& o,
+                          const std::string& directory) {
+    const ProfileFn& f = std::get<ProfileFn>(surface.function());
+    const RevolvedProfile rev = revolve_profile(surface);
+    CadReport r{.exact = true,
+                .revolved = true,
+                .trim_tolerance_mm = rev.trim_tolerance_mm,
+                .max_deviation_mm = rev.max_deviation_mm,
+                .worst_xy_mm = rev.worst_xy_mm,
+                .fit_nx = f.spans + 1,
+                .fit_ny = 1,
+                .check_nx = rev.check_nu,
+                .check_ny = rev.check_nv};
+    const bool kink_bends_back = rev.kink && rev.slope_at_radius > 0.0;
+    if (creases.any())
+        return export_creased(rev.faces, r, surface, creases, kink_bends_back, o, directory);
+    // A sheet over the kink where the flat begins bends it as a crease.
+    if (o.thickness_mm > 0.0 && rev.kink)
+        return write_creased_part(rev.faces, r, surface, kink_bends_back, o, directory);
+    // Eight STL samples in each of the profile's knot intervals (at least 129 an axis, at
+    // most kMaxFitSamples), on the family itself.
+    const Holder& h = surface.holder();
+    const auto samples = [&](double extent) {
+        return int(
+            std::clamp(8.0 * std::ceil(extent / f.spacing) + 1.0, 129.0, double(kMaxFitSamples)));
+    };
+    r.stl_nx = samples(h.max_mm.x - h.min_mm.x);
+    r.stl_ny = samples(h.max_mm.y - h.min_mm.y);
+    r.back_radius_mm = std::numeric_limits<double>::infinity();
+    for (const Handle(Geom_BSplineSurface) & half : rev.quarters) {
+        const BackCurvature back =
+            smallest_back_radius(half, h, refined(r.stl_nx, 2), refined(r.stl_ny, 2));
+        if (back.smallest_radius_mm < r.back_radius_mm) {
+            r.back_radius_mm = back.smallest_radius_mm;
+            r.back_radius_xy_mm = back.where_xy_mm;
+        }
+    }
+    refuse_folding_sheet(o, r);
+    const SurfaceGrid grid = sample_family(surface, r.stl_nx, r.stl_ny);
+    r.stl_chord_mm = chord_error_mm(grid, [&](double x, double y) { return surface.raw(x, y); });
+    write_part(rev.faces, grid, o, directory, r);
     return r;
 }
 
@@ -72,34 +163,35 @@ CadReport export_cad_unguarded(const Surface& surface, const CadOptions& o,
     if (!(o.thickness_mm >= 0.0))
         throw CadOptionError(fmt::format("--thickness {:g}: must be >= 0 mm (0: the surface alone)",
                                          o.thickness_mm));
-    if (!std::holds_alternative<MeshFn>(surface.function()))
-        if (const Creases creases = clamp_creases(surface); creases.any())
-            return export_creased(surface, creases, o, directory);
+    if (!(o.bend_radius_mm >= 0.0))
+        throw CadOptionError(fmt::format(
+            "--bend-radius {:g}: must be > 0 mm (0: twice the thickness)", o.bend_radius_mm));
+    const bool mesh = std::holds_alternative<MeshFn>(surface.function());
+    const Creases creases = mesh ? Creases{} : clamp_creases(surface);
+    if (std::holds_alternative<ProfileFn>(surface.function()))
+        return export_revolved(surface, creases, o, directory);
+    if (creases.any()) {
+        if (o.thickness_mm > 0.0) (void)bend_radius(o, creases.top);
+        const CadSurface cad = make_cad_surface(surface, o.tolerance_mm, Heights::Unclamped);
+        return export_creased(height_field_face(cad.surface), report_of(cad), surface, creases,
+                              false, o, directory);
+    }
     const CadSurface cad = make_cad_surface(surface, o.tolerance_mm);
     CadReport r = report_of(cad);
     // The exact B-spline has few knot intervals: eight samples in each (at least 129 an
     // axis) for the STL and the curvature; a fit's own samples already resolve its detail.
     r.stl_nx = cad.exact ? std::max(129, refined(cad.fit_nx, 8)) : cad.fit_nx;
     r.stl_ny = cad.exact ? std::max(129, refined(cad.fit_ny, 8)) : cad.fit_ny;
-    const BackCurvature back =
-        smallest_back_radius(cad.surface, refined(r.stl_nx, 2), refined(r.stl_ny, 2));
+    const BackCurvature back = smallest_back_radius(cad.surface, surface.holder(),
+                                                    refined(r.stl_nx, 2), refined(r.stl_ny, 2));
     r.back_radius_mm = back.smallest_radius_mm;
     r.back_radius_xy_mm = back.where_xy_mm;
-    if (o.thickness_mm > 0.0 && o.thickness_mm >= r.back_radius_mm)
-        throw CadOptionError(fmt::format(
-            "--thickness {:g}: the back face would intersect itself where the surface bends "
-            "towards it with a radius of {:.3g} mm at ({:.2f}, {:.2f}) mm; use a thinner sheet",
-            o.thickness_mm, back.smallest_radius_mm, back.where_xy_mm.x, back.where_xy_mm.y));
-    const TopoDS_Shape shape = reflector_shape(cad.surface, o.thickness_mm);
+    refuse_folding_sheet(o, r);
     const SurfaceGrid grid = sample_surface(cad.surface, r.stl_nx, r.stl_ny);
-    r.stl_chord_mm = chord_error_mm(grid, cad.surface);
-
-    create_output_directory(directory);
-    const std::string step = file_in(directory, "reflector.step");
-    write_step(shape, step);
-    r.files.push_back({"reflector.step", std::filesystem::file_size(step)});
-    const std::string stl = file_in(directory, "reflector.stl");
-    r.files.push_back({"reflector.stl", write_reflector_stl(grid, o.thickness_mm, stl)});
+    // S(u, v) = (u, v, z): the surface point over (x, y) is at parameters (x, y).
+    r.stl_chord_mm =
+        chord_error_mm(grid, [&](double x, double y) { return cad.surface->Value(x, y).Z(); });
+    write_part(height_field_face(cad.surface), grid, o, directory, r);
     return r;
 }
 

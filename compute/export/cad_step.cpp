@@ -4,7 +4,9 @@
 
 #include <BRepBuilderAPI_MakeFace.hxx>
 #include <BRepCheck_Analyzer.hxx>
+#include <BRepGProp.hxx>
 #include <BRepOffsetAPI_MakeThickSolid.hxx>
+#include <GProp_GProps.hxx>
 #include <IFSelect_ReturnStatus.hxx>
 #include <Interface_Static.hxx>
 #include <Message.hxx>
@@ -17,22 +19,34 @@
 
 namespace fird {
 
-TopoDS_Shape reflector_shape(const Handle(Geom_BSplineSurface) & surface, double thickness_mm) {
+TopoDS_Face height_field_face(const Handle(Geom_BSplineSurface) & surface) {
+    // The face's normal is the surface's D1U x D1V, up (+z) for S(u, v) = (u, v, z).
     BRepBuilderAPI_MakeFace face(surface, 1e-7);
     if (!face.IsDone()) throw std::runtime_error("OpenCASCADE could not make the reflector face");
-    if (thickness_mm <= 0.0) return face.Shape();
-    // The face's normal is the surface's D1U x D1V, up (+z): the back face lies at minus
-    // the thickness along it.
+    return face.Face();
+}
+
+TopoDS_Shape thickened(const TopoDS_Shape& top, double thickness_mm) {
+    // The back face lies at minus the thickness along the faces' (upward) normals.
     BRepOffsetAPI_MakeThickSolid thick;
-    thick.MakeThickSolidBySimple(face.Shape(), -thickness_mm);
+    thick.MakeThickSolidBySimple(top, -thickness_mm);
     if (!thick.IsDone())
         throw std::runtime_error(fmt::format(
             "--thickness {:g}: OpenCASCADE could not thicken the reflector", thickness_mm));
-    const TopoDS_Shape solid = thick.Shape();
+    TopoDS_Shape solid = thick.Shape();
+    // Its faces point out: a positive volume (the offset follows the faces' orientation).
+    GProp_GProps mass;
+    BRepGProp::VolumeProperties(solid, mass);
+    if (mass.Mass() < 0.0) solid.Reverse();
     if (!BRepCheck_Analyzer(solid).IsValid())
         throw std::runtime_error(
             fmt::format("--thickness {:g}: OpenCASCADE made an invalid solid sheet", thickness_mm));
     return solid;
+}
+
+TopoDS_Shape reflector_shape(const TopoDS_Shape& face, double thickness_mm) {
+    if (thickness_mm <= 0.0) return face;
+    return thickened(face, thickness_mm);
 }
 
 void write_step(const TopoDS_Shape& shape, const std::string& path) {

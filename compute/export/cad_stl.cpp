@@ -4,12 +4,16 @@
 #include <array>
 #include <cmath>
 #include <cstring>
-#include <filesystem>
 #include <fstream>
 #include <stdexcept>
 
 #include <BRepMesh_IncrementalMesh.hxx>
-#include <StlAPI_Writer.hxx>
+#include <BRep_Tool.hxx>
+#include <Poly_Triangulation.hxx>
+#include <TopExp_Explorer.hxx>
+#include <TopLoc_Location.hxx>
+#include <TopoDS.hxx>
+#include <TopoDS_Face.hxx>
 #include <fmt/format.h>
 #include <glm/geometric.hpp>
 #include <gp_Pnt.hxx>
@@ -91,11 +95,30 @@ SurfaceGrid sample_surface(const Handle(Geom_BSplineSurface) & s, int nx, int ny
     return g;
 }
 
-double chord_error_mm(const SurfaceGrid& g, const Handle(Geom_BSplineSurface) & s) {
+SurfaceGrid sample_family(const Surface& surface, int nx, int ny) {
+    const Holder& h = surface.holder();
+    SurfaceGrid g{nx, ny, {}, {}};
+    g.points.reserve(std::size_t(nx) * ny);
+    g.normals.reserve(std::size_t(nx) * ny);
+    for (int j = 0; j < ny; ++j)
+        for (int i = 0; i < nx; ++i) {
+            // The rims exactly on the holder's, so the sides are planar walls.
+            const double x =
+                i + 1 == nx ? h.max_mm.x : h.min_mm.x + (h.max_mm.x - h.min_mm.x) * i / (nx - 1);
+            const double y =
+                j + 1 == ny ? h.max_mm.y : h.min_mm.y + (h.max_mm.y - h.min_mm.y) * j / (ny - 1);
+            const glm::dvec2 grad = surface.raw_gradient(x, y);
+            g.points.push_back({x, y, surface.raw(x, y)});
+            g.normals.push_back(glm::normalize(glm::dvec3{-grad.x, -grad.y, 1.0}));
+        }
+    return g;
+}
+
+double chord_error_mm(const SurfaceGrid& g,
+                      const std::function<double(double, double)>& height_mm) {
     double worst = 0.0;
     const auto gap = [&](const glm::dvec3& q) {
-        // S(u, v) = (u, v, z): the surface point over q is at parameters (q.x, q.y).
-        worst = std::max(worst, std::abs(s->Value(q.x, q.y).Z() - q.z));
+        worst = std::max(worst, std::abs(height_mm(q.x, q.y) - q.z));
     };
     for (const Triangle& t : triangles(g, 0.0)) {
         gap((t[0] + t[1] + t[2]) / 3.0);
@@ -106,14 +129,16 @@ double chord_error_mm(const SurfaceGrid& g, const Handle(Geom_BSplineSurface) & 
     return worst;
 }
 
-std::uint64_t write_reflector_stl(const SurfaceGrid& g, double thickness_mm,
-                                  const std::string& path) {
-    const std::vector<Triangle> tris = triangles(g, thickness_mm);
+namespace {
+
+// Binary STL of the triangles (each counter-clockwise seen from outside, its normal from
+// that winding), whole or not at all; returns its size.
+std::uint64_t write_stl(const std::vector<Triangle>& tris, const std::string& header,
+                        const std::string& path) {
     std::string out(80, '\0');
-    const std::string header = thickness_mm > 0.0
-                                   ? fmt::format("fird reflector, sheet {:g} mm, mm", thickness_mm)
-                                   : std::string("fird reflector surface, mm");
-    std::copy(header.begin(), header.end(), out.begin());
+    std::copy(header.begin(),
+              header.begin() + std::ptrdiff_t(std::min<std::size_t>(80, header.size())),
+              out.begin());
     const auto count = std::uint32_t(tris.size());
     out.append(reinterpret_cast<const char*>(&count), 4);
     out.reserve(84 + 50 * tris.size());
@@ -138,6 +163,17 @@ std::uint64_t write_reflector_stl(const SurfaceGrid& g, double thickness_mm,
     return out.size();
 }
 
+} // namespace
+
+std::uint64_t write_reflector_stl(const SurfaceGrid& g, double thickness_mm,
+                                  const std::string& path) {
+    return write_stl(triangles(g, thickness_mm),
+                     thickness_mm > 0.0
+                         ? fmt::format("fird reflector, sheet {:g} mm, mm", thickness_mm)
+                         : std::string("fird reflector surface, mm"),
+                     path);
+}
+
 std::uint64_t write_tessellated_stl(const TopoDS_Shape& shape, double deflection_mm,
                                     const std::string& path) {
     BRepMesh_IncrementalMesh mesh(shape, deflection_mm, Standard_False, 0.5);
@@ -145,13 +181,30 @@ std::uint64_t write_tessellated_stl(const TopoDS_Shape& shape, double deflection
         throw std::runtime_error(fmt::format("{}: OpenCASCADE could not mesh the "
                                              "reflector",
                                              path));
-    StlAPI_Writer writer;
-    writer.ASCIIMode() = Standard_False;
-    write_atomically(path, [&](const std::string& temporary) {
-        if (!writer.Write(shape, temporary.c_str()))
-            throw std::runtime_error(fmt::format("{}: cannot write", path));
-    });
-    return std::filesystem::file_size(path);
+    // Each face's triangles, wound by the face's orientation. Those with two corners at one
+    // point go: a revolved face's pole (a degenerate edge) gets a fan of them, which would
+    // leave facets with no normal and edges of no length.
+    std::vector<Triangle> tris;
+    for (TopExp_Explorer e(shape, TopAbs_FACE); e.More(); e.Next()) {
+        const TopoDS_Face face = TopoDS::Face(e.Current());
+        TopLoc_Location where;
+        const Handle(Poly_Triangulation) t = BRep_Tool::Triangulation(face, where);
+        if (t.IsNull()) continue;
+        const bool reversed = face.Orientation() == TopAbs_REVERSED;
+        const auto node = [&](int k) {
+            const gp_Pnt p = t->Node(k).Transformed(where.Transformation());
+            return glm::dvec3(p.X(), p.Y(), p.Z());
+        };
+        for (int k = 1; k <= t->NbTriangles(); ++k) {
+            int a, b, c;
+            t->Triangle(k).Get(a, b, c);
+            if (reversed) std::swap(b, c);
+            const Triangle tri{node(a), node(b), node(c)};
+            if (tri[0] == tri[1] || tri[1] == tri[2] || tri[2] == tri[0]) continue;
+            tris.push_back(tri);
+        }
+    }
+    return write_stl(tris, "fird reflector surface, mm", path);
 }
 
 } // namespace fird

@@ -7,12 +7,15 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
 #include <Geom_BSplineSurface.hxx>
 #include <TopoDS_Shape.hxx>
 #include <glm/vec3.hpp>
+
+#include "model/surface.hpp"
 
 namespace fird {
 
@@ -25,13 +28,21 @@ struct SurfaceGrid {
 // nx x ny points evenly over the surface's parameter rectangle.
 SurfaceGrid sample_surface(const Handle(Geom_BSplineSurface) & surface, int nx, int ny);
 
-// Largest vertical gap between the triangles and the surface, at each triangle's centroid
-// and edge midpoints (where a flat facet strays furthest from a smooth surface).
-double chord_error_mm(const SurfaceGrid& grid, const Handle(Geom_BSplineSurface) & surface);
+// nx x ny points evenly over the holder rectangle on the family without its clamp, the
+// normals from its analytic gradient: the STL of a surface written exactly in another form
+// (the revolved profile), its vertices on the family to rounding.
+SurfaceGrid sample_family(const Surface& surface, int nx, int ny);
+
+// Largest vertical gap between the triangles and the surface z = height(x, y), at each
+// triangle's centroid and edge midpoints (where a flat facet strays furthest from a smooth
+// surface).
+double chord_error_mm(const SurfaceGrid& grid,
+                      const std::function<double(double, double)>& height_mm);
 
 // A creased reflector (cad_crease) as OpenCASCADE tessellates it (BRepMesh, facets within
 // deflection_mm of the faces, the crease an edge of the mesh, which no regular grid
-// follows), written by StlAPI_Writer in binary, whole or not at all; returns its size.
+// follows; triangles with two corners at one point, a pole's, dropped), written in binary,
+// whole or not at all; returns its size.
 std::uint64_t write_tessellated_stl(const TopoDS_Shape& shape, double deflection_mm,
                                     const std::string& path);
 
