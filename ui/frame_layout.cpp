@@ -122,6 +122,7 @@ void build_frame(Frame& f) {
     const PanelRect area{0.0f, top, io.DisplaySize.x, std::max(0.0f, io.DisplaySize.y - top)};
     const LayoutMetrics m = metrics();
     f.state.panels = tile(f.state.layout, area, m);
+    (void)poll_cad_export(f.state);
     scene_panel(f);
     viewport_panel(f);
     farfield_panel(f);

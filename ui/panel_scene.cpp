@@ -68,6 +68,7 @@ void scene_panel(Frame& f) {
     }
     source_section(s);
     material_section(s);
+    cad_section(s);
     int preview = int(s.editor.preview_rays);
     if (ImGui::InputInt("preview rays", &preview, 10000, 100000))
         s.editor.preview_rays = std::uint64_t(std::clamp(preview, 1000, 10000000));

@@ -55,6 +55,14 @@ void material_section(WorkbenchState& state);
 // direct as in [trace]): the empty string when the scene takes it, else why not.
 std::string set_material_field(WorkbenchState& state, const std::string& key,
                                const std::string& value);
+// The scene panel's CAD section (panel_cad.cpp).
+void cad_section(WorkbenchState& state);
+// Starts writing the shown reflector as CAD with the section's options (the script's
+// export-cad): false, with the form's error, where it cannot start.
+bool start_cad_export(WorkbenchState& state);
+// Takes an export that has ended (logged, its report or error in the form); true while one
+// is being written. Called every frame.
+bool poll_cad_export(WorkbenchState& state);
 void viewport_panel(Frame& f);
 void farfield_panel(Frame& f);
 void optimize_panel(Frame& f);

@@ -42,6 +42,8 @@ const std::map<std::string, std::tuple<ScriptAction::Kind, int, int>>& actions()
         {"follow", {K::Follow, 1, 1}},      // DIR: a search's folder (from the working directory)
         {"wait-follow", {K::WaitFollow, 0, 1}}, // [ROWS]: its end, or that many rows
         {"apply-best", {K::ApplyBest, 0, 0}},   // the followed search's best on the sliders
+        // DIR [SHEET_MM [BEND_RADIUS_MM]]: the scene panel's CAD section, written and waited for
+        {"export-cad", {K::ExportCad, 1, 3}},
         {"quit", {K::Quit, 0, 0}}};
     return table;
 }
@@ -92,6 +94,9 @@ Script parse_script_text(const std::string& text, const std::string& path) {
         if (kind == K::Open) a.args[0] = resolve_beside(path, a.args[0]);
         if (kind == K::Source && a.args[0] == "file") a.args[1] = resolve_beside(path, a.args[1]);
         if (kind == K::Set) (void)number(path, n, a.args[1]);
+        if (kind == K::ExportCad)
+            for (std::size_t k = 1; k < a.args.size(); ++k)
+                (void)number(path, n, a.args[k]);
         if (kind == K::WaitFollow && !a.args.empty() && !(number(path, n, a.args[0]) >= 1))
             throw std::invalid_argument(
                 fmt::format("{}:{}: wait-follow ROWS needs a row count >= 1", path, n));
@@ -325,6 +330,19 @@ bool ScriptRunner::step(Frame& f, const ScriptHost& host) {
             } catch (const std::exception& e) {
                 fail(a, std::string("apply-best: ") + e.what());
             }
+            break;
+        case K::ExportCad:
+            if (waited_ == 0) {
+                s.cad.dir = a.args[0];
+                s.cad.thickness_mm = a.args.size() > 1 ? std::stod(a.args[1]) : 0.0;
+                s.cad.bend_radius_mm = a.args.size() > 2 ? std::stod(a.args[2]) : 0.0;
+                if (!start_cad_export(s)) fail(a, "export-cad: " + s.cad.error);
+            }
+            if (poll_cad_export(s)) {
+                if (++waited_ > kIdleFrameLimit) fail(a, "export-cad: the export did not end");
+                return true;
+            }
+            if (!s.cad.error.empty()) fail(a, "export-cad: " + s.cad.error);
             break;
         case K::Quit:
             quit_ = true;

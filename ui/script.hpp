@@ -4,7 +4,8 @@
 //   open PATH | set NAME VALUE | trace | optimize [METHOD [scene|tailored]] |
 //   calibrate rays|semivariogram [NAME] | tolerance [KEY VALUE] | stop | wait FRAMES | wait-idle |
 //   pick-ray X Y | pick-ray INDEX | drag X Y DX DY [left|right] | resize W H | screenshot PATH |
-//   write-job [RANKS] | follow DIR | wait-follow [ROWS] | apply-best | quit
+//   write-job [RANKS] | follow DIR | wait-follow [ROWS] | apply-best |
+//   export-cad DIR [SHEET_MM [BEND_RADIUS_MM]] | quit
 #pragma once
 
 #include <cstdint>
@@ -39,6 +40,7 @@ struct ScriptAction {
         Follow,
         WaitFollow,
         ApplyBest,
+        ExportCad,
         Quit
     } kind;
     std::vector<std::string> args;

@@ -298,7 +298,7 @@ int run_workbench(const WorkbenchOptions& options) {
     // The sliders' values: where a search's end left them.
     nlohmann::json panels = nlohmann::json::object(), window_size, camera, sliders;
     // The followed folder and the job written last, if any.
-    nlohmann::json followed = nullptr, job = nullptr, tolerance = nullptr;
+    nlohmann::json followed = nullptr, job = nullptr, tolerance = nullptr, cad = nullptr;
     {
         // A slot per swapchain image (offscreen: one for the frames), and one more for the
         // scripts' screenshots.
@@ -441,6 +441,17 @@ int run_workbench(const WorkbenchOptions& options) {
                          {"traced", t.rows.size()},
                          {"ended", t.result.has_value()},
                          {"stopped", t.result && t.result->stopped}};
+        if (const auto& r = session.state.cad.report) {
+            nlohmann::json files = nlohmann::json::array();
+            for (const ExportedFile& file : r->files)
+                files.push_back(file.name);
+            cad = {{"dir", session.state.cad.written_dir},
+                   {"files", files},
+                   {"exact", r->exact},
+                   {"creased", r->creased},
+                   {"bend_radius_mm",
+                    r->bend ? nlohmann::json(r->bend->radius_mm) : nlohmann::json(nullptr)}};
+        }
         if (const auto& w = session.state.cluster.written)
             job = {{"scene", w->scene}, {"run_sh", w->run_sh}, {"slurm_sh", w->slurm_sh}};
         const render::OrbitCamera& c = session.state.viewport.camera;
@@ -486,7 +497,8 @@ int run_workbench(const WorkbenchOptions& options) {
                                            {"parameters", sliders},
                                            {"follow", followed},
                                            {"job", job},
-                                           {"tolerance", tolerance}}
+                                           {"tolerance", tolerance},
+                                           {"cad", cad}}
                                 .dump(2)
                                 .c_str());
     if (ctx.validation_errors() > 0) {

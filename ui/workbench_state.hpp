@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "camera.hpp"
+#include "export/cad_export.hpp"
 #include "layout.hpp"
 #include "model/scene.hpp"
 #include "offscreen_target.hpp"
@@ -137,6 +138,17 @@ struct FolderFollow {
     std::vector<std::future<FollowRead>> retired;
 };
 
+// The scene panel's CAD section: fird export --cad's options, the export being written
+// (on a thread of its own) and what the last one wrote, or why not.
+struct CadExportForm {
+    std::string dir; // empty: a new run folder
+    double tolerance_mm = 0.01, thickness_mm = 0.0, bend_radius_mm = 0.0;
+    std::future<CadReport> writing;
+    std::string writing_dir, written_dir;
+    std::optional<CadReport> report;
+    std::string error;
+};
+
 // The optimize panel's cluster form: the job's shape, and the job it wrote last.
 struct ClusterForm {
     ClusterShape shape;
@@ -178,6 +190,7 @@ struct WorkbenchState {
     SearchFollow search;
     FolderFollow follow;
     ClusterForm cluster;
+    CadExportForm cad;
     bool show_help = false;
     bool quit = false;
     // Texture contents as last drawn.

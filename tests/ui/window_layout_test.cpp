@@ -268,6 +268,36 @@ TEST(ToleranceInTheWindow, TracesTheRealisationsTheCommandTraces) {
     EXPECT_TRUE(std::filesystem::exists(t.at("dir").get<std::string>() + "/tolerance.png"));
 }
 
+// tests/ui/cad_session.fird: the scene panel's CAD section writes, for the reflector the
+// sliders show, the files fird export --cad writes for the same parameters and options
+// (one function behind both): the STL byte for byte, the STEP file from its DATA section
+// on (its header holds the time it was written).
+TEST(CadInTheWindow, WritesTheFilesTheCommandWrites) {
+    const auto stats = read_stats("cad_stats.json");
+    const auto& c = stats.at("cad");
+    ASSERT_TRUE(c.is_object()) << stats;
+    EXPECT_EQ(c.at("dir").get<std::string>(), "cad_window");
+    EXPECT_TRUE(c.at("creased").get<bool>());
+    EXPECT_EQ(c.at("bend_radius_mm").get<double>(), 1.0) << "twice the sheet";
+    const auto bytes = [](const std::string& path) {
+        std::ifstream in(path, std::ios::binary);
+        EXPECT_TRUE(in) << path;
+        return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    };
+    const std::string stl = bytes("cad_window/reflector.stl");
+    EXPECT_GT(stl.size(), 84u);
+    EXPECT_TRUE(stl == bytes("cad_cli/reflector.stl")) << "the STL files differ";
+    const auto data = [&](const std::string& path) {
+        const std::string step = bytes(path);
+        const auto at = step.find("DATA;");
+        EXPECT_NE(at, std::string::npos) << path;
+        return at == std::string::npos ? std::string() : step.substr(at);
+    };
+    const std::string window = data("cad_window/reflector.step");
+    EXPECT_GT(window.size(), 1000u);
+    EXPECT_TRUE(window == data("cad_cli/reflector.step")) << "the STEP files' data differ";
+}
+
 // tests/ui/offscreen_session.fird, run with no display (fird gui --offscreen 1600x1000): the
 // far field drawn changed with the parameter and the log did not (as in the windowed
 // session), the resize gave frames of the new size, the panels tile them exactly as they
