@@ -40,7 +40,8 @@ std::uint32_t local_rank(const fird::distributed::Job*) {
 
 // The subcommands that run across the ranks of an MPI job; the others refuse more than one.
 bool runs_distributed(const std::string& subcommand) {
-    return subcommand == "optimize" || subcommand == "tolerance" || subcommand == "calibrate";
+    return subcommand == "optimize" || subcommand == "tolerance" || subcommand == "calibrate" ||
+           subcommand == "bench";
 }
 
 int fird_main(int argc, char** argv, const fird::distributed::Job* job) {
@@ -98,8 +99,8 @@ int fird_main(int argc, char** argv, const fird::distributed::Job* job) {
                 std::fprintf(
                     stderr,
                     "fird: error: fird %s runs in one process; under mpirun or srun "
-                    "only fird optimize, calibrate and tolerance share their work among ranks "
-                    "(-np 1 here)\n",
+                    "only fird optimize, calibrate, tolerance and bench share their work among "
+                    "ranks: run it with -np 1\n",
                     subcommand.c_str());
             return 2;
         }
@@ -128,9 +129,24 @@ int fird_main(int argc, char** argv, const fird::distributed::Job* job) {
 
 } // namespace
 
+// srun started this process as one of several tasks of a step without joining them in an
+// MPI job (--mpi=none, or an MPI type Open MPI does not speak): every task would run the
+// whole command and write the same files. The step's task count, or null.
+const char* unjoined_srun_tasks() {
+    const char* n = std::getenv("SLURM_STEP_NUM_TASKS");
+    return n && std::atoi(n) > 1 ? n : nullptr;
+}
+
 int main(int argc, char** argv) {
 #if FIRD_HAVE_MPI
     fird::distributed::Job job(argc, argv);
+    if (const char* n = unjoined_srun_tasks(); n && !job.distributed()) {
+        std::fprintf(stderr,
+                     "fird: error: srun started %s tasks that did not join one MPI job (srun "
+                     "--mpi=none?): each would run the whole command; run srun --mpi=pmix\n",
+                     n);
+        return 2;
+    }
     const int code = fird_main(argc, argv, &job);
     job.end(code); // a failure aborts the job: the other ranks may be waiting on this one
     return code;
@@ -145,6 +161,13 @@ int main(int argc, char** argv) {
                          n, v);
             return 2;
         }
+    if (const char* n = unjoined_srun_tasks()) {
+        std::fprintf(stderr,
+                     "fird: error: started as one of %s srun tasks (SLURM_STEP_NUM_TASKS), but "
+                     "this fird was built without MPI (FIRD_BUILD_MPI): run it as one task\n",
+                     n);
+        return 2;
+    }
     return fird_main(argc, argv, nullptr);
 #endif
 }

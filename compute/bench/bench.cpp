@@ -30,10 +30,21 @@ double median_ms(std::vector<double> timings) {
     return timings.empty() ? 0.0 : timings[timings.size() / 2];
 }
 
+std::size_t bench_row_count(const BenchOptions& o) {
+    return o.scenes.size() * o.heightfields.size() * o.rays.size() * o.modes.size();
+}
+
 std::vector<BenchRow> run_bench(const vk::Context& ctx, const BenchOptions& o,
                                 const std::function<void(const BenchRow&)>& progress) {
     std::vector<BenchRow> rows;
+    const std::size_t per_scene = o.heightfields.size() * o.rays.size() * o.modes.size();
+    std::size_t row = 0; // the sweep's row index
     for (const std::string& path : o.scenes) {
+        // A scene none of whose rows are asked for is not read (nor its reference traced).
+        if (row + per_scene <= o.first_row || row >= o.last_row) {
+            row += per_scene;
+            continue;
+        }
         const Scene base = load_scene(path);
         // One reference per scene (independent rays): its far field and the cell
         // probabilities of the multinomial noise.
@@ -72,6 +83,7 @@ std::vector<BenchRow> run_bench(const vk::Context& ctx, const BenchOptions& o,
         for (const auto& [w, h] : o.heightfields)
             for (std::uint64_t n : o.rays)
                 for (HitMode mode : o.modes) {
+                    if (const std::size_t k = row++; k < o.first_row || k >= o.last_row) continue;
                     Scene s = base;
                     s.trace.heightfield_w = w;
                     s.trace.heightfield_h = h;
@@ -147,14 +159,15 @@ void write_bench_csv(const std::string& path, const std::vector<BenchRow>& rows)
     std::string text =
         "scene,heightfield_w,heightfield_h,rays,effective,mode,rayset_ms,heightfield_ms,"
         "trace_ms,histogram_ms,compare_ms,rays_per_s,l2_lm,noise_lm,l2_same_rays_lm,aborted,"
-        "noise_from\n";
+        "noise_from,rank\n";
     for (const BenchRow& r : rows)
-        text += fmt::format(
-            "{},{},{},{},{},{},{:.3f},{:.3f},{:.3f},{:.3f},{:.3f},{:.1f},{:.6g},{:.6g},{},{},{}\n",
-            r.scene, r.hf_w, r.hf_h, r.rays, r.effective, r.mode, r.rayset_ms, r.heightfield_ms,
-            r.trace_ms, r.histogram_ms, r.compare_ms, r.rays_per_s, r.l2_lm, r.noise_lm,
-            r.l2_same_rays_lm >= 0 ? fmt::format("{:.6g}", r.l2_same_rays_lm) : "", r.aborted,
-            r.noise_from);
+        text += fmt::format("{},{},{},{},{},{},{:.3f},{:.3f},{:.3f},{:.3f},{:.3f},{:.1f},{:.6g},{:."
+                            "6g},{},{},{},{}\n",
+                            r.scene, r.hf_w, r.hf_h, r.rays, r.effective, r.mode, r.rayset_ms,
+                            r.heightfield_ms, r.trace_ms, r.histogram_ms, r.compare_ms,
+                            r.rays_per_s, r.l2_lm, r.noise_lm,
+                            r.l2_same_rays_lm >= 0 ? fmt::format("{:.6g}", r.l2_same_rays_lm) : "",
+                            r.aborted, r.noise_from, r.rank);
     write_text_file(path, text);
 }
 

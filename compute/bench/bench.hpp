@@ -2,6 +2,7 @@
 // counts, hit modes and scenes, with l2 to a CPU reference and the noise expected.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <functional>
 #include <string>
@@ -22,7 +23,13 @@ struct BenchOptions {
     std::uint64_t reference_rays = 2000000;
     // Also trace the reference with each row's own rays (CPU time grows with the rays).
     bool same_rays = false;
+    // Only rows [first_row, last_row) of the sweep, in its order (scenes, height fields,
+    // ray counts, modes): a rank's share of it (distributed/bench_shares.hpp).
+    std::size_t first_row = 0, last_row = SIZE_MAX;
 };
+
+// The sweep's rows: scenes x height fields x ray counts x modes.
+std::size_t bench_row_count(const BenchOptions& options);
 
 struct BenchRow {
     std::string scene;
@@ -38,6 +45,7 @@ struct BenchRow {
     double noise_lm = 0;
     std::string noise_from;
     double l2_same_rays_lm = -1; // to the reference of the same rays (-1: not traced)
+    int rank = 0;                // the rank of an MPI job that measured it (0: one process)
 };
 
 // Runs every combination; `progress` (may be empty) is called after each row.
@@ -61,6 +69,7 @@ struct SkipRow {
     std::string skip;
     double with_ms = 0.0, without_ms = 0.0;
     std::string note;
+    int rank = 0; // the rank of an MPI job that measured it
 };
 std::vector<SkipRow> run_skips_bench(const vk::Context& ctx, const std::vector<std::string>& scenes,
                                      int reps, const std::function<void(const SkipRow&)>& progress);
@@ -84,6 +93,7 @@ struct CandidateRow {
     std::uint64_t batch = 1;
     double batch_candidate_ms = 0.0;
     std::uint64_t batch_submissions = 0;
+    int rank = 0; // the rank of an MPI job that measured it
 };
 // rays 0: each scene's own; batch: K of the batched measurement (1: none).
 std::vector<CandidateRow> run_candidate_bench(const vk::Context& ctx,
@@ -91,7 +101,7 @@ std::vector<CandidateRow> run_candidate_bench(const vk::Context& ctx,
                                               std::uint64_t rays, int reps, std::uint64_t batch);
 std::string candidates_markdown(const std::vector<CandidateRow>& rows, const std::string& device);
 // candidates.csv: scene, rays, reps, candidate_ms, heightfield_ms, trace_ms, histogram_ms,
-// compare_ms, submissions, batch, batch_candidate_ms, batch_submissions (written whole or
+// compare_ms, submissions, batch, batch_candidate_ms, batch_submissions, rank (written whole or
 // not at all).
 void write_candidates_csv(const std::string& path, const std::vector<CandidateRow>& rows);
 

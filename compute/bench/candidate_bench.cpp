@@ -99,12 +99,12 @@ std::string candidates_markdown(const std::vector<CandidateRow>& rows, const std
 void write_candidates_csv(const std::string& path, const std::vector<CandidateRow>& rows) {
     std::ostringstream csv;
     csv << "scene,rays,reps,candidate_ms,heightfield_ms,trace_ms,histogram_ms,compare_ms,"
-           "submissions,batch,batch_candidate_ms,batch_submissions\n";
+           "submissions,batch,batch_candidate_ms,batch_submissions,rank\n";
     for (const CandidateRow& r : rows)
-        csv << fmt::format("\"{}\",{},{},{:.3f},{:.3f},{:.3f},{:.3f},{:.3f},{},{},{:.3f},{}\n",
+        csv << fmt::format("\"{}\",{},{},{:.3f},{:.3f},{:.3f},{:.3f},{:.3f},{},{},{:.3f},{},{}\n",
                            r.scene, r.rays, r.reps, r.candidate_ms, r.heightfield_ms, r.trace_ms,
                            r.histogram_ms, r.compare_ms, r.submissions, r.batch,
-                           r.batch_candidate_ms, r.batch_submissions);
+                           r.batch_candidate_ms, r.batch_submissions, r.rank);
     write_text_file(path, csv.str());
 }
 

@@ -161,12 +161,16 @@ std::string Farm::summary(double elapsed_s, const std::string& items) const {
     const int others = job_->size() - 1;
     return fmt::format(
         "{} ranks: {} batches, {} {} traced on {} and {} on rank 0; {:.0f} bytes exchanged for "
-        "each traced elsewhere (and the desired far field, {} bytes in all, once to each rank); "
-        "rank 0 traced {:.2f} s, waited {:.2f} s of {:.2f} s ({:.1f}%) and spent {:.3f} ms on "
-        "each between batches",
+        "each traced elsewhere{}; rank 0 traced {:.2f} s, waited {:.2f} s of {:.2f} s ({:.1f}%) "
+        "and spent {:.3f} ms on each between batches",
         job_->size(), s.batches, s.items_elsewhere, items,
         others == 1 ? std::string("rank 1") : fmt::format("ranks 1-{}", others), s.items_here,
-        per_item, s.bytes_setup, s.here_ms * 1e-3, s.wait_ms * 1e-3, elapsed_s,
+        per_item,
+        s.bytes_setup ? fmt::format(" (and the desired far field, {} bytes in all, once to each "
+                                    "rank)",
+                                    s.bytes_setup)
+                      : std::string(),
+        s.here_ms * 1e-3, s.wait_ms * 1e-3, elapsed_s,
         elapsed_s > 0.0 ? 100.0 * s.wait_ms * 1e-3 / elapsed_s : 0.0,
         s.items_after_gaps ? s.between_ms / double(s.items_after_gaps) : 0.0);
 }

@@ -9,7 +9,10 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <map>
 #include <regex>
+#include <set>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -208,6 +211,74 @@ TEST(Mpi, SemivariogramOnThreeRanksWritesWhatOneProcessWrites) {
     EXPECT_EQ(ja, jb);
 }
 
+// A CSV file's rows as name -> text, by its header.
+std::vector<std::map<std::string, std::string>> csv_by_name(const std::string& path) {
+    std::istringstream in(read_text(path));
+    std::vector<std::map<std::string, std::string>> rows;
+    std::vector<std::string> header;
+    for (std::string line; std::getline(in, line);) {
+        std::vector<std::string> cells;
+        std::istringstream cs(line);
+        for (std::string cell; std::getline(cs, cell, ',');)
+            cells.push_back(cell);
+        if (header.empty()) {
+            header = cells;
+            continue;
+        }
+        EXPECT_EQ(cells.size() + (line.back() == ',' ? 1 : 0), header.size()) << line;
+        std::map<std::string, std::string> row;
+        for (std::size_t k = 0; k < cells.size(); ++k)
+            row[header[k]] = cells[k];
+        rows.push_back(row);
+    }
+    return rows;
+}
+
+// fird bench: the sweep's rows shared among the ranks, each measured on its rank's device:
+// the same rows in the same order, with the same rays, effective rays and l2 to the same
+// CPU reference (each row's rays depend on the scene and its seed, not on the rank), and
+// the rank column saying ranks 1 and 2 measured some; the times are each rank's own.
+TEST(Mpi, BenchOnThreeRanksMeasuresTheRowsOneProcessMeasures) {
+    const std::string one = fresh_dir("bench1"), many = fresh_dir("bench3");
+    const std::string args = "bench " + std::string(FIRD_SOURCE_DIR) +
+                             "/scenes/test/flat_mirror.toml " + kMirror +
+                             " --heightfields 40x40,61x37 --rays 2e4 --reference-rays 1e5 --out ";
+    const Result a = one_process(args + one);
+    ASSERT_EQ(a.code, 0) << a.out;
+    const Result b = ranks(3, args + many);
+    ASSERT_EQ(b.code, 0) << b.out;
+    EXPECT_NE(b.out.find("fird: note: 3 ranks: 1 batches, "), std::string::npos) << b.out;
+    // Each rank's device: here the same one on all three.
+    EXPECT_NE(b.out.find(", on each of 3 ranks"), std::string::npos) << b.out;
+    const auto ra = csv_by_name(one + "/bench.csv"), rb = csv_by_name(many + "/bench.csv");
+    ASSERT_EQ(ra.size(), 8u); // 2 scenes x 2 height fields x 2 hit modes
+    ASSERT_EQ(rb.size(), ra.size());
+    std::set<std::string> measured_on;
+    for (std::size_t k = 0; k < ra.size(); ++k) {
+        for (const char* same : {"scene", "heightfield_w", "heightfield_h", "rays", "effective",
+                                 "mode", "l2_lm", "noise_lm", "aborted", "noise_from"})
+            EXPECT_EQ(ra[k].at(same), rb[k].at(same)) << "row " << k << ": " << same;
+        EXPECT_EQ(ra[k].at("rank"), "0");
+        measured_on.insert(rb[k].at("rank"));
+    }
+    EXPECT_EQ(measured_on, (std::set<std::string>{"0", "1", "2"}));
+}
+
+// fird bench --candidates: one scene a rank, the rows in the scenes' order.
+TEST(Mpi, CandidateBenchOnThreeRanksMeasuresEachSceneOnARank) {
+    const std::string many = fresh_dir("candidates3");
+    const std::string dir = std::string(FIRD_SOURCE_DIR) + "/scenes/test/";
+    const Result b = ranks(3, "bench --candidates " + dir + "flat_mirror.toml " + kMirror + " " +
+                                  kFreeform + " --rays 2e4 --reps 2 --batch 1 --out " + many);
+    ASSERT_EQ(b.code, 0) << b.out;
+    const auto rows = csv_by_name(many + "/candidates.csv");
+    ASSERT_EQ(rows.size(), 3u);
+    for (std::size_t k = 0; k < rows.size(); ++k) {
+        EXPECT_EQ(rows[k].at("rank"), std::to_string(k)) << "scene " << k << " on rank " << k;
+        EXPECT_EQ(rows[k].at("rays"), "20000");
+    }
+}
+
 // fird calibrate rays (Table 1): each row's runs shared among the ranks in pairs (the
 // replicate estimate needs a pair's two far fields), summed in the runs' order on rank 0:
 // the same table as one process, less the rows' times.
@@ -302,9 +373,30 @@ TEST(Mpi, BadOptionsAreOneLineUsageErrors) {
     EXPECT_EQ(r.code, 2) << r.out;
     EXPECT_EQ(error_lines(r.out), 1) << r.out;
     EXPECT_NE(r.out.find("fird stress runs in one process"), std::string::npos) << r.out;
+    r = ranks(2, "bench " + kMirror + " --rank-timeout 0");
+    EXPECT_EQ(r.code, 2) << r.out;
+    EXPECT_EQ(error_lines(r.out), 1) << r.out;
+    EXPECT_NE(r.out.find("fird: error: --rank-timeout must be more than 0 s"), std::string::npos)
+        << r.out;
     // In one process the option is checked the same way.
     r = one_process("optimize " + kMirror + " --rank-timeout -1");
     EXPECT_EQ(r.code, 2) << r.out;
+}
+
+// srun's tasks that did not join one MPI job (srun --mpi=none: measured on Slurm 22.05, each
+// task ran the whole search and wrote the same folder): refused, one line, exit 2, before
+// anything runs. SLURM_STEP_NUM_TASKS is what srun sets in each task of a step.
+TEST(Mpi, SrunTasksThatDidNotJoinOneJobAreRefused) {
+    const Result r = one_process("info"); // as a baseline: runs
+    EXPECT_EQ(r.code, 0) << r.out;
+    const Result t = run_fird("SLURM_STEP_NUM_TASKS=3 SLURM_PROCID=1 timeout 60", "info");
+    EXPECT_EQ(t.code, 2) << t.out;
+    EXPECT_EQ(error_lines(t.out), 1) << t.out;
+    EXPECT_NE(t.out.find("fird: error: srun started 3 tasks that did not join one MPI job"),
+              std::string::npos)
+        << t.out;
+    // One task of a step (sbatch's own, srun -n 1) runs as one process.
+    EXPECT_EQ(run_fird("SLURM_STEP_NUM_TASKS=1 SLURM_PROCID=0 timeout 60", "info").code, 0);
 }
 
 } // namespace
