@@ -25,6 +25,9 @@ namespace fird::app {
 
 namespace {
 
+// The longest wait on a rank's share of a bench, unless --rank-timeout says.
+constexpr double kBenchRankTimeoutS = 3600.0;
+
 struct BenchArgs {
     std::vector<std::string> scenes{"scenes/model_a.toml", "scenes/model_b.toml",
                                     "scenes/model_c.toml"};
@@ -134,7 +137,7 @@ void register_bench(CLI::App& app, const GlobalOptions& global, std::function<in
     cmd->add_option("--out", a->out, "Directory for bench.csv, bench.md and bench.png");
     cmd->add_option("--rank-timeout", a->rank_timeout,
                     "Under mpirun or srun: the longest wait, in seconds, for a rank's share "
-                    "(default: 60 s plus ten times rank 0's own share)");
+                    "(default 3600: shares are contiguous, rank 0's the cheapest rows)");
     cmd->callback([&global, &run, a, cmd] {
         const bool cmd_rays_given = cmd->count("--rays") > 0;
         const bool rank_timeout_given = cmd->count("--rank-timeout") > 0;
@@ -175,9 +178,11 @@ void register_bench(CLI::App& app, const GlobalOptions& global, std::function<in
             }
             BenchRanks ranks;
             if (global.job && global.job->distributed()) {
+                // A bound of its own: the farm's default (60 s plus ten times rank 0's own
+                // share) is too short where the sweep's first rows, rank 0's, are its
+                // cheapest (the smallest height field and ray count).
                 ranks.farm.emplace(*global.job, &ranks.control,
-                                   rank_timeout_given ? std::optional(a->rank_timeout)
-                                                      : std::nullopt,
+                                   rank_timeout_given ? a->rank_timeout : kBenchRankTimeoutS,
                                    std::string());
                 ranks.interrupts.emplace(ranks.control);
             }

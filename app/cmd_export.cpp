@@ -64,6 +64,12 @@ void print_cad_report(const std::string& dir, const CadReport& r) {
                                       r.bend->max_deviation_mm, r.bend->worst_xy_mm.x,
                                       r.bend->worst_xy_mm.y)
                               .c_str());
+    if (r.bend && r.bend->unformed_flats > 0)
+        std::printf("%s", fmt::format("sheet: {} clamped flat(s) smaller than the bend's disc not "
+                                      "formed: the sheet follows the family there, up to {:.3g} "
+                                      "mm past the holder\n",
+                                      r.bend->unformed_flats, r.bend->unformed_depth_mm)
+                              .c_str());
     for (const ExportedFile& f : r.files)
         std::printf("%s",
                     fmt::format("{}/{}: {:.2f} MB\n", dir, f.name, double(f.bytes) * 1e-6).c_str());
@@ -90,7 +96,9 @@ nlohmann::json cad_json(const CadReport& r) {
                                              {"crease_length_mm", r.bend->crease_length_mm},
                                              {"max_deviation_mm", r.bend->max_deviation_mm},
                                              {"worst_at_mm",
-                                              {r.bend->worst_xy_mm.x, r.bend->worst_xy_mm.y}}}
+                                              {r.bend->worst_xy_mm.x, r.bend->worst_xy_mm.y}},
+                                             {"unformed_flats", r.bend->unformed_flats},
+                                             {"unformed_depth_mm", r.bend->unformed_depth_mm}}
                             : nlohmann::json(nullptr)},
             {"files", files}};
 }

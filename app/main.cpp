@@ -17,6 +17,12 @@
 namespace {
 
 #if FIRD_HAVE_MPI
+constexpr const char* kMpiNote = "";
+#else
+constexpr const char* kMpiNote = " (this fird was built without MPI: FIRD_BUILD_MPI)";
+#endif
+
+#if FIRD_HAVE_MPI
 int rank(const fird::distributed::Job* job) {
     return job ? job->rank() : 0;
 }
@@ -37,6 +43,17 @@ std::uint32_t local_rank(const fird::distributed::Job*) {
     return 0;
 }
 #endif
+
+// srun started this process as one of several tasks of a step that no MPI launch joined
+// (srun --mpi=none, or a fird without MPI: Open MPI, even mpirun -np 1, sets
+// OMPI_COMM_WORLD_SIZE, and srun's pmix PMIX_RANK): every task would run the whole command
+// and write the same files. The step's task count, or null.
+const char* unjoined_srun_tasks() {
+    for (const char* v : {"OMPI_COMM_WORLD_SIZE", "PMIX_RANK", "PMI_RANK"})
+        if (std::getenv(v)) return nullptr;
+    const char* n = std::getenv("SLURM_STEP_NUM_TASKS");
+    return n && std::atoi(n) > 1 ? n : nullptr;
+}
 
 // The subcommands that run across the ranks of an MPI job; the others refuse more than one.
 bool runs_distributed(const std::string& subcommand) {
@@ -93,6 +110,16 @@ int fird_main(int argc, char** argv, const fird::distributed::Job* job) {
     }
     const std::string subcommand =
         app.get_subcommands().empty() ? "" : app.get_subcommands()[0]->get_name();
+    // The commands that share work across ranks, started by srun as several tasks that no
+    // MPI launch joined: each would run it all into the same files (measured: srun
+    // --mpi=none on Slurm 22.05). Any other command runs in each task as the user asked.
+    if (const char* n = unjoined_srun_tasks(); n && runs_distributed(subcommand)) {
+        std::fprintf(stderr,
+                     "fird: error: srun started %s tasks that did not join one MPI job (srun "
+                     "--mpi=none?): each would run the whole fird %s; run srun --mpi=pmix%s\n",
+                     n, subcommand.c_str(), kMpiNote);
+        return 2;
+    }
     if (ranks(job) > 1) {
         if (!runs_distributed(subcommand)) {
             if (reports)
@@ -129,24 +156,9 @@ int fird_main(int argc, char** argv, const fird::distributed::Job* job) {
 
 } // namespace
 
-// srun started this process as one of several tasks of a step without joining them in an
-// MPI job (--mpi=none, or an MPI type Open MPI does not speak): every task would run the
-// whole command and write the same files. The step's task count, or null.
-const char* unjoined_srun_tasks() {
-    const char* n = std::getenv("SLURM_STEP_NUM_TASKS");
-    return n && std::atoi(n) > 1 ? n : nullptr;
-}
-
 int main(int argc, char** argv) {
 #if FIRD_HAVE_MPI
     fird::distributed::Job job(argc, argv);
-    if (const char* n = unjoined_srun_tasks(); n && !job.distributed()) {
-        std::fprintf(stderr,
-                     "fird: error: srun started %s tasks that did not join one MPI job (srun "
-                     "--mpi=none?): each would run the whole command; run srun --mpi=pmix\n",
-                     n);
-        return 2;
-    }
     const int code = fird_main(argc, argv, &job);
     job.end(code); // a failure aborts the job: the other ranks may be waiting on this one
     return code;
@@ -161,13 +173,6 @@ int main(int argc, char** argv) {
                          n, v);
             return 2;
         }
-    if (const char* n = unjoined_srun_tasks()) {
-        std::fprintf(stderr,
-                     "fird: error: started as one of %s srun tasks (SLURM_STEP_NUM_TASKS), but "
-                     "this fird was built without MPI (FIRD_BUILD_MPI): run it as one task\n",
-                     n);
-        return 2;
-    }
     return fird_main(argc, argv, nullptr);
 #endif
 }

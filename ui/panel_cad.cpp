@@ -44,17 +44,18 @@ bool start_cad_export(WorkbenchState& s) {
         c.error = "a CAD export is being written";
         return false;
     }
-    const std::string dir = c.dir.empty() ? new_run_folder(s, "cad") : c.dir;
-    if (dir.empty()) {
-        c.error = s.log.empty() ? "no run folder" : s.log.back();
-        return false;
-    }
     // The surface is made here, so that a parameter the family refuses is this frame's
-    // error; the thread gets its own copy.
+    // error (before a run folder is made for it); the thread gets its own copy.
     const Scene scene = edited_scene(s);
+    std::string dir;
     try {
         auto surface =
             std::make_shared<const Surface>(Surface::make(scene.reflector, scene.holder));
+        dir = c.dir.empty() ? new_run_folder(s, "cad") : c.dir;
+        if (dir.empty()) {
+            c.error = s.log.empty() ? "no run folder" : s.log.back();
+            return false;
+        }
         const CadOptions options{.tolerance_mm = c.tolerance_mm,
                                  .thickness_mm = c.thickness_mm,
                                  .bend_radius_mm = c.bend_radius_mm};

@@ -138,20 +138,25 @@ std::vector<BenchRow> run_bench(const vk::Context& ctx, const BenchOptions& o,
 }
 
 std::string bench_markdown(const std::vector<BenchRow>& rows, const std::string& device) {
+    const bool ranks =
+        std::any_of(rows.begin(), rows.end(), [](const BenchRow& r) { return r.rank > 0; });
     std::string s = fmt::format("Device: {}\n\n", device);
     s += "| scene | height field | rays | mode | rayset ms | height field ms | trace ms | "
          "histogram ms | compare ms | M rays/s | l2 lm | noise lm | l2/noise | "
-         "l2 same rays lm | aborted | noise from |\n";
-    s += "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+         "l2 same rays lm | aborted | noise from |" +
+         std::string(ranks ? " rank |\n" : "\n");
+    s += "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|" +
+         std::string(ranks ? "---|\n" : "\n");
     for (const BenchRow& r : rows)
         s += fmt::format(
-            "| {} | {}x{} | {:.0e} | {} | {:.1f} | {:.1f} | {:.1f} | {:.1f} | {:.1f} | "
-            "{:.2f} | {:.4f} | {:.4f} | {:.2f} | {} | {} | {} |\n",
-            r.scene, r.hf_w, r.hf_h, double(r.rays), r.mode, r.rayset_ms, r.heightfield_ms,
-            r.trace_ms, r.histogram_ms, r.compare_ms, r.rays_per_s * 1e-6, r.l2_lm, r.noise_lm,
-            r.noise_lm > 0 ? r.l2_lm / r.noise_lm : 0.0,
-            r.l2_same_rays_lm >= 0 ? fmt::format("{:.4f}", r.l2_same_rays_lm) : "-", r.aborted,
-            r.noise_from);
+                 "| {} | {}x{} | {:.0e} | {} | {:.1f} | {:.1f} | {:.1f} | {:.1f} | {:.1f} | "
+                 "{:.2f} | {:.4f} | {:.4f} | {:.2f} | {} | {} | {} |",
+                 r.scene, r.hf_w, r.hf_h, double(r.rays), r.mode, r.rayset_ms, r.heightfield_ms,
+                 r.trace_ms, r.histogram_ms, r.compare_ms, r.rays_per_s * 1e-6, r.l2_lm, r.noise_lm,
+                 r.noise_lm > 0 ? r.l2_lm / r.noise_lm : 0.0,
+                 r.l2_same_rays_lm >= 0 ? fmt::format("{:.4f}", r.l2_same_rays_lm) : "-", r.aborted,
+                 r.noise_from) +
+             (ranks ? fmt::format(" {} |\n", r.rank) : std::string("\n"));
     return s;
 }
 

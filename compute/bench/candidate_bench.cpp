@@ -81,18 +81,21 @@ std::vector<CandidateRow> run_candidate_bench(const vk::Context& ctx,
 }
 
 std::string candidates_markdown(const std::vector<CandidateRow>& rows, const std::string& device) {
+    const bool ranks =
+        std::any_of(rows.begin(), rows.end(), [](const CandidateRow& r) { return r.rank > 0; });
     std::string out = fmt::format(
         "Device: {}\n\n| scene | rays | candidate ms | height field ms | trace ms | histogram ms | "
         "compare ms | submissions | batch K | ms per candidate in batches of K | submissions "
-        "per batch |\n|---|---|---|---|---|---|---|---|---|---|---|\n",
-        device);
+        "per batch |{}\n|---|---|---|---|---|---|---|---|---|---|---|{}\n",
+        device, ranks ? " rank |" : "", ranks ? "---|" : "");
     for (const CandidateRow& r : rows)
         out += fmt::format(
-            "| {} | {:.0e} | {:.1f} | {:.1f} | {:.1f} | {:.1f} | {:.1f} | {} | {} | {} | {} |\n",
+            "| {} | {:.0e} | {:.1f} | {:.1f} | {:.1f} | {:.1f} | {:.1f} | {} | {} | {} | {} |{}\n",
             r.scene, double(r.rays), r.candidate_ms, r.heightfield_ms, r.trace_ms, r.histogram_ms,
             r.compare_ms, r.submissions, r.batch,
             r.batch > 1 ? fmt::format("{:.1f}", r.batch_candidate_ms) : "–",
-            r.batch > 1 ? fmt::format("{}", r.batch_submissions) : "–");
+            r.batch > 1 ? fmt::format("{}", r.batch_submissions) : "–",
+            ranks ? fmt::format(" {} |", r.rank) : "");
     return out;
 }
 

@@ -82,14 +82,18 @@ std::vector<SkipRow> run_skips_bench(const vk::Context& ctx, const std::vector<s
 }
 
 std::string skips_markdown(const std::vector<SkipRow>& rows, const std::string& device) {
+    const bool ranks =
+        std::any_of(rows.begin(), rows.end(), [](const SkipRow& r) { return r.rank > 0; });
     std::string s = fmt::format("Device: {}\n\n", device);
-    s += "| scene | skip | with it ms | without it ms | saves ms | saves % | when |\n";
-    s += "|---|---|---|---|---|---|---|\n";
+    s += "| scene | skip | with it ms | without it ms | saves ms | saves % | when |" +
+         std::string(ranks ? " rank |\n" : "\n");
+    s += "|---|---|---|---|---|---|---|" + std::string(ranks ? "---|\n" : "\n");
     for (const SkipRow& r : rows) {
         const double saved = r.without_ms - r.with_ms;
-        s += fmt::format("| {} | {} | {:.1f} | {:.1f} | {:.1f} | {:.0f} % | {} |\n", r.scene,
-                         r.skip, r.with_ms, r.without_ms, saved,
-                         r.without_ms > 0 ? 100.0 * saved / r.without_ms : 0.0, r.note);
+        s += fmt::format("| {} | {} | {:.1f} | {:.1f} | {:.1f} | {:.0f} % | {} |", r.scene, r.skip,
+                         r.with_ms, r.without_ms, saved,
+                         r.without_ms > 0 ? 100.0 * saved / r.without_ms : 0.0, r.note) +
+             (ranks ? fmt::format(" {} |\n", r.rank) : std::string("\n"));
     }
     return s;
 }

@@ -1,6 +1,8 @@
 #include "bench_shares.hpp"
 
 #include <algorithm>
+#include <string>
+#include <type_traits>
 
 #include <fmt/format.h>
 
@@ -12,70 +14,35 @@ std::string device_of(const vk::Context& ctx) {
     return ctx.summary().name + " (" + ctx.summary().driver_info + ")";
 }
 
-// Each row kind's numbers and names, written and read in one order.
-void put_row(Writer& w, const BenchRow& r) {
-    w.put(r.scene);
-    w.put(r.hf_w);
-    w.put(r.hf_h);
-    w.put(r.rays);
-    w.put(r.effective);
-    w.put(r.aborted);
-    w.put(r.mode);
-    for (const double v : {r.rayset_ms, r.heightfield_ms, r.trace_ms, r.histogram_ms, r.compare_ms,
-                           r.rays_per_s, r.l2_lm, r.noise_lm, r.l2_same_rays_lm})
-        w.put(v);
-    w.put(r.noise_from);
-}
-void get_row(Reader& in, BenchRow& r) {
-    r.scene = in.text();
-    r.hf_w = in.get<std::uint32_t>();
-    r.hf_h = in.get<std::uint32_t>();
-    r.rays = in.get<std::uint64_t>();
-    r.effective = in.get<std::uint64_t>();
-    r.aborted = in.get<std::uint64_t>();
-    r.mode = in.text();
-    for (double* v : {&r.rayset_ms, &r.heightfield_ms, &r.trace_ms, &r.histogram_ms, &r.compare_ms,
-                      &r.rays_per_s, &r.l2_lm, &r.noise_lm, &r.l2_same_rays_lm})
-        *v = in.get<double>();
-    r.noise_from = in.text();
-}
+// A message's field both ways: written from a row (Out) or read into one (In), so that each
+// row kind's fields are listed once, in one order (fields() below).
+struct Out {
+    Writer& w;
+    template <class T> void operator()(const T& v) { w.put(v); }
+};
+struct In {
+    Reader& r;
+    template <class T> void operator()(T& v) {
+        if constexpr (std::is_same_v<T, std::string>)
+            v = r.text();
+        else
+            v = r.template get<T>();
+    }
+};
 
-void put_row(Writer& w, const CandidateRow& r) {
-    w.put(r.scene);
-    w.put(r.rays);
-    w.put(r.reps);
-    for (const double v : {r.candidate_ms, r.heightfield_ms, r.trace_ms, r.histogram_ms,
-                           r.compare_ms, r.batch_candidate_ms})
-        w.put(v);
-    w.put(r.submissions);
-    w.put(r.batch);
-    w.put(r.batch_submissions);
-}
-void get_row(Reader& in, CandidateRow& r) {
-    r.scene = in.text();
-    r.rays = in.get<std::uint64_t>();
-    r.reps = in.get<int>();
-    for (double* v : {&r.candidate_ms, &r.heightfield_ms, &r.trace_ms, &r.histogram_ms,
-                      &r.compare_ms, &r.batch_candidate_ms})
-        *v = in.get<double>();
-    r.submissions = in.get<std::uint64_t>();
-    r.batch = in.get<std::uint64_t>();
-    r.batch_submissions = in.get<std::uint64_t>();
-}
-
-void put_row(Writer& w, const SkipRow& r) {
-    w.put(r.scene);
-    w.put(r.skip);
-    w.put(r.with_ms);
-    w.put(r.without_ms);
-    w.put(r.note);
-}
-void get_row(Reader& in, SkipRow& r) {
-    r.scene = in.text();
-    r.skip = in.text();
-    r.with_ms = in.get<double>();
-    r.without_ms = in.get<double>();
-    r.note = in.text();
+template <class Field, class Row> void fields(Field&& f, Row& r) {
+    if constexpr (std::is_same_v<std::remove_const_t<Row>, BenchRow>) {
+        f(r.scene), f(r.hf_w), f(r.hf_h), f(r.rays), f(r.effective), f(r.aborted), f(r.mode);
+        f(r.rayset_ms), f(r.heightfield_ms), f(r.trace_ms), f(r.histogram_ms), f(r.compare_ms);
+        f(r.rays_per_s), f(r.l2_lm), f(r.noise_lm), f(r.l2_same_rays_lm), f(r.noise_from);
+    } else if constexpr (std::is_same_v<std::remove_const_t<Row>, CandidateRow>) {
+        f(r.scene), f(r.rays), f(r.reps), f(r.candidate_ms), f(r.heightfield_ms), f(r.trace_ms);
+        f(r.histogram_ms), f(r.compare_ms), f(r.submissions), f(r.batch);
+        f(r.batch_candidate_ms), f(r.batch_submissions);
+    } else {
+        static_assert(std::is_same_v<std::remove_const_t<Row>, SkipRow>);
+        f(r.scene), f(r.skip), f(r.with_ms), f(r.without_ms), f(r.note);
+    }
 }
 
 // Items [first, last) of the work measured here: sweep rows, or scenes.
@@ -106,7 +73,7 @@ template <class Row> Bytes answer(const vk::Context& ctx, int rank, const std::v
     w.put(device_of(ctx));
     w.put(std::uint64_t(rows.size()));
     for (const Row& r : rows)
-        put_row(w, r);
+        fields(Out{w}, r);
     return w.bytes;
 }
 
@@ -134,7 +101,7 @@ SharedBench<Row> shared(Farm& farm, const vk::Context& ctx, std::size_t items,
                         out.devices[rank] = in.text();
                         std::vector<Row> rows(in.get<std::uint64_t>());
                         for (Row& r : rows) {
-                            get_row(in, r);
+                            fields(In{in}, r);
                             r.rank = rank;
                         }
                         by_share[first] = std::move(rows);

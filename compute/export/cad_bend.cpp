@@ -81,6 +81,7 @@ TopoDS_Shape bent_sheet(const TopoDS_Shape& shell, const Surface& surface, doubl
     const auto refused = [&](const std::string& why) {
         return CadOptionError(fmt::format("--bend-radius {:g}: {}", radius_mm, why));
     };
+    if (bend.creases == 0) return thickened(shell, thickness_mm); // nothing to bend
     try {
         fillet.Build();
     } catch (const Standard_Failure&) {

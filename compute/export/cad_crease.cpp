@@ -7,10 +7,12 @@
 #include <BRepAlgoAPI_BuilderAlgo.hxx>
 #include <BRepBuilderAPI_MakeFace.hxx>
 #include <BRepCheck_Analyzer.hxx>
+#include <BRepGProp.hxx>
 #include <BRepTools.hxx>
 #include <BRepTopAdaptor_FClass2d.hxx>
 #include <BRep_Builder.hxx>
 #include <BRep_Tool.hxx>
+#include <GProp_GProps.hxx>
 #include <Geom_Plane.hxx>
 #include <TopExp_Explorer.hxx>
 #include <TopTools_ListOfShape.hxx>
@@ -49,8 +51,23 @@ Creases clamp_creases(const Surface& surface) {
                                          h.min_mm.y + (h.max_mm.y - h.min_mm.y) * j / 256);
             c.top = c.top || z > h.max_mm.z;
             c.floor = c.floor || z < h.min_mm.z;
+            c.above_top_mm = std::max(c.above_top_mm, z - h.max_mm.z);
+            c.below_floor_mm = std::max(c.below_floor_mm, h.min_mm.z - z);
         }
     return c;
+}
+
+std::vector<double> flat_areas(const TopoDS_Shape& shell, double z) {
+    std::vector<double> areas;
+    for (TopExp_Explorer e(shell, TopAbs_FACE); e.More(); e.Next()) {
+        const TopoDS_Face face = TopoDS::Face(e.Current());
+        const Handle(Geom_Plane) plane = Handle(Geom_Plane)::DownCast(BRep_Tool::Surface(face));
+        if (plane.IsNull() || std::abs(plane->Location().Z() - z) > 1e-9) continue;
+        GProp_GProps area;
+        BRepGProp::SurfaceProperties(face, area);
+        areas.push_back(area.Mass());
+    }
+    return areas;
 }
 
 TopoDS_Shape creased_shell(const TopoDS_Shape& unclamped, const Surface& surface,

@@ -6,6 +6,8 @@
 // holder (docs/export.md).
 #pragma once
 
+#include <vector>
+
 #include <TopoDS_Shape.hxx>
 
 #include "model/surface.hpp"
@@ -16,9 +18,14 @@ namespace fird {
 // (on a 257 x 257 grid: a clamp narrower than its step goes unseen and is fitted whole).
 struct Creases {
     bool top = false, floor = false;
+    // How far the family passes the top and the floor (mm, on the same grid).
+    double above_top_mm = 0.0, below_floor_mm = 0.0;
     bool any() const { return top || floor; }
 };
 Creases clamp_creases(const Surface& surface);
+
+// The areas of the shell's flat pieces at height z (the holder's top or floor), mm^2.
+std::vector<double> flat_areas(const TopoDS_Shape& shell, double z);
 
 // The shell of the trimmed face and the flat pieces, with shared crease edges; `unclamped`
 // is the face (or shell) of the fitted (or exact) unclamped family over the holder

@@ -24,7 +24,8 @@ BackCurvature smallest_back_radius(const Handle(Geom_Surface) & s, const Holder&
             props.SetParameters(u, v);
             const gp_Pnt p = props.Value();
             if (p.X() < holder.min_mm.x || p.X() > holder.max_mm.x || p.Y() < holder.min_mm.y ||
-                p.Y() > holder.max_mm.y || !props.IsNormalDefined() || !props.IsCurvatureDefined())
+                p.Y() > holder.max_mm.y || p.Z() < holder.min_mm.z || p.Z() > holder.max_mm.z ||
+                !props.IsNormalDefined() || !props.IsCurvatureDefined())
                 continue;
             const double k =
                 props.Normal().Z() > 0.0 ? props.MinCurvature() : -props.MaxCurvature();

@@ -19,6 +19,8 @@ struct BackCurvature {
 // Principal curvatures on an nx x ny grid over the surface's parameter rectangle, at the
 // points over the holder rectangle (a revolved surface's disc reaches beyond it), signed
 // about the upward normal whichever way the parameters run.
+// Only points within the holder's z range count (a creased part: the family beyond the
+// clamp is trimmed away).
 BackCurvature smallest_back_radius(const Handle(Geom_Surface) & s, const Holder& holder, int nx,
                                    int ny);
 

@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <mutex>
+#include <numbers>
+#include <span>
 
 #include <fmt/format.h>
 
@@ -56,37 +59,18 @@ double bend_radius(const CadOptions& o, bool bends_back) {
     return radius;
 }
 
-// A shell of faces meeting in creases as the surface, or as a sheet with the creases bent
-// (cad_bend); its STL is OpenCASCADE's tessellation (no grid follows a crease).
-CadReport write_creased_part(const TopoDS_Shape& shell, CadReport r, const Surface& surface,
-                             bool bends_back, const CadOptions& o, const std::string& directory) {
-    r.stl_chord_mm = o.tolerance_mm;
-    TopoDS_Shape part = shell;
-    if (o.thickness_mm > 0.0) {
-        Bend bend;
-        part = bent_sheet(shell, surface, bend_radius(o, bends_back), o.thickness_mm, bend);
-        r.bend = bend;
+// The smallest radius bending towards the back over the surfaces' points within the holder
+// (cad_curvature), on an nu x nv grid of each one's parameters, into the report.
+void measure_back_radius(CadReport& r, std::span<const Handle(Geom_BSplineSurface)> surfaces,
+                         const Holder& holder, int nu, int nv) {
+    r.back_radius_mm = std::numeric_limits<double>::infinity();
+    for (const Handle(Geom_BSplineSurface) & s : surfaces) {
+        const BackCurvature back = smallest_back_radius(s, holder, nu, nv);
+        if (back.smallest_radius_mm < r.back_radius_mm) {
+            r.back_radius_mm = back.smallest_radius_mm;
+            r.back_radius_xy_mm = back.where_xy_mm;
+        }
     }
-    create_output_directory(directory);
-    write_step(part, file_in(directory, "reflector.step"));
-    r.files.push_back(
-        {"reflector.step", std::filesystem::file_size(file_in(directory, "reflector.step"))});
-    r.files.push_back(
-        {"reflector.stl",
-         write_tessellated_stl(part, o.tolerance_mm, file_in(directory, "reflector.stl"))});
-    return r;
-}
-
-// A reflector clamped to the holder's z range: the unclamped family's faces (fitted or
-// exact) trimmed there, flat beyond (cad_crease).
-CadReport export_creased(const TopoDS_Shape& unclamped, CadReport r, const Surface& surface,
-                         const Creases& creases, bool kink_bends_back, const CadOptions& o,
-                         const std::string& directory) {
-    if (o.thickness_mm > 0.0) (void)bend_radius(o, creases.top || kink_bends_back);
-    r.creased = true;
-    const TopoDS_Shape shell = creased_shell(unclamped, surface, creases);
-    r.edge_tolerance_mm = BRep_Tool::MaxTolerance(shell, TopAbs_EDGE);
-    return write_creased_part(shell, r, surface, creases.top || kink_bends_back, o, directory);
 }
 
 // Refuses a sheet thicker than the smallest radius bending towards its back.
@@ -96,6 +80,75 @@ void refuse_folding_sheet(const CadOptions& o, const CadReport& r) {
             "--thickness {:g}: the back face would intersect itself where the surface bends "
             "towards it with a radius of {:.3g} mm at ({:.2f}, {:.2f}) mm; use a thinner sheet",
             o.thickness_mm, r.back_radius_mm, r.back_radius_xy_mm.x, r.back_radius_xy_mm.y));
+}
+
+// A shell of faces meeting in creases as the surface, or as a sheet with the creases bent
+// (cad_bend); its STL is OpenCASCADE's tessellation (no grid follows a crease).
+CadReport write_creased_part(const TopoDS_Shape& shell, CadReport r, const Surface& surface,
+                             bool bends_back, const CadOptions& o, const std::string& directory) {
+    r.stl_chord_mm = o.tolerance_mm;
+    TopoDS_Shape part = shell;
+    if (o.thickness_mm > 0.0) {
+        refuse_folding_sheet(o, r); // the family's own bends, before the creases'
+        Bend bend;
+        part = bent_sheet(shell, surface, bend_radius(o, bends_back), o.thickness_mm, bend);
+        r.bend = bend;
+    }
+    // Meshed before anything is written, so that a failure leaves no STEP file alone.
+    const std::vector<StlTriangle> triangles = tessellate(part, o.tolerance_mm);
+    create_output_directory(directory);
+    write_step(part, file_in(directory, "reflector.step"));
+    r.files.push_back(
+        {"reflector.step", std::filesystem::file_size(file_in(directory, "reflector.step"))});
+    r.files.push_back(
+        {"reflector.stl",
+         write_stl(triangles,
+                   o.thickness_mm > 0.0
+                       ? fmt::format("fird reflector, sheet {:g} mm, mm", o.thickness_mm)
+                       : std::string("fird reflector surface, mm"),
+                   file_in(directory, "reflector.stl"))});
+    return r;
+}
+
+// A reflector clamped to the holder's z range: the unclamped family's faces (fitted or
+// exact) trimmed there, flat beyond (cad_crease).
+CadReport export_creased(const TopoDS_Shape& unclamped, CadReport r, const Surface& surface,
+                         const Creases& creases, bool kink_bends_back, const CadOptions& o,
+                         const std::string& directory) {
+    const double radius =
+        o.thickness_mm > 0.0 ? bend_radius(o, creases.top || kink_bends_back) : 0.0;
+    r.creased = true;
+    TopoDS_Shape shell = creased_shell(unclamped, surface, creases);
+    // A sheet: a clamped flat whose every piece is smaller than the bend's disc (Model C's
+    // flutes dip 0.015 mm through the floor in eight spots of 0.03 mm^2) is no flat a tool
+    // of that radius forms, and no fillet fits in it: there the sheet follows the family.
+    Creases formed = creases;
+    int unformed = 0;
+    double unformed_depth_mm = 0.0;
+    const auto unformable = [&](double z) {
+        const std::vector<double> areas = flat_areas(shell, z);
+        const bool small = !areas.empty() && *std::max_element(areas.begin(), areas.end()) <
+                                                 std::numbers::pi * radius * radius;
+        if (small) unformed += int(areas.size());
+        return small;
+    };
+    const Holder& h = surface.holder();
+    if (radius > 0.0 && formed.floor && unformable(h.min_mm.z)) {
+        formed.floor = false;
+        unformed_depth_mm = std::max(unformed_depth_mm, creases.below_floor_mm);
+    }
+    if (radius > 0.0 && formed.top && unformable(h.max_mm.z)) {
+        formed.top = false;
+        unformed_depth_mm = std::max(unformed_depth_mm, creases.above_top_mm);
+    }
+    if (unformed > 0) shell = formed.any() ? creased_shell(unclamped, surface, formed) : unclamped;
+    r.edge_tolerance_mm = BRep_Tool::MaxTolerance(shell, TopAbs_EDGE);
+    r = write_creased_part(shell, r, surface, formed.top || kink_bends_back, o, directory);
+    if (r.bend) {
+        r.bend->unformed_flats = unformed;
+        r.bend->unformed_depth_mm = unformed_depth_mm;
+    }
+    return r;
 }
 
 // Writes the face (or its sheet) as STEP and the sampled grid as STL.
@@ -125,30 +178,23 @@ CadReport export_revolved(const Surface& surface, const Creases& creases, const 
                 .fit_ny = 1,
                 .check_nx = rev.check_nu,
                 .check_ny = rev.check_nv};
+    // Eight STL samples in each of the profile's knot intervals (at least 129 an axis, at
+    // most kMaxFitSamples), on the family itself; the back radius on twice as many.
+    const Holder& h = surface.holder();
+    const auto samples = [&](double extent) {
+        return int(
+            std::clamp(8.0 * std::ceil(extent / f.spacing) + 1.0, 129.0, double(kMaxFitSamples)));
+    };
+    const int stl_nx = samples(h.max_mm.x - h.min_mm.x), stl_ny = samples(h.max_mm.y - h.min_mm.y);
+    measure_back_radius(r, rev.quarters, h, refined(stl_nx, 2), refined(stl_ny, 2));
     const bool kink_bends_back = rev.kink && rev.slope_at_radius > 0.0;
     if (creases.any())
         return export_creased(rev.faces, r, surface, creases, kink_bends_back, o, directory);
     // A sheet over the kink where the flat begins bends it as a crease.
     if (o.thickness_mm > 0.0 && rev.kink)
         return write_creased_part(rev.faces, r, surface, kink_bends_back, o, directory);
-    // Eight STL samples in each of the profile's knot intervals (at least 129 an axis, at
-    // most kMaxFitSamples), on the family itself.
-    const Holder& h = surface.holder();
-    const auto samples = [&](double extent) {
-        return int(
-            std::clamp(8.0 * std::ceil(extent / f.spacing) + 1.0, 129.0, double(kMaxFitSamples)));
-    };
-    r.stl_nx = samples(h.max_mm.x - h.min_mm.x);
-    r.stl_ny = samples(h.max_mm.y - h.min_mm.y);
-    r.back_radius_mm = std::numeric_limits<double>::infinity();
-    for (const Handle(Geom_BSplineSurface) & half : rev.quarters) {
-        const BackCurvature back =
-            smallest_back_radius(half, h, refined(r.stl_nx, 2), refined(r.stl_ny, 2));
-        if (back.smallest_radius_mm < r.back_radius_mm) {
-            r.back_radius_mm = back.smallest_radius_mm;
-            r.back_radius_xy_mm = back.where_xy_mm;
-        }
-    }
+    r.stl_nx = stl_nx;
+    r.stl_ny = stl_ny;
     refuse_folding_sheet(o, r);
     const SurfaceGrid grid = sample_family(surface, r.stl_nx, r.stl_ny);
     r.stl_chord_mm = chord_error_mm(grid, [&](double x, double y) { return surface.raw(x, y); });
@@ -165,7 +211,11 @@ CadReport export_cad_unguarded(const Surface& surface, const CadOptions& o,
                                          o.thickness_mm));
     if (!(o.bend_radius_mm >= 0.0))
         throw CadOptionError(fmt::format(
-            "--bend-radius {:g}: must be > 0 mm (0: twice the thickness)", o.bend_radius_mm));
+            "--bend-radius {:g}: must be >= 0 mm (0: twice the thickness)", o.bend_radius_mm));
+    if (o.bend_radius_mm > 0.0 && o.thickness_mm == 0.0)
+        throw CadOptionError(fmt::format("--bend-radius {:g}: bends a sheet's creases, and needs "
+                                         "--thickness (the surface alone has no bends)",
+                                         o.bend_radius_mm));
     const bool mesh = std::holds_alternative<MeshFn>(surface.function());
     const Creases creases = mesh ? Creases{} : clamp_creases(surface);
     if (std::holds_alternative<ProfileFn>(surface.function()))
@@ -173,8 +223,15 @@ CadReport export_cad_unguarded(const Surface& surface, const CadOptions& o,
     if (creases.any()) {
         if (o.thickness_mm > 0.0) (void)bend_radius(o, creases.top);
         const CadSurface cad = make_cad_surface(surface, o.tolerance_mm, Heights::Unclamped);
-        return export_creased(height_field_face(cad.surface), report_of(cad), surface, creases,
-                              false, o, directory);
+        CadReport r = report_of(cad);
+        // The family's bends where it is not clamped: twice the fit's samples (an exact
+        // spline's: eight a knot interval, at least 129 an axis).
+        const int nu = cad.exact ? std::max(129, refined(cad.fit_nx, 8)) : cad.fit_nx;
+        const int nv = cad.exact ? std::max(129, refined(cad.fit_ny, 8)) : cad.fit_ny;
+        measure_back_radius(r, std::span(&cad.surface, 1), surface.holder(), refined(nu, 2),
+                            refined(nv, 2));
+        return export_creased(height_field_face(cad.surface), r, surface, creases, false, o,
+                              directory);
     }
     const CadSurface cad = make_cad_surface(surface, o.tolerance_mm);
     CadReport r = report_of(cad);
@@ -182,10 +239,8 @@ CadReport export_cad_unguarded(const Surface& surface, const CadOptions& o,
     // axis) for the STL and the curvature; a fit's own samples already resolve its detail.
     r.stl_nx = cad.exact ? std::max(129, refined(cad.fit_nx, 8)) : cad.fit_nx;
     r.stl_ny = cad.exact ? std::max(129, refined(cad.fit_ny, 8)) : cad.fit_ny;
-    const BackCurvature back = smallest_back_radius(cad.surface, surface.holder(),
-                                                    refined(r.stl_nx, 2), refined(r.stl_ny, 2));
-    r.back_radius_mm = back.smallest_radius_mm;
-    r.back_radius_xy_mm = back.where_xy_mm;
+    measure_back_radius(r, std::span(&cad.surface, 1), surface.holder(), refined(r.stl_nx, 2),
+                        refined(r.stl_ny, 2));
     refuse_folding_sheet(o, r);
     const SurfaceGrid grid = sample_surface(cad.surface, r.stl_nx, r.stl_ny);
     // S(u, v) = (u, v, z): the surface point over (x, y) is at parameters (x, y).
@@ -198,6 +253,10 @@ CadReport export_cad_unguarded(const Surface& surface, const CadOptions& o,
 } // namespace
 
 CadReport export_cad(const Surface& surface, const CadOptions& o, const std::string& directory) {
+    // One export at a time in a process: write_step sets OpenCASCADE's process-wide
+    // translator options and messenger (the workbench writes on a thread of its own).
+    static std::mutex one_at_a_time;
+    const std::lock_guard lock(one_at_a_time);
     // OpenCASCADE throws Standard_Failure, which is no std::exception: one line, not an abort.
     try {
         return export_cad_unguarded(surface, o, directory);

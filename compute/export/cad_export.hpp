@@ -45,8 +45,9 @@ struct CadReport {
 };
 
 // Checks everything before it writes: throws CadOptionError (cad_option_error.hpp) naming
-// --cad-tolerance or --thickness, std::runtime_error naming the directory or a file that
-// cannot be written. Each file is written whole or not at all.
+// --cad-tolerance, --thickness or --bend-radius, std::runtime_error naming the directory or
+// a file that cannot be written. Each file is written whole or not at all. Calls from two
+// threads run one after the other (OpenCASCADE's STEP options are process-wide).
 CadReport export_cad(const Surface& surface, const CadOptions& options,
                      const std::string& directory);
 

@@ -77,10 +77,14 @@ RevolvedProfile revolve_profile(const Surface& surface) {
     BRepBuilderAPI_Sewing sewing(1e-7);
     double z_lo = 1e300, z_hi = -1e300;
     const double quarter = 0.5 * std::numbers::pi;
+    // The seams on the diagonals from the axis, not along x and y: an axis on the holder's
+    // edge would otherwise put a seam (and the pole) on a face of the trimming box, where
+    // OpenCASCADE's Booleans are weakest.
+    const double first = 0.5 * quarter;
     for (int k = 0; k < 4; ++k) {
         const Handle(Geom_BSplineSurface) half =
             GeomConvert::SurfaceToBSplineSurface(new Geom_RectangularTrimmedSurface(
-                revolved, k * quarter, (k + 1) * quarter, Standard_True));
+                revolved, first + k * quarter, first + (k + 1) * quarter, Standard_True));
         p.quarters[std::size_t(k)] = half;
         for (int i = 1; i <= half->NbUPoles(); ++i)
             for (int j = 1; j <= half->NbVPoles(); ++j) {
@@ -105,7 +109,7 @@ RevolvedProfile revolve_profile(const Surface& surface) {
             BRepBuilderAPI_MakeEdge(rim, gp_Pnt(f.cx + r_max, f.cy, rim.Z())).Edge();
         for (int k = 0; k < 4; ++k) {
             gp_Trsf turn;
-            turn.SetRotation(axis, k * quarter);
+            turn.SetRotation(axis, first + k * quarter);
             sewing.Add(
                 BRepPrimAPI_MakeRevol(line.Moved(TopLoc_Location(turn)), axis, quarter).Shape());
         }

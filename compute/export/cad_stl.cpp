@@ -25,7 +25,7 @@ namespace fird {
 
 namespace {
 
-using Triangle = std::array<glm::dvec3, 3>;
+using Triangle = StlTriangle;
 
 void put_float(std::string& out, double v) {
     const float f = float(v);
@@ -129,11 +129,7 @@ double chord_error_mm(const SurfaceGrid& g,
     return worst;
 }
 
-namespace {
-
-// Binary STL of the triangles (each counter-clockwise seen from outside, its normal from
-// that winding), whole or not at all; returns its size.
-std::uint64_t write_stl(const std::vector<Triangle>& tris, const std::string& header,
+std::uint64_t write_stl(const std::vector<StlTriangle>& tris, const std::string& header,
                         const std::string& path) {
     std::string out(80, '\0');
     std::copy(header.begin(),
@@ -163,8 +159,6 @@ std::uint64_t write_stl(const std::vector<Triangle>& tris, const std::string& he
     return out.size();
 }
 
-} // namespace
-
 std::uint64_t write_reflector_stl(const SurfaceGrid& g, double thickness_mm,
                                   const std::string& path) {
     return write_stl(triangles(g, thickness_mm),
@@ -174,22 +168,20 @@ std::uint64_t write_reflector_stl(const SurfaceGrid& g, double thickness_mm,
                      path);
 }
 
-std::uint64_t write_tessellated_stl(const TopoDS_Shape& shape, double deflection_mm,
-                                    const std::string& path) {
+std::vector<StlTriangle> tessellate(const TopoDS_Shape& shape, double deflection_mm) {
     BRepMesh_IncrementalMesh mesh(shape, deflection_mm, Standard_False, 0.5);
-    if (!mesh.IsDone())
-        throw std::runtime_error(fmt::format("{}: OpenCASCADE could not mesh the "
-                                             "reflector",
-                                             path));
+    if (!mesh.IsDone()) throw std::runtime_error("OpenCASCADE could not mesh the reflector");
     // Each face's triangles, wound by the face's orientation. Those with two corners at one
     // point go: a revolved face's pole (a degenerate edge) gets a fan of them, which would
     // leave facets with no normal and edges of no length.
-    std::vector<Triangle> tris;
+    std::vector<StlTriangle> tris;
     for (TopExp_Explorer e(shape, TopAbs_FACE); e.More(); e.Next()) {
         const TopoDS_Face face = TopoDS::Face(e.Current());
         TopLoc_Location where;
         const Handle(Poly_Triangulation) t = BRep_Tool::Triangulation(face, where);
-        if (t.IsNull()) continue;
+        // A face left unmeshed would be a hole in the STL.
+        if (t.IsNull())
+            throw std::runtime_error("OpenCASCADE left a face of the reflector unmeshed");
         const bool reversed = face.Orientation() == TopAbs_REVERSED;
         const auto node = [&](int k) {
             const gp_Pnt p = t->Node(k).Transformed(where.Transformation());
@@ -199,12 +191,12 @@ std::uint64_t write_tessellated_stl(const TopoDS_Shape& shape, double deflection
             int a, b, c;
             t->Triangle(k).Get(a, b, c);
             if (reversed) std::swap(b, c);
-            const Triangle tri{node(a), node(b), node(c)};
+            const StlTriangle tri{node(a), node(b), node(c)};
             if (tri[0] == tri[1] || tri[1] == tri[2] || tri[2] == tri[0]) continue;
             tris.push_back(tri);
         }
     }
-    return write_stl(tris, "fird reflector surface, mm", path);
+    return tris;
 }
 
 } // namespace fird

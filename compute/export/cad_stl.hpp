@@ -6,6 +6,7 @@
 // offset solid would add OpenCASCADE's tessellation tolerances to the heights.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <functional>
 #include <string>
@@ -39,12 +40,19 @@ SurfaceGrid sample_family(const Surface& surface, int nx, int ny);
 double chord_error_mm(const SurfaceGrid& grid,
                       const std::function<double(double, double)>& height_mm);
 
+// A triangle, counter-clockwise seen from outside (mm).
+using StlTriangle = std::array<glm::dvec3, 3>;
+
 // A creased reflector (cad_crease) as OpenCASCADE tessellates it (BRepMesh, facets within
 // deflection_mm of the faces, the crease an edge of the mesh, which no regular grid
-// follows; triangles with two corners at one point, a pole's, dropped), written in binary,
+// follows; triangles with two corners at one point, a pole's, dropped). Throws
+// std::runtime_error where BRepMesh fails or leaves a face unmeshed.
+std::vector<StlTriangle> tessellate(const TopoDS_Shape& shape, double deflection_mm);
+
+// Binary STL of the triangles (each normal from its winding) with an 80-byte header,
 // whole or not at all; returns its size.
-std::uint64_t write_tessellated_stl(const TopoDS_Shape& shape, double deflection_mm,
-                                    const std::string& path);
+std::uint64_t write_stl(const std::vector<StlTriangle>& triangles, const std::string& header,
+                        const std::string& path);
 
 // Writes the STL whole or not at all; returns its size in bytes.
 std::uint64_t write_reflector_stl(const SurfaceGrid& grid, double thickness_mm,

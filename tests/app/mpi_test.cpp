@@ -225,6 +225,7 @@ std::vector<std::map<std::string, std::string>> csv_by_name(const std::string& p
             header = cells;
             continue;
         }
+        if (line.empty()) continue;
         EXPECT_EQ(cells.size() + (line.back() == ',' ? 1 : 0), header.size()) << line;
         std::map<std::string, std::string> row;
         for (std::size_t k = 0; k < cells.size(); ++k)
@@ -384,19 +385,27 @@ TEST(Mpi, BadOptionsAreOneLineUsageErrors) {
 }
 
 // srun's tasks that did not join one MPI job (srun --mpi=none: measured on Slurm 22.05, each
-// task ran the whole search and wrote the same folder): refused, one line, exit 2, before
-// anything runs. SLURM_STEP_NUM_TASKS is what srun sets in each task of a step.
+// task ran the whole search and wrote the same folder): a command that shares work across
+// ranks is refused, one line, exit 2, before anything runs; any other runs in each task.
+// SLURM_STEP_NUM_TASKS is what srun sets in each task of a step.
 TEST(Mpi, SrunTasksThatDidNotJoinOneJobAreRefused) {
-    const Result r = one_process("info"); // as a baseline: runs
-    EXPECT_EQ(r.code, 0) << r.out;
-    const Result t = run_fird("SLURM_STEP_NUM_TASKS=3 SLURM_PROCID=1 timeout 60", "info");
+    const std::string out = fresh_dir("unjoined");
+    const Result t = run_fird("SLURM_STEP_NUM_TASKS=3 SLURM_PROCID=1 timeout 60",
+                              "optimize " + kMirror + " --method grid --out " + out);
     EXPECT_EQ(t.code, 2) << t.out;
     EXPECT_EQ(error_lines(t.out), 1) << t.out;
     EXPECT_NE(t.out.find("fird: error: srun started 3 tasks that did not join one MPI job"),
               std::string::npos)
         << t.out;
-    // One task of a step (sbatch's own, srun -n 1) runs as one process.
-    EXPECT_EQ(run_fird("SLURM_STEP_NUM_TASKS=1 SLURM_PROCID=0 timeout 60", "info").code, 0);
+    EXPECT_FALSE(std::filesystem::exists(out)) << "nothing written";
+    // A command of its own in each task (a wrapper's), and one task of a step (sbatch's
+    // own, srun -n 1), run.
+    EXPECT_EQ(run_fird("SLURM_STEP_NUM_TASKS=3 SLURM_PROCID=1 timeout 60", "info").code, 0);
+    EXPECT_EQ(run_fird("SLURM_STEP_NUM_TASKS=1 SLURM_PROCID=0 timeout 60",
+                       "bench --candidates " + kMirror + " --rays 1e4 --reps 1 --batch 1 --out " +
+                           fresh_dir("one_task"))
+                  .code,
+              0);
 }
 
 } // namespace
