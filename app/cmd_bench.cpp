@@ -157,7 +157,7 @@ void register_bench(CLI::App& app, const GlobalOptions& global, std::function<in
             const BenchOptions sweep =
                 a->skips || a->candidates ? BenchOptions{} : sweep_options(*a);
             const auto ctx = vk::Context::create(context_options(global));
-            std::string devices = ctx.summary().name + " (" + ctx.summary().driver_info + ")";
+            std::string devices = bench_device(ctx);
 #if FIRD_HAVE_MPI
             const distributed::BenchWork work{.kind = a->skips ? distributed::BenchKind::Skips
                                                       : a->candidates

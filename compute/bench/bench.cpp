@@ -25,6 +25,10 @@ constexpr std::uint64_t kReplicateStream = 9000;
 
 } // namespace
 
+std::string bench_device(const vk::Context& ctx) {
+    return ctx.summary().name + " (" + ctx.summary().driver_info + ")";
+}
+
 double median_ms(std::vector<double> timings) {
     std::sort(timings.begin(), timings.end());
     return timings.empty() ? 0.0 : timings[timings.size() / 2];

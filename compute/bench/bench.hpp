@@ -75,6 +75,9 @@ std::vector<SkipRow> run_skips_bench(const vk::Context& ctx, const std::vector<s
                                      int reps, const std::function<void(const SkipRow&)>& progress);
 std::string skips_markdown(const std::vector<SkipRow>& rows, const std::string& device);
 
+// The device a bench ran on, as its tables name it: "name (driver)".
+std::string bench_device(const vk::Context& ctx);
+
 // The median of a set of timings (the upper middle one for an even count; 0 when empty).
 double median_ms(std::vector<double> timings);
 

@@ -10,10 +10,6 @@ namespace fird::distributed {
 
 namespace {
 
-std::string device_of(const vk::Context& ctx) {
-    return ctx.summary().name + " (" + ctx.summary().driver_info + ")";
-}
-
 // A message's field both ways: written from a row (Out) or read into one (In), so that each
 // row kind's fields are listed once, in one order (fields() below).
 struct Out {
@@ -70,7 +66,7 @@ std::vector<SkipRow> measure_skips(const vk::Context& ctx, const BenchWork& work
 template <class Row> Bytes answer(const vk::Context& ctx, int rank, const std::vector<Row>& rows) {
     Writer w;
     w.put(rank);
-    w.put(device_of(ctx));
+    w.put(bench_device(ctx));
     w.put(std::uint64_t(rows.size()));
     for (const Row& r : rows)
         fields(Out{w}, r);
@@ -84,7 +80,7 @@ SharedBench<Row> shared(Farm& farm, const vk::Context& ctx, std::size_t items,
                         const Measure& measure) {
     std::vector<std::vector<Row>> by_share(items); // each share's rows at its first item
     SharedBench<Row> out;
-    out.devices[0] = device_of(ctx);
+    out.devices[0] = bench_device(ctx);
     farm.share({.items = items,
                 .request =
                     [](std::size_t first, std::size_t last) {

@@ -29,6 +29,13 @@ int refined(int n, int per) {
     return per * (n - 1) + 1;
 }
 
+// The samples an axis of a height-field CAD surface's STL (the curvature on twice as many):
+// the exact B-spline has few knot intervals, eight samples in each (at least 129); a fit's
+// own samples (`fit_n`, that axis's) already resolve its detail.
+int sheet_samples(const CadSurface& cad, int fit_n) {
+    return cad.exact ? std::max(129, refined(fit_n, 8)) : fit_n;
+}
+
 // What the CAD surface is and how far it strays.
 CadReport report_of(const CadSurface& cad) {
     return CadReport{.exact = cad.exact,
@@ -221,24 +228,21 @@ CadReport export_cad_unguarded(const Surface& surface, const CadOptions& o,
     if (std::holds_alternative<ProfileFn>(surface.function()))
         return export_revolved(surface, creases, o, directory);
     if (creases.any()) {
+        // A bend radius the sheet cannot take is refused before the fit (seconds at 1025^2).
         if (o.thickness_mm > 0.0) (void)bend_radius(o, creases.top);
         const CadSurface cad = make_cad_surface(surface, o.tolerance_mm, Heights::Unclamped);
         CadReport r = report_of(cad);
-        // The family's bends where it is not clamped: twice the fit's samples (an exact
-        // spline's: eight a knot interval, at least 129 an axis).
-        const int nu = cad.exact ? std::max(129, refined(cad.fit_nx, 8)) : cad.fit_nx;
-        const int nv = cad.exact ? std::max(129, refined(cad.fit_ny, 8)) : cad.fit_ny;
-        measure_back_radius(r, std::span(&cad.surface, 1), surface.holder(), refined(nu, 2),
-                            refined(nv, 2));
+        // The family's bends where it is not clamped.
+        measure_back_radius(r, std::span(&cad.surface, 1), surface.holder(),
+                            refined(sheet_samples(cad, cad.fit_nx), 2),
+                            refined(sheet_samples(cad, cad.fit_ny), 2));
         return export_creased(height_field_face(cad.surface), r, surface, creases, false, o,
                               directory);
     }
     const CadSurface cad = make_cad_surface(surface, o.tolerance_mm);
     CadReport r = report_of(cad);
-    // The exact B-spline has few knot intervals: eight samples in each (at least 129 an
-    // axis) for the STL and the curvature; a fit's own samples already resolve its detail.
-    r.stl_nx = cad.exact ? std::max(129, refined(cad.fit_nx, 8)) : cad.fit_nx;
-    r.stl_ny = cad.exact ? std::max(129, refined(cad.fit_ny, 8)) : cad.fit_ny;
+    r.stl_nx = sheet_samples(cad, cad.fit_nx);
+    r.stl_ny = sheet_samples(cad, cad.fit_ny);
     measure_back_radius(r, std::span(&cad.surface, 1), surface.holder(), refined(r.stl_nx, 2),
                         refined(r.stl_ny, 2));
     refuse_folding_sheet(o, r);
