@@ -351,7 +351,7 @@ FastRun FastTracer::run(const std::function<void(VkCommandBuffer)>& then) {
             if (!reuse && !generated) record_rayset(cb, first, n, sort ? rays_ping_ : *rays, run);
             if (sort) record_rayset_order(cb, rays_ping_, *rays, run);
             ctx_->yield_queue(cb);
-            record_bounces(cb, *rays, first, run, false);
+            record_bounces(cb, *rays, first, run);
             if (last) {
                 record_to_lm(cb, run);
                 if (then) {

@@ -66,6 +66,17 @@ struct FastPathSkips {
     bool start_walk_below_source = true;   // the source's rays skip the descents they must make
 };
 
+// What a bounce loop records besides the far field and the counters (diagnostics).
+struct BounceRecording {
+    // Hit records (trace.comp's HitRecord): none; the source's rays' (bounce 0, run_rays);
+    // or every bounce's (trace_paths: bounce b's from b x `rays`, and the reflected rays
+    // left unordered, so that a record's next slot is the next bounce's input slot and a
+    // path is followed through the bounces).
+    enum class Hits { None, First, Every } hits = Hits::None;
+    std::uint32_t rays = 0;                  // Every: the records one bounce takes
+    std::optional<std::uint32_t> walk_index; // the walk of the ray carrying this index
+};
+
 class FastTracer {
   public:
     // `seed` drives the rayset; scene.trace gives rays, grids, bounces and hit mode.
@@ -133,10 +144,11 @@ class FastTracer {
     // heights; quadtree_layout gives the levels' offsets) and its gradients.
     std::vector<float> read_quadtree();
     std::vector<glm::vec2> read_gradients();
-    // The paths of the given rays (at most one batch), bounce by bounce through the same
-    // trace pass; the run's far field and counters are left as they are. With `walk`,
-    // the trace also records ray `pick`'s walk, step by step (a pipeline variant that
-    // records; at most kWalkCapacity steps per bounce).
+    // The paths of the given rays (at most one batch), traced by the runs' own bounce loop
+    // in one submission, each ray's hit recorded at every bounce; the run's far field and
+    // tally are left as they are. With `walk`, the trace also records ray `pick`'s walk,
+    // step by step (a pipeline variant that records; at most kWalkCapacity steps per
+    // bounce; its emission index must be no other ray's).
     // The rays' emission indices (the finish's draws are keyed on them: material.h) are
     // `indices` where given (one per ray, below 2^32 as every fast-path rayset's), else
     // first_index, first_index + 1, ...
@@ -213,7 +225,7 @@ class FastTracer {
     // `first`: the emission index of the batch's first ray (the rays carry their index's
     // low word: TracePush).
     void record_bounces(VkCommandBuffer cb, const vk::Buffer& rays, std::uint64_t first,
-                        FastRun& run, bool record_hits);
+                        FastRun& run, const BounceRecording& recording = {});
     void record_to_lm(VkCommandBuffer cb, FastRun& run);
     // The batch's readback, one small copy each: the counters and the loop's per-bounce
     // counts, for the host, into readback slot `slot` (a candidate's place in a run_batch

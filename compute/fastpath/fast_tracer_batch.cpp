@@ -114,7 +114,7 @@ void FastTracer::run_batch_submission(std::span<FastRun> runs, const BatchCompar
             if (state().heightfield_dirty) record_heightfield(cb, run);
             record_run_start(cb, false);
             record_batch_start(cb, rays.effective, scene_.trace.rays);
-            record_bounces(cb, rays.rays, 0, run, false);
+            record_bounces(cb, rays.rays, 0, run);
             record_to_lm(cb, run);
             if (then) {
                 timed(cb, &run.timings.compare_ms, nullptr,

@@ -64,7 +64,8 @@ void FastTracer::dispatch_trace(VkCommandBuffer cb, const vk::Buffer& in, const 
 }
 
 void FastTracer::record_bounces(VkCommandBuffer cb, const vk::Buffer& rays, std::uint64_t first,
-                                FastRun& run, bool record_hits) {
+                                FastRun& run, const BounceRecording& recording) {
+    using Hits = BounceRecording::Hits;
     // Every bounce is recorded, each sized on the device by the one before (bounce_args.comp):
     // a bounce without active rays is an indirect dispatch of 0 groups, which costs next
     // to nothing (the skip of empty bounces; with the skip off it runs one workgroup).
@@ -76,35 +77,49 @@ void FastTracer::record_bounces(VkCommandBuffer cb, const vk::Buffer& rays, std:
     for (std::uint32_t bounce = 0; bounce < n; ++bounce) {
         // The rays reflected here are ordered by direction for the next bounce, as the
         // rayset is, unless there are too few for the ordering to pay (kOrderMinRays,
-        // decided on the device: they are then copied as they are).
-        const bool order = bounce + 1 < n;
+        // decided on the device: they are then copied as they are), or every bounce's hits
+        // are recorded (a record names the slot its reflected ray was appended at).
+        const bool last = bounce + 1 >= n;
+        const bool order = !last && recording.hits != Hits::Every;
         BounceProfile& profile = run.bounces[bounce];
         timed(cb, &run.timings.trace_ms, &profile.trace_ms, [&] {
             if (order) {
                 vkCmdFillBuffer(cb, order_buckets_.get(), 0, VK_WHOLE_SIZE, 0);
                 vk::barrier_all(cb);
             }
-            const gpu::TracePush push{.first_lo = std::uint32_t(first),
-                                      .first_hi = std::uint32_t(first >> 32),
-                                      .bounce = bounce,
-                                      .final_check = bounce == params_.max_bounces ? 1u : 0u,
-                                      .record_hits = record_hits && bounce == 0 ? 1u : 0u,
-                                      .order_output = order ? 1u : 0u,
-                                      .count_texel_hits = count_texel_hits_ ? 1u : 0u,
-                                      .walk_to_box_top = skips_.end_walk_at_reflector_top ? 0u : 1u,
-                                      .walk_from_root = skips_.start_walk_below_source ? 0u : 1u};
-            dispatch_trace(cb, *in, *out, counters_, state().farfield_counts, push, false,
-                           std::nullopt);
+            const gpu::TracePush push{
+                .first_lo = std::uint32_t(first),
+                .first_hi = std::uint32_t(first >> 32),
+                .bounce = bounce,
+                .final_check = bounce == params_.max_bounces ? 1u : 0u,
+                .record_hits =
+                    recording.hits == Hits::Every || (recording.hits == Hits::First && bounce == 0)
+                        ? 1u
+                        : 0u,
+                .hits_base = recording.hits == Hits::Every ? bounce * recording.rays : 0u,
+                .order_output = order ? 1u : 0u,
+                .count_texel_hits = count_texel_hits_ ? 1u : 0u,
+                .walk_ray = recording.walk_index.value_or(0u),
+                .walk_to_box_top = skips_.end_walk_at_reflector_top ? 0u : 1u,
+                .walk_from_root = skips_.start_walk_below_source ? 0u : 1u};
+            dispatch_trace(cb, *in, *out, counters_, state().farfield_counts, push,
+                           recording.walk_index.has_value(), std::nullopt);
             vk::barrier_all(cb);
         });
-        if (!order) break;
-        // Into the other ping-pong buffer (this bounce's input is consumed).
-        const vk::Buffer* spare = (out == &rays_ping_) ? &rays_pong_ : &rays_ping_;
-        timed(cb, &run.timings.trace_ms, &profile.order_ms, [&] {
+        if (last) break;
+        if (order) {
+            // Into the other ping-pong buffer (this bounce's input is consumed).
+            const vk::Buffer* spare = (out == &rays_ping_) ? &rays_pong_ : &rays_ping_;
+            timed(cb, &run.timings.trace_ms, &profile.order_ms, [&] {
+                record_bounce_args(cb, gpu::kArgsNextBounce, bounce + 1);
+                record_order(cb, *out, *spare, true);
+            });
+            in = spare;
+        } else {
+            // Unordered: the next bounce reads the rays where this one appended them.
             record_bounce_args(cb, gpu::kArgsNextBounce, bounce + 1);
-            record_order(cb, *out, *spare, true);
-        });
-        in = spare;
+            in = out;
+        }
         out = (in == &rays_ping_) ? &rays_pong_ : &rays_ping_;
         // A window sharing the device draws between bounces (the bounce loop is sized on
         // the device, so the pieces need nothing from the host).

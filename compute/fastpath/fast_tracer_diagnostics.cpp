@@ -1,5 +1,5 @@
 // Diagnostics of the fast path: given rays and their first hits, per-bounce walk
-// profiles, reflections per texel, and ray paths traced bounce by bounce.
+// profiles, reflections per texel, and ray paths followed through the bounce loop.
 #include "fast_tracer.hpp"
 
 #include <algorithm>
@@ -7,6 +7,7 @@
 #include <cstring>
 #include <stdexcept>
 
+#include <fmt/format.h>
 #include <glm/geometric.hpp>
 
 #include "fastpath/fast_tracer_internal.hpp"
@@ -40,13 +41,14 @@ FastRun FastTracer::run_rays(const std::vector<Ray>& rays, std::vector<glm::dvec
                         vk::MemoryUse::Device, "fird.rays.uploaded");
     uploaded.upload(*ctx_, std::span<const float>(packed));
     if (hits)
-        hits_ = vk::Buffer(*ctx_, std::max<std::size_t>(rays.size(), 1) * 32, vk::kStorageUsage,
-                           vk::MemoryUse::Readback, "fird.hits");
+        hits_ = vk::Buffer(*ctx_, std::max<std::size_t>(rays.size(), 1) * kHitRecordBytes,
+                           vk::kStorageUsage, vk::MemoryUse::Readback, "fird.hits");
     submit(&run.timings.trace_ms, [&](VkCommandBuffer cb) {
         if (state().heightfield_dirty) record_heightfield(cb, run);
         record_run_start(cb, false);
         record_batch_start(cb, rays.size(), rays.size());
-        record_bounces(cb, uploaded, 0, run, hits != nullptr);
+        record_bounces(cb, uploaded, 0, run,
+                       {.hits = hits ? BounceRecording::Hits::First : BounceRecording::Hits::None});
         record_to_lm(cb, run);
         record_batch_end(cb);
     });
@@ -54,10 +56,10 @@ FastRun FastTracer::run_rays(const std::vector<Ray>& rays, std::vector<glm::dvec
     tally_batch(run);
     finish(run);
     if (hits) {
-        const auto both = hits_.download_as<glm::vec4>(*ctx_, 2 * rays.size());
+        const auto records = hits_.download_as<glm::vec4>(*ctx_, kHitRecordVec4s * rays.size());
         hits->resize(rays.size());
         for (std::size_t i = 0; i < rays.size(); ++i) {
-            const glm::vec4 h = both[2 * i];
+            const glm::vec4 h = records[kHitRecordVec4s * i];
             (*hits)[i] = h.w < 0.0f ? glm::dvec4(h) : glm::dvec4(glm::dvec3(h) + origin_, h.w);
         }
         hits_ = vk::Buffer(*ctx_, 32, vk::kStorageUsage, vk::MemoryUse::Device, "fird.hits.unused");
@@ -119,92 +121,97 @@ std::vector<RayPath> FastTracer::trace_paths(const std::vector<Ray>& rays, std::
     if (!current_.reflector) throw std::logic_error("FastTracer::trace_paths: no reflector set");
     if (rays.size() > batch_capacity_)
         throw std::invalid_argument("trace_paths: more rays than one batch holds");
-    FastRun unused;
-    build_heightfield(unused);
     const std::size_t n = rays.size();
-    std::vector<RayPath> paths(n);
-    struct Live {
-        std::size_t path;
-        glm::vec3 origin, direction;
-        std::uint32_t texel;
+    // Ray i carries its emission index's low word (origin.w), as the rayset's rays do.
+    const auto carried = [&](std::size_t i) {
+        return std::uint32_t(indices ? (*indices)[i] : first_index + i);
     };
-    std::vector<Live> live;
-    for (std::size_t i = 0; i < n; ++i) {
-        paths[i].vertices.push_back(rays[i].origin);
-        live.push_back({i, glm::vec3(rays[i].origin - origin_), glm::vec3(rays[i].direction), 0});
-    }
-    // Scratch so that the run's far field and counters are left as they are.
-    const std::size_t slots = std::max<std::size_t>(n, 1);
-    vk::Buffer in(*ctx_, slots * kRayBytes, vk::kStorageUsage, vk::MemoryUse::Upload,
-                  "fird.paths.in");
-    vk::Buffer out(*ctx_, slots * kRayBytes, vk::kStorageUsage, vk::MemoryUse::Device,
-                   "fird.paths.out");
-    vk::Buffer counters(*ctx_, kCountersBytes, vk::kStorageUsage, vk::MemoryUse::Device,
-                        "fird.paths.counters");
-    vk::Buffer farfield(*ctx_, std::uint64_t(farfield_cells()) * 4 * params_.farfield_layers,
-                        vk::kStorageUsage, vk::MemoryUse::Device, "fird.paths.farfield");
-    vk::Buffer kept_hits = std::move(hits_);
-    hits_ = vk::Buffer(*ctx_, slots * 32, vk::kStorageUsage, vk::MemoryUse::Readback,
-                       "fird.paths.hits");
     const bool record = walk != nullptr && pick < n;
-    vk::Buffer kept_walk;
     if (record) {
+        // The walk is recorded for the ray carrying the pick's index, whatever its slot.
+        const std::uint32_t picked = carried(pick);
+        for (std::size_t i = 0; i < n; ++i)
+            if (i != pick && carried(i) == picked)
+                throw std::invalid_argument(fmt::format(
+                    "trace_paths: rays {} and {} carry the same index {}, so the walk of ray {} "
+                    "cannot be told apart",
+                    pick, i, picked, pick));
+        walk->clear();
         if (!trace_walk_pipeline_) {
             trace_walk_pipeline_.emplace(trace_pipeline(
                 *ctx_, spec_, {FIRD_SPEC_RECORD_WALK, FIRD_SPEC_DIAGNOSTICS}, "fird.trace.walk"));
         }
-        kept_walk = std::move(walk_);
-        walk_ =
-            vk::Buffer(*ctx_, (1 + gpu::kWalkStepVec4s * std::uint64_t(gpu::kWalkCapacity)) * 16,
-                       vk::kStorageUsage, vk::MemoryUse::Readback, "fird.walk");
-        walk->clear();
     }
-    // One bounce per submission, as the fast path traces them: a reflection's ray
-    // starts at its hit, skipping the texel it left (direction.w carries it; origin.w the
-    // ray's emission index, its place in `rays`).
-    for (std::uint32_t bounce = 0; bounce < params_.max_bounces && !live.empty(); ++bounce) {
-        std::vector<float> packed(live.size() * 8, 0.0f);
-        for (std::size_t k = 0; k < live.size(); ++k) {
-            const Live& l = live[k];
-            for (int c = 0; c < 3; ++c) {
-                packed[k * 8 + c] = l.origin[c];
-                packed[k * 8 + 4 + c] = l.direction[c];
-            }
-            const auto index = std::uint32_t(indices ? (*indices)[l.path] : first_index + l.path);
-            std::memcpy(&packed[k * 8 + 3], &index, 4);
-            if (bounce > 0) {
-                const std::uint32_t texel_bits =
-                    (l.texel % params_.hf_w) | ((l.texel / params_.hf_w) << 16);
-                std::memcpy(&packed[k * 8 + 7], &texel_bits, 4);
-            }
+    FastRun run = new_run(n);
+    run.timings.heightfield_ms += rasterize_mesh();
+    std::vector<float> packed(std::max<std::size_t>(n, 1) * 8, 0.0f);
+    for (std::size_t i = 0; i < n; ++i) {
+        for (int k = 0; k < 3; ++k) {
+            packed[i * 8 + k] = float(rays[i].origin[k] - origin_[k]);
+            packed[i * 8 + 4 + k] = float(rays[i].direction[k]);
         }
-        in.upload(*ctx_, std::span<const float>(packed));
-        // The picked ray's place in this bounce's input (none once it has left).
-        std::uint32_t walk_ray = ~0u;
-        for (std::size_t k = 0; k < live.size(); ++k)
-            if (live[k].path == pick) walk_ray = std::uint32_t(k);
-        const bool walking = record && walk_ray != ~0u;
-        ctx_->submit_and_wait([&](VkCommandBuffer cb) {
-            vkCmdFillBuffer(cb, counters.get(), 0, VK_WHOLE_SIZE, 0);
-            if (walking) vkCmdFillBuffer(cb, walk_.get(), 0, 16, 0);
-            // The count the trace reads (the run's loop state is not needed after its run).
-            vkCmdFillBuffer(cb, loop_.get(), gpu::kLoopActive * 4, 4, std::uint32_t(live.size()));
-            vk::barrier_all(cb);
-            const gpu::TracePush push{.first_lo = std::uint32_t(first_index),
-                                      .first_hi = std::uint32_t(first_index >> 32),
-                                      .bounce = bounce,
-                                      .record_hits = 1u,
-                                      .walk_ray = walk_ray};
-            dispatch_trace(cb, in, out, counters, farfield, push, walking,
-                           groups(live.size(), FIRD_TRACE_WORKGROUP_SIZE));
-        });
-        if (walking) {
-            const auto* w = static_cast<const glm::vec4*>(walk_.data());
-            const auto steps = std::min<std::uint32_t>(std::uint32_t(w[0].x), gpu::kWalkCapacity);
-            // Heights out of the device's frame (relative to origin_) into the scene's.
-            const auto z = [&](float device_z) { return float(double(device_z) + origin_.z); };
+        const std::uint32_t index = carried(i);
+        std::memcpy(&packed[i * 8 + 3], &index, 4);
+    }
+    vk::Buffer uploaded(*ctx_, packed.size() * 4, vk::kStorageUsage, vk::MemoryUse::Upload,
+                        "fird.paths.rays");
+    uploaded.upload(*ctx_, std::span<const float>(packed));
+    // A record per ray and bounce (the strict policy's final check included), and a walk
+    // region per bounce; the run's own buffers are put back afterwards.
+    const std::uint32_t bounces = passes();
+    const std::size_t slots = std::max<std::size_t>(n, 1);
+    vk::Buffer kept_hits = std::move(hits_);
+    hits_ = vk::Buffer(*ctx_, bounces * slots * kHitRecordBytes, vk::kStorageUsage,
+                       vk::MemoryUse::Readback, "fird.paths.hits");
+    const std::uint64_t walk_region = 1 + gpu::kWalkStepVec4s * std::uint64_t(gpu::kWalkCapacity);
+    vk::Buffer kept_walk;
+    if (record) {
+        kept_walk = std::move(walk_);
+        walk_ = vk::Buffer(*ctx_, bounces * walk_region * 16, vk::kStorageUsage,
+                           vk::MemoryUse::Readback, "fird.walk");
+    }
+    // The bounce loop of every run, its far field counts and counters the run's scratch
+    // (cleared by the next run's start, never read back here).
+    submit(&run.timings.trace_ms, [&](VkCommandBuffer cb) {
+        if (state().heightfield_dirty) record_heightfield(cb, run);
+        if (record) vkCmdFillBuffer(cb, walk_.get(), 0, VK_WHOLE_SIZE, 0);
+        record_batch_start(cb, n, n);
+        record_bounces(cb, uploaded, first_index, run,
+                       {.hits = BounceRecording::Hits::Every,
+                        .rays = std::uint32_t(slots),
+                        .walk_index = record ? std::optional(carried(pick)) : std::nullopt});
+    });
+    state().heightfield_dirty = false;
+    const auto records = hits_.download_as<glm::vec4>(*ctx_, kHitRecordVec4s * bounces * slots);
+    hits_ = std::move(kept_hits);
+    // Each path followed from bounce to bounce by its record's next slot.
+    std::vector<RayPath> paths(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        RayPath& path = paths[i];
+        path.vertices.push_back(rays[i].origin);
+        std::size_t slot = i;
+        for (std::uint32_t bounce = 0; bounce < params_.max_bounces; ++bounce) {
+            const glm::vec4* r = &records[kHitRecordVec4s * (bounce * slots + slot)];
+            if (r[0].w < 0.0f) break; // it leaves with its current direction
+            path.vertices.push_back(glm::dvec3(r[0]) + origin_);
+            path.direction = glm::dvec3(r[1]);
+            ++path.reflections;
+            std::uint32_t next = 0;
+            std::memcpy(&next, &r[2].x, 4);
+            if (next == 0) break; // it left the reflector with this direction
+            slot = next - 1;
+        }
+    }
+    if (record) {
+        const auto* w = static_cast<const glm::vec4*>(walk_.data());
+        // Heights out of the device's frame (relative to origin_) into the scene's.
+        const auto z = [&](float device_z) { return float(double(device_z) + origin_.z); };
+        for (std::uint32_t bounce = 0; bounce < params_.max_bounces; ++bounce) {
+            const glm::vec4* region = w + bounce * walk_region;
+            const auto steps =
+                std::min<std::uint32_t>(std::uint32_t(region[0].x), gpu::kWalkCapacity);
             for (std::uint32_t k = 0; k < steps; ++k) {
-                const glm::vec4* r = &w[1 + gpu::kWalkStepVec4s * k];
+                const glm::vec4* r = &region[1 + gpu::kWalkStepVec4s * k];
                 walk->push_back({.bounce = bounce,
                                  .level = std::uint32_t(r[0].x),
                                  .x = std::uint32_t(r[0].y),
@@ -218,25 +225,8 @@ std::vector<RayPath> FastTracer::trace_paths(const std::vector<Ray>& rays, std::
                                  .t_next = r[2].y});
             }
         }
-        const auto hits = hits_.download_as<glm::vec4>(*ctx_, 2 * live.size());
-        std::vector<Live> next;
-        for (std::size_t k = 0; k < live.size(); ++k) {
-            RayPath& path = paths[live[k].path];
-            if (hits[2 * k].w < 0.0f) continue; // it leaves with its current direction
-            const glm::vec3 p(hits[2 * k]);
-            const glm::vec3 r(hits[2 * k + 1]);
-            std::uint32_t texel = 0;
-            std::memcpy(&texel, &hits[2 * k + 1].w, 4);
-            path.vertices.push_back(glm::dvec3(p) + origin_);
-            ++path.reflections;
-            next.push_back({live[k].path, p, r, texel});
-        }
-        for (Live& l : next)
-            paths[l.path].direction = glm::dvec3(l.direction);
-        live = std::move(next);
+        walk_ = std::move(kept_walk);
     }
-    hits_ = std::move(kept_hits);
-    if (record) walk_ = std::move(kept_walk);
     // Each path ends with its segment leaving the holder box.
     for (std::size_t i = 0; i < n; ++i) {
         RayPath& path = paths[i];

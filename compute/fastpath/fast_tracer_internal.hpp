@@ -13,6 +13,9 @@
 namespace fird::fast_tracer_detail {
 
 inline constexpr std::uint64_t kRayBytes = 32;
+// trace.comp's HitRecord: (hit point, t), (reflected direction, texel bits), (next slot + 1).
+inline constexpr std::uint64_t kHitRecordVec4s = 3;
+inline constexpr std::uint64_t kHitRecordBytes = kHitRecordVec4s * 16;
 inline constexpr std::uint64_t kCountersBytes =
     std::uint64_t(gpu::kTallyCopies) * gpu::kCounterCount * 4;
 // The most device memory a kept rayset may take (1e7 emitted rays take at most 320 MB).

@@ -21,7 +21,7 @@ Ray effective_ray(const Scene& scene, std::uint64_t index) {
 
 PickedRay trace_picked_ray(FastTracer& tracer, const Scene& scene, std::uint64_t index) {
     PickedRay p{.index = index, .ray = effective_ray(scene, index)};
-    // One ray, one batch of one per bounce: the walk-recording pipeline records it.
+    // One ray through the bounce loop: the walk-recording pipeline records its walks.
     auto paths = tracer.trace_paths({p.ray}, 0, &p.walk, index);
     p.path = std::move(paths.front());
     p.path.ray_index = index;

@@ -157,8 +157,8 @@ FIRD_CONSTANT(uint, kTraceBindHits, 8u);
 FIRD_CONSTANT(uint, kTraceBindBuckets, 9u);    // rays appended per direction bucket
 FIRD_CONSTANT(uint, kTraceBindTexelHits, 10u); // reflections per texel (exports, views)
 FIRD_CONSTANT(uint, kTraceBindWalk, 11u);      // the picked ray's walk (FIRD_SPEC_RECORD_WALK)
-// Steps the walk buffer holds: walk[0].x counts them; step k is kWalkStepVec4s vec4s from
-// walk[1 + 3k]: (level, node x, node y, node max height), (t, t at the node's exit, the
+// Steps a bounce's walk region holds: its [0].x counts them; step k is kWalkStepVec4s vec4s
+// from its [1 + 3k]: (level, node x, node y, node max height), (t, t at the node's exit, the
 // ray's height at t, its height at the exit), (decision, t it moves to, 0, 0).
 FIRD_CONSTANT(uint, kWalkCapacity, 8192u);
 FIRD_CONSTANT(uint, kWalkStepVec4s, 3u);
@@ -328,12 +328,14 @@ struct TracePush {
     uint first_hi;         // low word it carries in origin.w (a batch holds < 2^32 rays)
     uint bounce;           // reflections so far (0: rays from the source)
     uint final_check;      // strict policy: only test for another hit
-    uint record_hits;      // hits[2i] = (hit point, t) or t = -1 for input ray i, and
-                           // hits[2i + 1] = (reflected direction, hit texel's index as bits)
+    uint record_hits;      // hits[hits_base + i]: input ray i's HitRecord (trace.comp)
+    uint hits_base;        // where this bounce's records start (a path's bounces: bounce x rays)
     uint order_output;     // count the appended rays per direction bucket (rayset_order.comp),
                            // where the bounce's input has kOrderMinRays rays or more
     uint count_texel_hits; // texel_hits[t] += reflections at texel t; [W H + t] first ones
-    uint walk_ray;         // the input ray whose walk is recorded (FIRD_SPEC_RECORD_WALK)
+    uint walk_ray;         // the emission index (low word) of the ray whose walk is recorded
+                           // (FIRD_SPEC_RECORD_WALK), each bounce's at walk[bounce x (1 + 3
+                           // kWalkCapacity)]
     uint walk_to_box_top;  // measurement only (fird bench --skips): rising rays are walked
                            // to the holder's top, not to the reflector's highest point
     uint walk_from_root;   // measurement only: the source's rays start at the root, not at

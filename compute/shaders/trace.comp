@@ -26,7 +26,16 @@ layout(binding = kTraceBindPyramid) uniform samplerBuffer pyramid;
 layout(binding = kTraceBindHeights) uniform samplerBuffer heights;
 layout(binding = kTraceBindGradients) uniform samplerBuffer gradients;
 layout(std430, binding = kTraceBindFarField) buffer FarField { uint farfield[]; };
-layout(std430, binding = kTraceBindHits) writeonly buffer Hits { vec4 hits[]; };
+// A ray's record (diagnostics): where it met the surface and the parameter t there (t = -1:
+// it met nothing), the reflected direction with the hit texel's index as bits, and the
+// slot its reflected ray took in rays_out plus one (0: none), by which a path is followed
+// from bounce to bounce.
+struct HitRecord {
+    vec4 point_t;
+    vec4 reflected_texel;
+    uvec4 next;
+};
+layout(std430, binding = kTraceBindHits) writeonly buffer Hits { HitRecord hits[]; };
 layout(std430, binding = kTraceBindBuckets) buffer Buckets { uint buckets[]; };
 layout(std430, binding = kTraceBindTexelHits) buffer TexelHits { uint texel_hits[]; };
 layout(std430, binding = kTraceBindWalk) buffer WalkSteps { vec4 walk[]; };
@@ -70,10 +79,12 @@ void profile_walk() {
 // The count is the invocation's own (written out at the end of main), not read back
 // from the buffer between steps.
 uint g_walk_steps = 0u;
+// Each bounce's walk has a region of its own (its count, then its steps).
+uint walk_base() { return pc.bounce * (1u + kWalkStepVec4s * kWalkCapacity); }
 void record_step(bool picked, int level, ivec2 cell, float h, float t, float t_exit, float z_in,
                  float z_out) {
     if (kRecordWalk == 0u || !picked || g_walk_steps >= kWalkCapacity) return;
-    const uint at = 1u + kWalkStepVec4s * g_walk_steps;
+    const uint at = walk_base() + 1u + kWalkStepVec4s * g_walk_steps;
     walk[at] = vec4(float(level), vec2(cell), h);
     walk[at + 1u] = vec4(t, t_exit, z_in, z_out);
     walk[at + 2u] = vec4(float(kWalkUndecided), t, 0.0, 0.0);
@@ -82,7 +93,7 @@ void record_step(bool picked, int level, ivec2 cell, float h, float t, float t_e
 // What the last recorded step decided, and the t it moves the ray to.
 void record_decision(bool picked, uint decision, float t_next) {
     if (kRecordWalk == 0u || !picked || g_walk_steps == 0u || g_walk_steps > kWalkCapacity) return;
-    walk[1u + kWalkStepVec4s * (g_walk_steps - 1u) + 2u] = vec4(float(decision), t_next, 0.0, 0.0);
+    walk[walk_base() + 1u + kWalkStepVec4s * (g_walk_steps - 1u) + 2u] = vec4(float(decision), t_next, 0.0, 0.0);
 }
 
 const int kMiss = 0;
@@ -402,9 +413,13 @@ void main() {
     if (i >= active_rays) return;
     const bool order_output = pc.order_output != 0u && active_rays >= kOrderMinRays;
     const Ray ray = rays_in[i];
+    // The picked ray: by the emission index it carries (its slot changes from bounce to bounce).
+    const bool picked = kRecordWalk != 0u && floatBitsToUint(ray.origin.w) == pc.walk_ray;
+    const uint record = pc.hits_base + i;
     if (kDiagnostics != 0u && pc.record_hits != 0u) {
-        hits[2u * i] = vec4(0.0, 0.0, 0.0, -1.0);
-        hits[2u * i + 1u] = vec4(0.0);
+        hits[record].point_t = vec4(0.0, 0.0, 0.0, -1.0);
+        hits[record].reflected_texel = vec4(0.0);
+        hits[record].next = uvec4(0u);
     }
     const vec3 lo = holder_min(), hi = holder_max();
     const vec2 texel_mm = (hi.xy - lo.xy) / vec2(P.hf_w, P.hf_h);
@@ -439,7 +454,7 @@ void main() {
     if (!below) {
         float t_hit;
         ivec2 hit_texel;
-        const int result = rqrm(w, t_start, skip, kRecordWalk != 0u && i == pc.walk_ray, t_hit, hit_texel);
+        const int result = rqrm(w, t_start, skip, picked, t_hit, hit_texel);
         aborted = result == kAborted;
         blocked = result == kBlocked;
         if (result == kMiss) {
@@ -472,8 +487,8 @@ void main() {
                 if (kHitMode == kHitModePaper) p.z = max(p.z, height_at(hit_texel)); // on the texel top
                 const uint texel = uint(hit_texel.y) * P.hf_w + uint(hit_texel.x);
                 if (kDiagnostics != 0u && pc.record_hits != 0u) {
-                    hits[2u * i] = vec4(p_hit, t_hit);
-                    hits[2u * i + 1u] = vec4(r, uintBitsToFloat(texel));
+                    hits[record].point_t = vec4(p_hit, t_hit);
+                    hits[record].reflected_texel = vec4(r, uintBitsToFloat(texel));
                 }
                 if (kDiagnostics != 0u && pc.count_texel_hits != 0u) {
                     atomicAdd(texel_hits[texel], 1u);
@@ -491,7 +506,7 @@ void main() {
             }
         }
     }
-    if (kRecordWalk != 0u && i == pc.walk_ray) walk[0] = vec4(float(g_walk_steps), 0.0, 0.0, 0.0);
+    if (picked) walk[walk_base()] = vec4(float(g_walk_steps), 0.0, 0.0, 0.0);
     if (kProfile != 0u) profile_walk();
     // Layer k of the far field holds the rays that left after k reflections (one layer when
     // every ray weighs the same); direct light is layer 0, binned where the scene asks.
@@ -513,6 +528,7 @@ void main() {
     FIRD_APPEND_INDEX(counters, kCounterActiveOut, append, slot);
     if (append) {
         rays_out[slot] = next;
+        if (kDiagnostics != 0u && pc.record_hits != 0u) hits[record].next.x = slot + 1u;
         // Counted for ordering the next bounce's rays by direction (rayset_order.comp).
         if (order_output) atomicAdd(buckets[reflected_bucket(next.origin.xyz, next.direction.xyz)], 1u);
     }
