@@ -393,6 +393,10 @@ int run_optimize(const GlobalOptions& global, const Args& a, const CLI::App& cmd
                                     c.limit, c.met ? "met" : "BROKEN",
                                     c.active ? " and active (" + c.active_by + " breaks it)" : "")
                             .c_str());
+        if (r.population)
+            std::printf("%s", fmt::format("population: {}; {}\n", population_summary(*r.population),
+                                          r.population->verdict)
+                                  .c_str());
         if (r.lattice) std::printf("lattice: %s\n", r.lattice->verdict.c_str());
         if (r.refine) std::printf("refine: %s\n", r.refine->verdict.c_str());
         if (r.final_l2_lm && r.noise_floor_l2_lm)

@@ -115,6 +115,7 @@ void search_status(const SearchProgress& p, std::optional<double> elapsed_s,
                                                               *r.noise_floor_l2_lm, r.metric_unit)
                                                 : "")
                     .c_str());
+        if (r.population) ImGui::TextWrapped("%s", population_summary(*r.population).c_str());
         if (!p.out_dir.empty()) ImGui::TextWrapped("files in %s", p.out_dir.c_str());
     }
     if (const Candidate* c = latest_stage_best(p.history); c && c->stage < p.stages.size()) {

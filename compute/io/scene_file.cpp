@@ -643,8 +643,14 @@ TargetDesc read_target(const TableReader& t, const ReflectorDesc& reflector,
 }
 
 OptimizeSettings read_optimize(const TableReader& t) {
-    t.allow_only({"method", "metric", "rays", "threshold_lm", "max_evaluations", "smoothness"});
+    t.allow_only({"method", "metric", "rays", "threshold_lm", "max_evaluations", "smoothness",
+                  "height_sampling"});
     OptimizeSettings o;
+    if (t.has("height_sampling"))
+        o.height_sampling =
+            t.choice("height_sampling", {"modes", "independent"}, "modes") == "independent"
+                ? HeightSampling::Independent
+                : HeightSampling::Modes;
     if (t.has("metric"))
         o.metric = t.choice("metric", {"l2", "candela_l2"}, "l2") == "candela_l2"
                        ? FarFieldMetric::CandelaL2
@@ -876,6 +882,8 @@ std::string scene_to_toml(const Scene& s) {
                         {"threshold_lm", o.threshold_lm},
                         {"max_evaluations", std::int64_t(o.max_evaluations)}};
         if (o.smoothness > 0.0) opt.insert("smoothness", o.smoothness);
+        if (o.height_sampling == HeightSampling::Independent)
+            opt.insert("height_sampling", "independent");
         if (!o.rays.empty()) {
             toml::array rays;
             for (std::uint64_t n : o.rays)

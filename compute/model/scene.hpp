@@ -179,6 +179,9 @@ struct TargetDesc {
 // The search's defaults ([optimize]; each overridable on the command line).
 // Cmaes, Xnes: pagmo2's population methods, a generation traced as one batch.
 enum class SearchMethod { Auto, Grid, Bobyqa, Sbplx, Cobyla, DirectL, Crs2, Cmaes, Xnes };
+// How a population search samples a freed height grid (optimize/height_modes.hpp): in the
+// grid's cosine modes, broad shapes first (the default), or each height on its own.
+enum class HeightSampling { Modes, Independent };
 
 struct OptimizeSettings {
     SearchMethod method = SearchMethod::Auto;
@@ -196,6 +199,7 @@ struct OptimizeSettings {
     // squared principal curvatures over the unclamped surface, dimensionless), so the
     // weight is in the metric's unit. 0: none (smoothness is then a choice of grid).
     double smoothness = 0.0;
+    HeightSampling height_sampling = HeightSampling::Modes; // cmaes, xnes (and auto's)
     bool operator==(const OptimizeSettings&) const = default;
 };
 

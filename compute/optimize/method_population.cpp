@@ -13,6 +13,8 @@
 // a search stopped between generations and resumed replays to the very same state.
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
+#include <memory>
 #include <variant>
 
 #include <fmt/format.h>
@@ -23,6 +25,7 @@
 #include <pagmo/types.hpp>
 
 #include "methods.hpp"
+#include "optimize/height_modes.hpp"
 #include "optimize/search.hpp"
 
 namespace fird {
@@ -44,17 +47,21 @@ struct Generation {
     std::vector<std::vector<double>> asked; // Ask: the snapped points, in pagmo's order
 };
 
-// The pagmo problem (a user-defined problem: fitness and bounds). A point pagmo proposes is
-// judged at its nearest lattice point inside the box, as the lattice methods judge theirs.
+// The pagmo problem (a user-defined problem: fitness and bounds). pagmo works in the sample
+// coordinates (height_modes.hpp: a freed height grid's cosine modes, or the parameters
+// themselves); a point it proposes is mapped to parameters and judged at their nearest
+// lattice point inside the box, as the lattice methods judge theirs.
 // CMA-ES and xNES sample outside the box (pagmo's own clamping, force_bounds, would bias
 // the covariance): such a point scores its lattice point's value grown by its squared
 // distance outside, in box widths, so that the search is drawn back rather than left to
 // drift where every point scores alike.
 struct LatticeProblem {
     Generation* generation = nullptr;
-    std::vector<double> lo, hi;
+    std::shared_ptr<const SampleCoordinates> coordinates;
+    std::vector<double> lo, hi; // the parameters' box
 
-    pagmo::vector_double fitness(const pagmo::vector_double& x) const {
+    pagmo::vector_double fitness(const pagmo::vector_double& c) const {
+        const std::vector<double> x = coordinates->parameters(c);
         Objective& f = *generation->objective;
         const ParameterSpace& space = f.space();
         const std::vector<double> snapped = space.snap(x);
@@ -70,13 +77,16 @@ struct LatticeProblem {
         }
         return {f(snapped) * (1.0 + outside)};
     }
-    std::pair<pagmo::vector_double, pagmo::vector_double> get_bounds() const { return {lo, hi}; }
+    std::pair<pagmo::vector_double, pagmo::vector_double> get_bounds() const {
+        return {coordinates->lo, coordinates->hi};
+    }
 };
 
 // Hansen's default population size, 4 + floor(3 ln n): 6 for two parameters, 14 for 36
 // (one submission of the fast path's batch, FastTracer::kMaxBatchCandidates = 16). pagmo's
 // CMA-ES needs at least 5.
 std::uint64_t population_size(std::size_t n) {
+    if (const char* e = std::getenv("FIRD_EXP_POP")) return std::uint64_t(std::atoi(e));
     return std::max<std::uint64_t>(5, 4 + std::uint64_t(std::floor(3.0 * std::log(double(n)))));
 }
 
@@ -100,31 +110,44 @@ PopulationSearch::PopulationSearch(Objective& f, SearchMethod method, const std:
     // One generation per evolve(), the memory kept between them; pagmo's own stops (ftol,
     // xtol) off, since with gen = 1 they would end a call before its generation is
     // evaluated, unseen: the convergence rule is run_stage's.
-    auto algorithm = method == SearchMethod::Xnes
-                         ? std::variant<pagmo::cmaes, pagmo::xnes>(
-                               pagmo::xnes(1, -1, -1, -1, sigma0, 0.0, 0.0, true, false, seed))
-                         : std::variant<pagmo::cmaes, pagmo::xnes>(pagmo::cmaes(
-                               1, -1, -1, -1, -1, sigma0, 0.0, 0.0, true, false, seed));
+    auto algorithm =
+        method == SearchMethod::Xnes
+            ? std::variant<pagmo::cmaes, pagmo::xnes>(
+                  pagmo::xnes(1, -1, -1, -1, sigma0, 0.0, 0.0, true, false, seed))
+            : std::variant<pagmo::cmaes, pagmo::xnes>(pagmo::cmaes(
+                  1, -1, -1, -1, -1,
+                  std::getenv("FIRD_EXP_SIGMA") ? std::atof(std::getenv("FIRD_EXP_SIGMA")) : sigma0,
+                  0.0, 0.0, true, false, seed));
     state_ = std::unique_ptr<State>(new State{.objective = &f,
                                               .report = &report,
                                               .generation = {},
                                               .algorithm = std::move(algorithm),
                                               .population = {}});
     state_->generation.objective = &f;
-    LatticeProblem problem{.generation = &state_->generation, .lo = space.lo, .hi = space.hi};
+    const std::vector<double> start = space.snap(x0);
+    auto coordinates = std::make_shared<const SampleCoordinates>(
+        sample_coordinates(f.scene().reflector, space, start, f.scene().optimize.height_sampling));
+    LatticeProblem problem{.generation = &state_->generation,
+                           .coordinates = coordinates,
+                           .lo = space.lo,
+                           .hi = space.hi};
     state_->population = pagmo::population(pagmo::problem(std::move(problem)), 0u, seed);
     const std::uint64_t size = population_size(space.size());
     report = {.algorithm = method_name(method == SearchMethod::Xnes ? SearchMethod::Xnes
                                                                     : SearchMethod::Cmaes),
               .size = size,
               .sigma0 = sigma0,
-              .seed = seed};
-    // The first generation's mean is the start: the whole population there, traced once.
-    const std::vector<double> start = space.snap(x0);
+              .seed = seed,
+              .modes = coordinates->modes,
+              .modes_grid = coordinates->grid};
+    // The first generation's mean is the start (coordinates 0 of the modes): the whole
+    // population there, traced once.
     state_->generation.mode = Generation::Mode::Answer;
     const double l2 = f(start);
+    const std::vector<double> at_start =
+        coordinates->transform.empty() ? start : std::vector<double>(start.size(), 0.0);
     for (std::uint64_t i = 0; i < size; ++i)
-        state_->population.push_back(start, {l2});
+        state_->population.push_back(at_start, {l2});
 }
 
 PopulationSearch::~PopulationSearch() = default;

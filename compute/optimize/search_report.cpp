@@ -63,6 +63,12 @@ StartReport start_report_from_json(const nlohmann::json& j) {
     return s;
 }
 
+std::string population_summary(const PopulationReport& p) {
+    return fmt::format(
+        "{} of {}, {} generations, heights sampled {}", p.algorithm, p.size, p.generations,
+        p.modes > 0 ? "as the " + p.modes_grid + " grid's cosine modes" : "each on its own");
+}
+
 nlohmann::json search_json(const SearchResult& r) {
     nlohmann::json stages = nlohmann::json::array();
     for (const StageSummary& s : r.stages)
@@ -124,8 +130,15 @@ nlohmann::json search_json(const SearchResult& r) {
         nlohmann::json spread = nlohmann::json::object();
         for (std::size_t k = 0; k < p.spread.size() && k < r.names.size(); ++k)
             spread[r.names[k]] = p.spread[k];
-        population = {{"algorithm", p.algorithm}, {"size", p.size}, {"generations", p.generations},
-                      {"sigma0", p.sigma0},       {"seed", p.seed}, {"spread_steps", spread},
+        population = {{"algorithm", p.algorithm},
+                      {"size", p.size},
+                      {"generations", p.generations},
+                      {"sigma0", p.sigma0},
+                      {"seed", p.seed},
+                      {"spread_steps", spread},
+                      {"height_sampling", p.modes > 0 ? "modes" : "independent"},
+                      {"modes", p.modes},
+                      {"modes_grid", p.modes_grid},
                       {"verdict", p.verdict}};
     }
     nlohmann::json constraints = nlohmann::json::array();

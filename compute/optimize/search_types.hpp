@@ -148,7 +148,11 @@ struct PopulationReport {
     double sigma0 = 0.0;           // the first generation's spread, a fraction of each box
     std::uint32_t seed = 0;        // pagmo's generator, derived from the search's seed
     std::vector<double> spread;    // the last generation's range per parameter, in steps
-    std::string verdict;           // one line: why it ended
+    // The heights sampled as a grid's cosine modes (height_modes.hpp): how many, and the
+    // grid ("6 x 6"); 0 and "" where each parameter is sampled as it is.
+    std::size_t modes = 0;
+    std::string modes_grid;
+    std::string verdict; // one line: why it ended
 };
 
 // Where a search began (fird optimize --start): the scene's reflector, or the profile
