@@ -103,7 +103,7 @@ class Evaluator {
 
     // Views and diagnostics of the fast path (the viewport, fird export, ray picking): the
     // height field as the device traces it, without a readback, and read back; reflections
-    // counted per texel in the next evaluations; given rays traced bounce by bounce.
+    // counted per texel in the next evaluations; given rays' paths (the bounce loop's own).
     struct DeviceHeightField {
         const vk::Buffer* heights = nullptr;   // the paper quadtree (FastTracer::heights_buffer)
         const vk::Buffer* gradients = nullptr; // vec2 per texel

@@ -145,13 +145,12 @@ class FastTracer {
     std::vector<float> read_quadtree();
     std::vector<glm::vec2> read_gradients();
     // The paths of the given rays (at most one batch), traced by the runs' own bounce loop
-    // in one submission, each ray's hit recorded at every bounce; the run's far field and
-    // tally are left as they are. With `walk`, the trace also records ray `pick`'s walk,
-    // step by step (a pipeline variant that records; at most kWalkCapacity steps per
-    // bounce; its emission index must be no other ray's).
-    // The rays' emission indices (the finish's draws are keyed on them: material.h) are
-    // `indices` where given (one per ray, below 2^32 as every fast-path rayset's), else
-    // first_index, first_index + 1, ...
+    // in one submission, each ray's hit recorded at every bounce; the run's far field,
+    // tally and texel hits are left as they are (its scratch counts are not). With `walk`, the
+    // trace also records ray `pick`'s walk, step by step (a pipeline variant that records; at most
+    // kWalkCapacity steps per bounce; its emission index must be no other ray's). The rays'
+    // emission indices (the finish's draws are keyed on them: material.h) are `indices` where given
+    // (one per ray, below 2^32 as every fast-path rayset's), else first_index, first_index + 1, ...
     std::vector<RayPath> trace_paths(const std::vector<Ray>& rays, std::size_t pick = 0,
                                      std::vector<WalkStep>* walk = nullptr,
                                      std::uint64_t first_index = 0,

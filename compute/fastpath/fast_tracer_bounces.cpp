@@ -98,7 +98,8 @@ void FastTracer::record_bounces(VkCommandBuffer cb, const vk::Buffer& rays, std:
                         : 0u,
                 .hits_base = recording.hits == Hits::Every ? bounce * recording.rays : 0u,
                 .order_output = order ? 1u : 0u,
-                .count_texel_hits = count_texel_hits_ ? 1u : 0u,
+                // A path's rays are not the run's: its texel counts are left as they are.
+                .count_texel_hits = count_texel_hits_ && recording.hits != Hits::Every ? 1u : 0u,
                 .walk_ray = recording.walk_index.value_or(0u),
                 .walk_to_box_top = skips_.end_walk_at_reflector_top ? 0u : 1u,
                 .walk_from_root = skips_.start_walk_below_source ? 0u : 1u};

@@ -5,7 +5,9 @@
 #include <algorithm>
 #include <chrono>
 #include <cstring>
+#include <optional>
 #include <stdexcept>
+#include <utility>
 
 #include <fmt/format.h>
 #include <glm/geometric.hpp>
@@ -18,6 +20,21 @@
 namespace fird {
 
 using namespace fast_tracer_detail;
+
+namespace {
+
+// A member buffer swapped for scratch, put back when the scope ends however it ends.
+struct SwappedBuffer {
+    vk::Buffer& slot;
+    vk::Buffer kept;
+    SwappedBuffer(vk::Buffer& member, vk::Buffer scratch)
+        : slot(member), kept(std::exchange(member, std::move(scratch))) {}
+    SwappedBuffer(const SwappedBuffer&) = delete;
+    SwappedBuffer& operator=(const SwappedBuffer&) = delete;
+    ~SwappedBuffer() { slot = std::move(kept); }
+};
+
+} // namespace
 
 FastRun FastTracer::run_rays(const std::vector<Ray>& rays, std::vector<glm::dvec4>* hits) {
     if (!current_.reflector) throw std::logic_error("FastTracer::run_rays: no reflector set");
@@ -157,19 +174,23 @@ std::vector<RayPath> FastTracer::trace_paths(const std::vector<Ray>& rays, std::
                         "fird.paths.rays");
     uploaded.upload(*ctx_, std::span<const float>(packed));
     // A record per ray and bounce (the strict policy's final check included), and a walk
-    // region per bounce; the run's own buffers are put back afterwards.
+    // region per bounce, in scratch that stands in for the run's own buffers until the
+    // paths are read (put back however this ends).
     const std::uint32_t bounces = passes();
     const std::size_t slots = std::max<std::size_t>(n, 1);
-    vk::Buffer kept_hits = std::move(hits_);
-    hits_ = vk::Buffer(*ctx_, bounces * slots * kHitRecordBytes, vk::kStorageUsage,
-                       vk::MemoryUse::Readback, "fird.paths.hits");
+    const std::uint64_t record_bytes = bounces * slots * kHitRecordBytes;
+    if (record_bytes > ctx_->limits().max_storage_buffer_range)
+        throw std::invalid_argument(fmt::format(
+            "trace_paths: {} rays x {} bounces of hit records take {} bytes, more than the "
+            "device's largest storage buffer ({} bytes)",
+            n, bounces, record_bytes, ctx_->limits().max_storage_buffer_range));
     const std::uint64_t walk_region = 1 + gpu::kWalkStepVec4s * std::uint64_t(gpu::kWalkCapacity);
-    vk::Buffer kept_walk;
-    if (record) {
-        kept_walk = std::move(walk_);
-        walk_ = vk::Buffer(*ctx_, bounces * walk_region * 16, vk::kStorageUsage,
-                           vk::MemoryUse::Readback, "fird.walk");
-    }
+    const SwappedBuffer paths_hits(hits_, vk::Buffer(*ctx_, record_bytes, vk::kStorageUsage,
+                                                     vk::MemoryUse::Readback, "fird.paths.hits"));
+    std::optional<SwappedBuffer> paths_walk;
+    if (record)
+        paths_walk.emplace(walk_, vk::Buffer(*ctx_, bounces * walk_region * 16, vk::kStorageUsage,
+                                             vk::MemoryUse::Readback, "fird.walk"));
     // The bounce loop of every run, its far field counts and counters the run's scratch
     // (cleared by the next run's start, never read back here).
     submit(&run.timings.trace_ms, [&](VkCommandBuffer cb) {
@@ -183,7 +204,6 @@ std::vector<RayPath> FastTracer::trace_paths(const std::vector<Ray>& rays, std::
     });
     state().heightfield_dirty = false;
     const auto records = hits_.download_as<glm::vec4>(*ctx_, kHitRecordVec4s * bounces * slots);
-    hits_ = std::move(kept_hits);
     // Each path followed from bounce to bounce by its record's next slot.
     std::vector<RayPath> paths(n);
     for (std::size_t i = 0; i < n; ++i) {
@@ -225,7 +245,6 @@ std::vector<RayPath> FastTracer::trace_paths(const std::vector<Ray>& rays, std::
                                  .t_next = r[2].y});
             }
         }
-        walk_ = std::move(kept_walk);
     }
     // Each path ends with its segment leaving the holder box.
     for (std::size_t i = 0; i < n; ++i) {

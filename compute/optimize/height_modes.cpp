@@ -38,6 +38,12 @@ std::optional<std::vector<std::size_t>> free_grid(const ReflectorDesc& r, const 
                 profile ? fmt::format("h_{}", i) : fmt::format("h_{}_{}", i, j);
             const auto it = std::find(s.names.begin(), s.names.end(), name);
             if (it == s.names.end()) return std::nullopt;
+            // The name must be the grid's point (i, j), not a group of another shape.
+            const auto group = r.bspline.groups.find(name);
+            if (group == r.bspline.groups.end() ||
+                group->second !=
+                    ControlGroup{.kind = ControlGroup::Kind::Point, .i = int(i), .j = int(j)})
+                return std::nullopt;
             at.push_back(std::size_t(it - s.names.begin()));
         }
     return at;
@@ -62,6 +68,12 @@ SampleCoordinates sample_coordinates(const ReflectorDesc& reflector, const Param
     const auto grid =
         sampling == HeightSampling::Modes ? free_grid(reflector, space) : std::nullopt;
     if (!grid) return c;
+    // With modes every coordinate is an offset from the start: the others' boxes move with
+    // it (pagmo reads only their widths, which are the parameters' own).
+    for (std::size_t k = 0; k < n; ++k) {
+        c.lo[k] = space.lo[k] - start[k];
+        c.hi[k] = space.hi[k] - start[k];
+    }
     const bool profile = reflector.family == Family::Profile;
     const std::size_t nx = std::size_t(reflector.bspline.nx);
     const std::size_t ny = profile ? 1 : std::size_t(reflector.bspline.ny);

@@ -18,7 +18,8 @@ namespace fird {
 // generation's candidates differ first in the surface's broad shape, and CMA-ES's
 // covariance learns finer detail where the far field rewards it. The basis is complete, so
 // every surface of the box can still be reached (no smoothness is imposed on the result).
-// The other parameters (a profile's z0, a source's) are their own coordinates.
+// The other parameters (a profile's z0, a source's) are coordinates of their own, as
+// offsets from the start like the modes.
 struct SampleCoordinates {
     std::vector<double> origin;    // the parameters at c = 0 (the search's start)
     std::vector<double> transform; // size() x size(), row-major; empty: c are the parameters

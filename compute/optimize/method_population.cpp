@@ -13,7 +13,6 @@
 // a search stopped between generations and resumed replays to the very same state.
 #include <algorithm>
 #include <cmath>
-#include <cstdlib>
 #include <memory>
 #include <variant>
 
@@ -86,7 +85,6 @@ struct LatticeProblem {
 // (one submission of the fast path's batch, FastTracer::kMaxBatchCandidates = 16). pagmo's
 // CMA-ES needs at least 5.
 std::uint64_t population_size(std::size_t n) {
-    if (const char* e = std::getenv("FIRD_EXP_POP")) return std::uint64_t(std::atoi(e));
     return std::max<std::uint64_t>(5, 4 + std::uint64_t(std::floor(3.0 * std::log(double(n)))));
 }
 
@@ -110,14 +108,11 @@ PopulationSearch::PopulationSearch(Objective& f, SearchMethod method, const std:
     // One generation per evolve(), the memory kept between them; pagmo's own stops (ftol,
     // xtol) off, since with gen = 1 they would end a call before its generation is
     // evaluated, unseen: the convergence rule is run_stage's.
-    auto algorithm =
-        method == SearchMethod::Xnes
-            ? std::variant<pagmo::cmaes, pagmo::xnes>(
-                  pagmo::xnes(1, -1, -1, -1, sigma0, 0.0, 0.0, true, false, seed))
-            : std::variant<pagmo::cmaes, pagmo::xnes>(pagmo::cmaes(
-                  1, -1, -1, -1, -1,
-                  std::getenv("FIRD_EXP_SIGMA") ? std::atof(std::getenv("FIRD_EXP_SIGMA")) : sigma0,
-                  0.0, 0.0, true, false, seed));
+    auto algorithm = method == SearchMethod::Xnes
+                         ? std::variant<pagmo::cmaes, pagmo::xnes>(
+                               pagmo::xnes(1, -1, -1, -1, sigma0, 0.0, 0.0, true, false, seed))
+                         : std::variant<pagmo::cmaes, pagmo::xnes>(pagmo::cmaes(
+                               1, -1, -1, -1, -1, sigma0, 0.0, 0.0, true, false, seed));
     state_ = std::unique_ptr<State>(new State{.objective = &f,
                                               .report = &report,
                                               .generation = {},

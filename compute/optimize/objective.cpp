@@ -108,8 +108,13 @@ double Objective::trace(const std::vector<double>& x) {
         if (r.stage != c.stage || r.x != x || r.feasible != c.feasible)
             throw std::runtime_error(fmt::format(
                 "history row {} does not match the resumed search (its scene or settings "
-                "changed since it was recorded)",
-                c.index));
+                "changed since it was recorded{})",
+                c.index,
+                scene_.optimize.height_sampling == HeightSampling::Modes && generation_
+                    ? "; a population search over a height grid recorded before its heights "
+                      "were sampled as modes resumes with [optimize] height_sampling = "
+                      "\"independent\" in its scene.toml"
+                    : ""));
         c.l2_lm = r.l2_lm;
         c.smoothness = r.smoothness;
         c.score = r.score;

@@ -193,12 +193,15 @@ TEST_F(VulkanTest, FastPathBalancesEnergyForBothPoliciesAndIgnoresBatching) {
 // record per ray and bounce, linked to the slot its reflected ray takes). Against run_rays
 // on the same rays, an independent reading of the same trace (its counters and far field,
 // no records): the paths' reflection counts are the tally's, ray class by ray class, and
-// their exit directions binned on the host are the far field, cell for cell. The device
+// their exit directions binned on the host are the far field, cell for cell. (Totals: a
+// path linked to another ray's continuation would still add up; ray-by-ray agreement with
+// the CPU reference is AFacetedBowlReflectsAboutItsFacetsRayForRay's and
+// Export.RayPathsFollowTheReferenceTracer's.) The device
 // bins a float direction with float atan, the host its double: a ray within 2e-4 of a cell
 // (3.5e-6 rad at 1 degree; float rounding and atan's error are below 1e-6 rad) of a cell's
 // edge may land next door, moving one count between two cells, so those rays alone may
 // differ; the lm are count x flux per ray within float rounding.
-TEST_F(VulkanTest, PathsAreTheBounceLoopsRayForRay) {
+TEST_F(VulkanTest, PathsAddUpToTheBounceLoopsTallyAndFarField) {
     for (const char* name : {"model_b.toml", "model_c.toml"}) {
         SCOPED_TRACE(name);
         Scene s = scene(name);
@@ -240,7 +243,10 @@ TEST_F(VulkanTest, PathsAreTheBounceLoopsRayForRay) {
         std::printf("%s: %zu rays near a cell's edge, %.4f counts moved\n", name, near_edge, moved);
         // Float lm per cell: a relative rounding of 1e-6 at most, over every ray.
         EXPECT_LE(moved, 2.0 * double(near_edge) + 1e-6 * double(rays.size()));
-        EXPECT_LE(near_edge, rays.size() / 1000);
+        // Directions spread over many cells fall within 2e-4 of a cell's edge in either
+        // coordinate with probability 8e-4 (16 of 20,000 expected): three times that bounds
+        // it, so the allowance above stays small.
+        EXPECT_LE(double(near_edge), 3.0 * 8e-4 * double(rays.size()));
     }
 }
 

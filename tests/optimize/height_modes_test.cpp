@@ -90,7 +90,7 @@ TEST(HeightModes, TheModesOfASixBySixGridAreTheCosineTransformsWeighted) {
     }
 }
 
-// A profile's heights are a row of modes; its other parameters are their own coordinates.
+// A profile's heights are a row of modes; its other parameters are coordinates of their own.
 TEST(HeightModes, AProfilesHeightsAreOneRowOfModesAndItsOtherParametersThemselves) {
     Scene s = scene("test/profile_search.toml");
     s.reflector.optimize.clear();
@@ -108,8 +108,9 @@ TEST(HeightModes, AProfilesHeightsAreOneRowOfModesAndItsOtherParametersThemselve
     const auto moved = mode_heights(c, z0);
     for (std::size_t k = 0; k < moved.size(); ++k)
         EXPECT_EQ(moved[k], k == z0 ? 1.0 : 0.0);
-    EXPECT_EQ(c.lo[z0], space.lo[z0]);
-    EXPECT_EQ(c.hi[z0], space.hi[z0]);
+    // An offset from the start, its box moved with it.
+    EXPECT_EQ(c.lo[z0], space.lo[z0] - space.start[z0]);
+    EXPECT_EQ(c.hi[z0], space.hi[z0] - space.start[z0]);
     // Mode 1: the first cosine over the profile's radii, weight 1/4.
     const auto x = mode_heights(c, index_of(space, "h_1"));
     for (std::size_t k = 0; k < n; ++k)
