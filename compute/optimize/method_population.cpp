@@ -57,7 +57,6 @@ struct Generation {
 struct LatticeProblem {
     Generation* generation = nullptr;
     std::shared_ptr<const SampleCoordinates> coordinates;
-    std::vector<double> lo, hi; // the parameters' box
 
     pagmo::vector_double fitness(const pagmo::vector_double& c) const {
         const std::vector<double> x = coordinates->parameters(c);
@@ -70,8 +69,8 @@ struct LatticeProblem {
         }
         double outside = 0.0;
         for (std::size_t k = 0; k < x.size(); ++k) {
-            const double width = std::max(hi[k] - lo[k], space.step[k]);
-            const double d = (x[k] - std::clamp(x[k], lo[k], hi[k])) / width;
+            const double width = std::max(space.hi[k] - space.lo[k], space.step[k]);
+            const double d = (x[k] - std::clamp(x[k], space.lo[k], space.hi[k])) / width;
             outside += d * d;
         }
         return {f(snapped) * (1.0 + outside)};
@@ -122,10 +121,7 @@ PopulationSearch::PopulationSearch(Objective& f, SearchMethod method, const std:
     const std::vector<double> start = space.snap(x0);
     auto coordinates = std::make_shared<const SampleCoordinates>(
         sample_coordinates(f.scene().reflector, space, start, f.scene().optimize.height_sampling));
-    LatticeProblem problem{.generation = &state_->generation,
-                           .coordinates = coordinates,
-                           .lo = space.lo,
-                           .hi = space.hi};
+    LatticeProblem problem{.generation = &state_->generation, .coordinates = coordinates};
     state_->population = pagmo::population(pagmo::problem(std::move(problem)), 0u, seed);
     const std::uint64_t size = population_size(space.size());
     report = {.algorithm = method_name(method == SearchMethod::Xnes ? SearchMethod::Xnes
