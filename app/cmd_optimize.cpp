@@ -397,6 +397,8 @@ int run_optimize(const GlobalOptions& global, const Args& a, const CLI::App& cmd
             std::printf("%s", fmt::format("population: {}; {}\n", population_summary(*r.population),
                                           r.population->verdict)
                                   .c_str());
+        if (r.levenberg)
+            std::printf("%s", fmt::format("polish: {}\n", levenberg_summary(*r.levenberg)).c_str());
         if (r.lattice) std::printf("lattice: %s\n", r.lattice->verdict.c_str());
         if (r.refine) std::printf("refine: %s\n", r.refine->verdict.c_str());
         if (r.final_l2_lm && r.noise_floor_l2_lm)
@@ -425,8 +427,9 @@ void register_optimize(CLI::App& app, const GlobalOptions& global, std::function
     auto a = std::make_shared<Args>();
     cmd->add_option("SCENE", a->scene, "Scene file (TOML) with [reflector.optimize] and [target]")
         ->required();
-    cmd->add_option("--method", a->method,
-                    "auto (default), grid, bobyqa, sbplx, cobyla, direct, crs2, cmaes, xnes")
+    cmd->add_option(
+           "--method", a->method,
+           "auto (default), grid, bobyqa, sbplx, cobyla, direct, crs2, cmaes, xnes, levenberg")
         ->check(CLI::IsMember(method_names()));
     cmd->add_option("--rays", a->rays,
                     "Rays per evaluation, one count per stage (auto), e.g. 1e5,1e6,1e7");

@@ -116,6 +116,7 @@ void search_status(const SearchProgress& p, std::optional<double> elapsed_s,
                                                 : "")
                     .c_str());
         if (r.population) ImGui::TextWrapped("%s", population_summary(*r.population).c_str());
+        if (r.levenberg) ImGui::TextWrapped("%s", levenberg_summary(*r.levenberg).c_str());
         if (!p.out_dir.empty()) ImGui::TextWrapped("files in %s", p.out_dir.c_str());
     }
     if (const Candidate* c = latest_stage_best(p.history); c && c->stage < p.stages.size()) {

@@ -122,11 +122,14 @@ CandidateResult Evaluator::evaluate_on_cpu(const ReflectorDesc& reflector) {
     return r;
 }
 
-std::vector<CandidateResult> Evaluator::evaluate_batch(std::span<const ReflectorDesc> reflectors) {
+std::vector<CandidateResult> Evaluator::evaluate_batch(std::span<const ReflectorDesc> reflectors,
+                                                       bool read_farfields) {
     if (backend_ == Backend::Reference) {
         std::vector<CandidateResult> results;
-        for (const ReflectorDesc& r : reflectors)
+        for (const ReflectorDesc& r : reflectors) {
             results.push_back(evaluate_on_cpu(r));
+            if (read_farfields) results.back().farfield = *cpu_farfield_;
+        }
         traced_ = traced_ || !reflectors.empty();
         return results;
     }
@@ -134,16 +137,27 @@ std::vector<CandidateResult> Evaluator::evaluate_batch(std::span<const Reflector
     // Candidate k's compare joins the trace's submission (compare() is the same reduction
     // as a submission of its own): its sum of squared differences lands in slot k, read
     // back with the tally.
+    // With read_farfields, candidate k's far field is copied out there too, into slot k.
     FastTracer::BatchCompare record_compare;
-    if (has_desired()) {
-        if (l2_sums_.size() < reflectors.size() * kL2SumStride)
-            l2_sums_ = vk::Buffer(*ctx_, reflectors.size() * kL2SumStride, vk::kStorageUsage,
-                                  vk::MemoryUse::Readback, "fird.evaluator.l2.sums");
+    const VkDeviceSize farfield_bytes = VkDeviceSize(cells()) * sizeof(float);
+    if (read_farfields && farfields_readback_.size() < reflectors.size() * farfield_bytes)
+        farfields_readback_ =
+            vk::Buffer(*ctx_, reflectors.size() * farfield_bytes, vk::kStorageUsage,
+                       vk::MemoryUse::Readback, "fird.evaluator.farfields");
+    if (has_desired() && l2_sums_.size() < reflectors.size() * kL2SumStride)
+        l2_sums_ = vk::Buffer(*ctx_, reflectors.size() * kL2SumStride, vk::kStorageUsage,
+                              vk::MemoryUse::Readback, "fird.evaluator.l2.sums");
+    if (has_desired() || read_farfields)
         record_compare = [&](VkCommandBuffer cb, std::size_t k, const vk::Buffer& farfield) {
-            reduce_.record(cb, farfield, &desired_, cells(), l2_scratch_, l2_sums_,
-                           k * kL2SumStride, difference());
+            if (has_desired())
+                reduce_.record(cb, farfield, &desired_, cells(), l2_scratch_, l2_sums_,
+                               k * kL2SumStride, difference());
+            if (read_farfields) {
+                const VkBufferCopy copy{.dstOffset = k * farfield_bytes, .size = farfield_bytes};
+                vkCmdCopyBuffer(cb, farfield.get(), farfields_readback_.get(), 1, &copy);
+                vk::barrier_to_host(cb);
+            }
         };
-    }
     std::vector<FastRun> runs = tracer_->run_batch(reflectors, record_compare);
     traced_ = traced_ || !reflectors.empty();
     const double share_ms = ms_since(t0) / double(std::max<std::size_t>(reflectors.size(), 1));
@@ -157,6 +171,12 @@ std::vector<CandidateResult> Evaluator::evaluate_batch(std::span<const Reflector
             float sum = 0.0f;
             std::memcpy(&sum, sums + k * kL2SumStride, sizeof sum);
             r.l2_lm = std::sqrt(std::max(0.0, double(sum)));
+        }
+        if (read_farfields) {
+            const auto* lm =
+                static_cast<const float*>(farfields_readback_.data()) + k * std::size_t(cells());
+            r.farfield = FarField{fidelity_.farfield_w, fidelity_.farfield_h,
+                                  std::vector<double>(lm, lm + cells())};
         }
         r.wall_ms = share_ms;
     }

@@ -40,6 +40,9 @@ struct CandidateResult {
     std::optional<double> l2_lm; // when a desired far field is set
     double farfield_lm = 0.0;    // light the far field holds (EnergyBalance::binned_lm)
     double wall_ms = 0.0;        // the whole evaluation, as the caller waits for it
+    // Its far field, read back when asked for (evaluate_batch's read_farfields): for
+    // methods that model the far field itself, not only its distance.
+    std::optional<FarField> farfield;
 };
 
 // Which tracer answers: the fast path on the device, or the CPU reference (exact surface,
@@ -67,7 +70,10 @@ class Evaluator {
     // Several candidates against the same rays, as few submissions as the device allows
     // (FastTracer::run_batch): each result equals evaluate()'s for its reflector, count for
     // count; wall_ms is its share of the batch's. The last one's far field is farfield().
-    std::vector<CandidateResult> evaluate_batch(std::span<const ReflectorDesc> reflectors);
+    // With `read_farfields`, each result holds its far field too (copied out in the same
+    // submission: one readback for the batch).
+    std::vector<CandidateResult> evaluate_batch(std::span<const ReflectorDesc> reflectors,
+                                                bool read_farfields = false);
     // Fresh rays from `seed` for the next evaluations (nothing else is rebuilt).
     void set_seed(std::uint64_t seed);
     // The source moved or turned ([source.optimize]: the same kind and size): the next
@@ -145,7 +151,8 @@ class Evaluator {
     // evaluate()'s reduction: its levels, and the sums read back (one per candidate of a
     // batch, kL2SumStride bytes apart: storage-buffer offsets are aligned).
     vk::Buffer l2_scratch_, l2_sums_;
-    vk::Buffer row_weights_; // the metric's weight per far-field row (weighted metrics)
+    vk::Buffer farfields_readback_; // evaluate_batch's far fields, when read back
+    vk::Buffer row_weights_;        // the metric's weight per far-field row (weighted metrics)
     static constexpr VkDeviceSize kL2SumStride = 256;
     std::optional<double> desired_norm_lm_;
     bool traced_ = false;

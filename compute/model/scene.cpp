@@ -20,7 +20,7 @@ constexpr Named<SearchMethod> kMethods[] = {
     {SearchMethod::Bobyqa, "bobyqa"}, {SearchMethod::Sbplx, "sbplx"},
     {SearchMethod::Cobyla, "cobyla"}, {SearchMethod::DirectL, "direct"},
     {SearchMethod::Crs2, "crs2"},     {SearchMethod::Cmaes, "cmaes"},
-    {SearchMethod::Xnes, "xnes"}};
+    {SearchMethod::Xnes, "xnes"},     {SearchMethod::Levenberg, "levenberg"}};
 constexpr Named<SamplerKind> kSamplers[] = {{SamplerKind::Stratified, "stratified"},
                                             {SamplerKind::Random, "random"},
                                             {SamplerKind::Sobol, "sobol"}};

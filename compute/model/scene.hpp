@@ -178,7 +178,18 @@ struct TargetDesc {
 
 // The search's defaults ([optimize]; each overridable on the command line).
 // Cmaes, Xnes: pagmo2's population methods, a generation traced as one batch.
-enum class SearchMethod { Auto, Grid, Bobyqa, Sbplx, Cobyla, DirectL, Crs2, Cmaes, Xnes };
+enum class SearchMethod {
+    Auto,
+    Grid,
+    Bobyqa,
+    Sbplx,
+    Cobyla,
+    DirectL,
+    Crs2,
+    Cmaes,
+    Xnes,
+    Levenberg
+};
 // How a population search samples a freed height grid (optimize/height_modes.hpp): in the
 // grid's cosine modes, broad shapes first (the default), or each height on its own.
 enum class HeightSampling { Modes, Independent };

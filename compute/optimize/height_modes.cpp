@@ -64,7 +64,11 @@ std::vector<double> SampleCoordinates::parameters(const std::vector<double>& c) 
 SampleCoordinates sample_coordinates(const ReflectorDesc& reflector, const ParameterSpace& space,
                                      const std::vector<double>& start, HeightSampling sampling) {
     const std::size_t n = space.size();
-    SampleCoordinates c{.origin = start, .transform = {}, .lo = space.lo, .hi = space.hi};
+    SampleCoordinates c{.origin = start,
+                        .transform = {},
+                        .lo = space.lo,
+                        .hi = space.hi,
+                        .degree = std::vector<std::size_t>(n, 0)};
     const auto grid =
         sampling == HeightSampling::Modes ? free_grid(reflector, space) : std::nullopt;
     if (!grid) return c;
@@ -92,6 +96,7 @@ SampleCoordinates sample_coordinates(const ReflectorDesc& reflector, const Param
     for (std::size_t m = 0; m < grid->size(); ++m) {
         const std::size_t kx = m % nx, ky = m / nx;
         const double w = mode_weight(kx, ky) * scale;
+        c.degree[(*grid)[m]] = kx + ky;
         for (std::size_t h = 0; h < grid->size(); ++h) {
             const std::size_t i = h % nx, j = h / nx;
             c.transform[(*grid)[h] * n + (*grid)[m]] =

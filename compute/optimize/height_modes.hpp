@@ -25,7 +25,10 @@ struct SampleCoordinates {
     std::vector<double> transform; // size() x size(), row-major; empty: c are the parameters
     std::vector<double> lo, hi;    // the coordinates' box (the population's bounds)
     std::size_t modes = 0;         // how many coordinates are a grid's modes (0: none)
-    std::string grid;              // the grid they are the modes of, e.g. "6 x 6" ("" if none)
+    // Per coordinate, how broad a shape it is: kx + ky of a mode (0 the mean height, 1 the
+    // tilts, ...), 0 for a coordinate that is a parameter of its own.
+    std::vector<std::size_t> degree;
+    std::string grid; // the grid they are the modes of, e.g. "6 x 6" ("" if none)
 
     std::size_t size() const { return origin.size(); }
     std::vector<double> parameters(const std::vector<double>& c) const;

@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <cmath>
 #include <memory>
+#include <optional>
 #include <variant>
 
 #include <fmt/format.h>
@@ -34,6 +35,8 @@ namespace {
 // The population generator's stream (search.cpp's streams: stages from 0, the final and
 // noise runs at 1000 and 1001, the stage noise pair at 1002).
 constexpr std::uint64_t kPopulationStream = 1003;
+// auto's restarts: run r (from 1) draws from stream kRestartStreams + r.
+constexpr std::uint64_t kRestartStreams = 1100;
 
 // A generation that asks only for candidates the stage has traced already adds nothing; this
 // many in a row and the search has converged onto lattice points it knows.
@@ -99,11 +102,12 @@ struct PopulationSearch::State {
 };
 
 PopulationSearch::PopulationSearch(Objective& f, SearchMethod method, const std::vector<double>& x0,
-                                   double sigma0, PopulationReport& report) {
+                                   double sigma0, PopulationReport& report, std::uint32_t run) {
     const ParameterSpace& space = f.space();
     const std::uint64_t avoid =
         f.scene().target.kind == TargetDesc::Kind::Reflector ? f.scene().target.seed : ~0ull;
-    const auto seed = std::uint32_t(stream_seed(f.settings().seed, kPopulationStream, avoid));
+    const auto seed = std::uint32_t(stream_seed(
+        f.settings().seed, run == 0 ? kPopulationStream : kRestartStreams + run, avoid));
     // One generation per evolve(), the memory kept between them; pagmo's own stops (ftol,
     // xtol) off, since with gen = 1 they would end a call before its generation is
     // evaluated, unseen: the convergence rule is run_stage's.
@@ -124,13 +128,15 @@ PopulationSearch::PopulationSearch(Objective& f, SearchMethod method, const std:
     LatticeProblem problem{.generation = &state_->generation, .coordinates = coordinates};
     state_->population = pagmo::population(pagmo::problem(std::move(problem)), 0u, seed);
     const std::uint64_t size = population_size(space.size());
+    std::vector<PopulationReport::Run> runs = std::move(report.runs); // the runs before
     report = {.algorithm = method_name(method == SearchMethod::Xnes ? SearchMethod::Xnes
                                                                     : SearchMethod::Cmaes),
               .size = size,
               .sigma0 = sigma0,
               .seed = seed,
               .modes = coordinates->modes,
-              .modes_grid = coordinates->grid};
+              .modes_grid = coordinates->grid,
+              .runs = std::move(runs)};
     // The first generation's mean is the start (coordinates 0 of the modes): the whole
     // population there, traced once.
     state_->generation.mode = Generation::Mode::Answer;
@@ -213,27 +219,115 @@ StopReason PopulationSearch::run_stage(std::uint64_t max_evaluations) {
     }
 }
 
-StopReason run_auto_population(Objective& f, const std::vector<Fidelity>& stages,
-                               PopulationReport& report, bool retrace_start) {
-    const std::size_t n = f.space().size();
-    StopReason stopped = StopReason::Converged;
-    std::unique_ptr<PopulationSearch> search;
-    for (std::size_t s = 0; s < stages.size(); ++s) {
-        const bool last = s + 1 == stages.size();
-        f.begin_stage(s == 0 ? "explore" : last ? "final" : "refine", stages[s]);
-        // The run begins in the first stage from the scene's start, a quarter of each box
-        // wide (as the NLopt methods' first step), and carries its mean, covariance and
-        // step size into the next stages, where only the rays change.
-        if (!search)
-            search = std::make_unique<PopulationSearch>(f, SearchMethod::Cmaes, f.space().start,
-                                                        kPopulationSigma0, report);
-        // The coarse stages are cheap but noisy: each may use 30 (n + 1) candidates (1110
-        // for 36 heights, about 80 generations of 14) before the next takes over; the last
-        // runs to convergence or the search's budget.
-        if (last && s > 0 && retrace_start) (void)f(f.space().snap(f.space().start));
-        stopped = search->run_stage(last ? 0 : 30 * (n + 1));
+namespace {
+
+// One of auto's runs: its stages (Levenberg-Marquardt's or CMA-ES's, named with the run's
+// number from the second on), then the polish from the best at the last stage's fidelity,
+// and the noise at the polished best.
+struct AutoRun {
+    std::uint32_t number = 0; // 0, 1, ...
+    std::string stage_name(const char* name) const {
+        return number == 0 ? name : fmt::format("{} {}", name, number + 1);
     }
-    return stopped;
+};
+
+} // namespace
+
+StopReason run_auto_population(Objective& f, const std::vector<Fidelity>& stages,
+                               PopulationReport& report, LevenbergReport& polish,
+                               bool retrace_start) {
+    const std::size_t n = f.space().size();
+    std::optional<double> best_polished;
+    for (std::uint32_t number = 0; number < kPopulationRuns; ++number) {
+        const AutoRun run{.number = number};
+        const std::uint64_t first = f.evaluations();
+        PopulationReport::Run record{.method = number == 0 ? "levenberg" : "cmaes"};
+        std::vector<double> x = f.space().start;
+        if (number == 0) {
+            // Levenberg-Marquardt from the start: the height grid's modes freed by degree
+            // on the first stage's coarse far field, the broad shape first (1.00-1.05 x
+            // the noise floor on the 36-height freeform from its flat start, where CMA-ES's
+            // runs end 1.2-1.8 x by the basin they settle in), then all at once on the
+            // others'.
+            for (std::size_t s = 0; s + 1 < stages.size(); ++s) {
+                // Its steps judged on the scene's far-field grid at the stage's rays (its
+                // model takes coarser cells): on the explore stage's coarse grid alone,
+                // the 36-height freeform ended 2.4 x that grid's floor for one seed of five.
+                Fidelity fidelity = stages[s];
+                fidelity.farfield_w = stages.back().farfield_w;
+                fidelity.farfield_h = stages.back().farfield_h;
+                f.begin_stage(s == 0 ? "explore" : "refine", fidelity);
+                LevenbergReport stage_report;
+                (void)run_levenberg(f, x, stage_report, s == 0);
+                if (const Candidate* b = f.stage_best()) x = b->x;
+            }
+        } else {
+            std::unique_ptr<PopulationSearch> search;
+            for (std::size_t s = 0; s < stages.size(); ++s) {
+                const bool last = s + 1 == stages.size();
+                f.begin_stage(run.stage_name(s == 0 ? "explore" : "refine"), stages[s]);
+                // The run begins in the first stage from the scene's start, a quarter of
+                // each box wide (as the NLopt methods' first step), and carries its mean,
+                // covariance and step size into the next stages, where only the rays change.
+                if (!search)
+                    search = std::make_unique<PopulationSearch>(
+                        f, SearchMethod::Cmaes, f.space().start, kPopulationSigma0, report, number);
+                // The coarse stages are cheap but noisy: each may use 30 (n + 1) candidates
+                // (1110 for 36 heights, about 80 generations of 14) before the next takes
+                // over; the last 40 (n + 1), enough to settle in a basin (measured on the
+                // 36-height freeform: docs/optimization.md), which the polish then descends
+                // far faster than CMA-ES, whose covariance needs on the order of n^2
+                // generations to learn the valley.
+                (void)search->run_stage((last ? 40 : 30) * (n + 1));
+            }
+            record.seed = report.seed;
+            record.generations = report.generations;
+            if (const Candidate* b = f.stage_best()) {
+                x = b->x;
+                record.before_polish = b->score;
+            }
+        }
+        // The polish, at the last stage's fidelity and rays, from the run's best so far
+        // (a tailored start traced there first: the search then never ends above it).
+        f.begin_stage(run.stage_name("polish"), stages.back());
+        if (retrace_start && number == 0) (void)f(f.space().snap(f.space().start));
+        if (number == 0) record.before_polish = f(x);
+        LevenbergReport this_polish;
+        (void)run_levenberg(f, x, this_polish, stages.size() == 1);
+        const Candidate* polished = f.stage_best();
+        record.candidates = f.evaluations() - first;
+        record.polished = polished ? polished->score : 0.0;
+        if (polished && (!best_polished || polished->score < *best_polished)) {
+            best_polished = polished->score;
+            polish = this_polish;
+        }
+        // At the noise: done. Else again, where the budget holds another run like this one.
+        bool again = false;
+        if (polished) {
+            const ConfirmNoise noise = stage_noise(f, polished->x, polished->l2_lm);
+            record.noise_limit = noise.limit_lm;
+            again = polished->l2_lm > noise.limit_lm;
+        }
+        report.runs.push_back(record);
+        const std::uint64_t used = f.evaluations() - first;
+        if (!again) {
+            report.verdict = fmt::format("run {} ({}) polished to what noise explains", number + 1,
+                                         record.method);
+            return StopReason::Converged;
+        }
+        if (number + 1 == kPopulationRuns) {
+            report.verdict = fmt::format("{} runs, the best {:.4g} above what noise explains",
+                                         report.runs.size(), *best_polished);
+            return StopReason::Converged;
+        }
+        if (f.remaining() < used) {
+            report.verdict = fmt::format(
+                "{} runs; the budget left ({}) holds no other run like the last ({} candidates)",
+                report.runs.size(), f.remaining(), used);
+            return StopReason::Converged;
+        }
+    }
+    return StopReason::Converged;
 }
 
 } // namespace fird

@@ -91,15 +91,21 @@ constexpr std::size_t kPopulationAbove = 6;
 // NLopt methods' first step (CMA-ES wants the optimum within about two of them of the start).
 constexpr double kPopulationSigma0 = 0.25;
 
+// auto's CMA-ES runs at most (the first and its restarts): the 36-height freeform's runs
+// end 1.15-1.8 x the noise floor by the basin CMA-ES settles in (docs/optimization.md),
+// and four take about a quarter hour on this project's 2-core machine.
+constexpr std::uint32_t kPopulationRuns = 4;
+
 // pagmo2's CMA-ES or xNES (method_population.cpp), driven one generation at a time so that
 // each generation is traced as one batch. The run's state (mean, covariance, step size,
 // generator) lives between calls: auto continues one run through its stages.
 class PopulationSearch {
   public:
     // From x0 (snapped to the lattice), a first spread of `sigma0` of each parameter's box.
-    // `report` is kept up to date as generations complete.
+    // `report` is kept up to date as generations complete. `run` picks the generator's
+    // stream: 0 for a search's first run, 1, 2, ... for auto's restarts.
     PopulationSearch(Objective& objective, SearchMethod algorithm, const std::vector<double>& x0,
-                     double sigma0, PopulationReport& report);
+                     double sigma0, PopulationReport& report, std::uint32_t run = 0);
     ~PopulationSearch();
     PopulationSearch(const PopulationSearch&) = delete;
     PopulationSearch& operator=(const PopulationSearch&) = delete;
@@ -113,12 +119,26 @@ class PopulationSearch {
     std::unique_ptr<State> state_;
 };
 
+// Levenberg-Marquardt on the far field from x0 (clamped into the box) at the current
+// stage's fidelity (method_levenberg.cpp): a Jacobian of the far field by central
+// differences of two lattice steps, on a coarser far field first, then the stage's; a
+// freed height grid in its cosine modes, freed by degree (`coarse_to_fine`: the tilts
+// first) or all at once. Ends when no damped step gains or moves. Throws SearchStopped.
+StopReason run_levenberg(Objective& objective, const std::vector<double>& x0,
+                         LevenbergReport& report, bool coarse_to_fine = true);
+
 // auto beyond kPopulationAbove free parameters: one CMA-ES run continued through the
 // stages (few rays on a coarse far field first, the scene's last), each stage its own
-// common random numbers. With `retrace_start` the start is traced again first thing in the
-// last stage (a tailored start, an answer in itself: the search then never ends above it
-// at that stage's fidelity, whatever the coarse stages' noise did to the population).
+// common random numbers, then Levenberg-Marquardt from its best at the last stage's
+// fidelity (the polish: CMA-ES finds the basin, the far field's Jacobian its floor). Where
+// the polished best is above what noise explains (stage_noise), the whole run starts again
+// from the start with the generator's next stream, up to kPopulationRuns runs while the
+// budget holds one more like the last; the search's best is the best polish. With
+// `retrace_start` the start is traced again first thing in the last stage (a tailored
+// start, an answer in itself: the search then never ends above it at that stage's
+// fidelity, whatever the coarse stages' noise did to the population).
 StopReason run_auto_population(Objective& objective, const std::vector<Fidelity>& stages,
-                               PopulationReport& report, bool retrace_start = false);
+                               PopulationReport& report, LevenbergReport& polish,
+                               bool retrace_start = false);
 
 } // namespace fird

@@ -1,5 +1,6 @@
 #include "objective.hpp"
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -130,7 +131,11 @@ double Objective::trace(const std::vector<double>& x) {
         } else {
             if (space_.moves_source()) stage_evaluator().set_source(candidate.source);
             result = stage_evaluator().evaluate(reflector);
+            // Traced alone: its far field is the evaluator's last.
+            if (capture_farfields_) result.farfield = stage_evaluator().farfield();
         }
+        if (capture_farfields_ && result.farfield)
+            captured_farfields_.insert_or_assign(x, std::move(*result.farfield));
         c.l2_lm = *result.l2_lm;
         if (!std::isfinite(c.l2_lm))
             throw std::runtime_error(fmt::format(
@@ -169,6 +174,42 @@ std::vector<double> Objective::evaluate_all(const std::vector<std::vector<double
     return out;
 }
 
+Objective::ScoredFarFields
+Objective::evaluate_all_with_farfields(const std::vector<std::vector<double>>& xs) {
+    struct Capture {
+        Objective& f;
+        Capture(Objective& o) : f(o) {
+            f.capture_farfields_ = true;
+            f.captured_farfields_.clear();
+        }
+        ~Capture() {
+            f.capture_farfields_ = false;
+            f.captured_farfields_.clear();
+        }
+    } capture(*this);
+    ScoredFarFields out{.scores = evaluate_all(xs), .farfields = {}};
+    // The feasible points whose far fields this call did not trace: traced again, a
+    // submission's worth at a time, unrecorded.
+    std::vector<std::vector<double>> again;
+    for (const std::vector<double>& x : xs)
+        if (!captured_farfields_.contains(x) && history_[stage_memo_.at(x)].feasible &&
+            std::find(again.begin(), again.end(), x) == again.end())
+            again.push_back(x);
+    for (std::size_t first = 0; first < again.size(); first += FastTracer::kMaxBatchCandidates) {
+        const std::size_t n = std::min(FastTracer::kMaxBatchCandidates, again.size() - first);
+        const auto points = std::span(again).subspan(first, n);
+        std::vector<CandidateResult> traced =
+            trace_points(stage_evaluator(), scene_, space_, points, true);
+        for (std::size_t k = 0; k < n; ++k)
+            captured_farfields_.insert_or_assign(points[k], std::move(*traced[k].farfield));
+    }
+    for (const std::vector<double>& x : xs) {
+        const auto it = captured_farfields_.find(x);
+        out.farfields.push_back(it == captured_farfields_.end() ? FarField{} : it->second);
+    }
+    return out;
+}
+
 void Objective::prefetch(std::span<const std::vector<double>> xs) {
     if (stages_.empty() || (control_ && (control_->stop.load() || control_->pause.load())))
         return; // operator() stops or waits before any trace
@@ -201,7 +242,7 @@ void Objective::prefetch(std::span<const std::vector<double>> xs) {
     // recorded, where one at a time the earlier ones would have been: a resumed search
     // traces them again.
     const auto trace_here = [this](std::span<const std::vector<double>> points) {
-        return trace_points(stage_evaluator(), scene_, space_, points);
+        return trace_points(stage_evaluator(), scene_, space_, points, capture_farfields_);
     };
     // The batch's bending energies (a weighted search), measured on up to a core's worth of
     // host threads while the device traces the batch (one after another, before, they

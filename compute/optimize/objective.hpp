@@ -47,9 +47,22 @@ class Objective {
     // traced a chunk at a time first, several per submission (Evaluator::evaluate_batch).
     // For the points a method polls together (a grid's, a lattice neighbourhood's).
     std::vector<double> evaluate_all(const std::vector<std::vector<double>>& xs);
+    // evaluate_all's scores, and each point's far field at the stage's fidelity (empty for
+    // an infeasible point): for methods that model the far field itself, not only its
+    // distance (Levenberg-Marquardt's Jacobian). A batch traced for the scores keeps its
+    // far fields; a point the stage answers from its memo or a resumed search's replay, or
+    // that another process traced, is traced again for its far field (with the stage's
+    // rays: the same far field) and not recorded again.
+    struct ScoredFarFields {
+        std::vector<double> scores;
+        std::vector<FarField> farfields;
+    };
+    ScoredFarFields evaluate_all_with_farfields(const std::vector<std::vector<double>>& xs);
 
     const ParameterSpace& space() const { return space_; }
     const Scene& scene() const { return scene_; }
+    // The desired far field, on the scene's grid.
+    const FarField& desired() const { return desired_; }
     const SearchSettings& settings() const { return settings_; }
     const std::vector<Candidate>& history() const { return history_; }
     const std::vector<StageSummary>& stages() const { return stages_; }
@@ -104,6 +117,9 @@ class Objective {
     // Traced by prefetch() and not yet asked for (x -> its result), this stage's only.
     std::map<std::vector<double>, CandidateResult> prefetched_;
     std::optional<std::uint32_t> generation_;
+    // While evaluate_all_with_farfields runs: the far fields of the points traced, kept.
+    bool capture_farfields_ = false;
+    std::map<std::vector<double>, FarField> captured_farfields_;
     // With a smoothness weight: the bending energies of the batch traced ahead, measured on
     // host threads while the device traced it (they do not depend on the trace).
     struct Measured {

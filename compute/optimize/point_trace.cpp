@@ -6,13 +6,16 @@ namespace fird {
 
 std::vector<CandidateResult> trace_points(Evaluator& evaluator, const Scene& scene,
                                           const ParameterSpace& space,
-                                          std::span<const std::vector<double>> points) {
+                                          std::span<const std::vector<double>> points,
+                                          bool read_farfields) {
     std::vector<CandidateResult> results;
     if (space.moves_source()) {
         for (const std::vector<double>& x : points) {
             const Scene candidate = space.candidate(scene, x);
             evaluator.set_source(candidate.source);
-            results.push_back(evaluator.evaluate(candidate.reflector));
+            results.push_back(std::move(
+                evaluator.evaluate_batch(std::span(&candidate.reflector, 1), read_farfields)
+                    .front()));
         }
         return results;
     }
@@ -20,7 +23,7 @@ std::vector<CandidateResult> trace_points(Evaluator& evaluator, const Scene& sce
     reflectors.reserve(points.size());
     for (const std::vector<double>& x : points)
         reflectors.push_back(space.reflector(scene.reflector, x));
-    return evaluator.evaluate_batch(reflectors);
+    return evaluator.evaluate_batch(reflectors, read_farfields);
 }
 
 PointTracer::PointTracer(const vk::Context& ctx, Scene scene)

@@ -15,10 +15,12 @@ namespace fird {
 
 // `evaluator` is at the stage's fidelity with the desired far field set. Points that move
 // the source are traced one at a time (each sets its source: no shared rayset); the others
-// as one batch (Evaluator::evaluate_batch). Results in the points' order.
+// as one batch (Evaluator::evaluate_batch). Results in the points' order, each with its far
+// field when `read_farfields`.
 std::vector<CandidateResult> trace_points(Evaluator& evaluator, const Scene& scene,
                                           const ParameterSpace& space,
-                                          std::span<const std::vector<double>> points);
+                                          std::span<const std::vector<double>> points,
+                                          bool read_farfields = false);
 
 // A process that traces shares of another's search (a rank under mpirun): the points of a
 // stage at its fidelity against the search's desired far field, with the evaluator of the

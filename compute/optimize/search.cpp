@@ -45,6 +45,7 @@ nlopt::algorithm nlopt_algorithm(SearchMethod m) {
     case SearchMethod::Grid:
     case SearchMethod::Cmaes:
     case SearchMethod::Xnes:
+    case SearchMethod::Levenberg:
         break;
     }
     throw std::logic_error("not an NLopt method");
@@ -371,7 +372,7 @@ SearchOutcome run_search(const vk::Context& ctx, const Scene& scene, const Searc
         case SearchMethod::Auto:
             if (auto_population)
                 r.stopped = run_auto_population(f, stages, r.population.emplace(),
-                                                r.start.kind == "tailored");
+                                                r.levenberg.emplace(), r.start.kind == "tailored");
             else
                 r.stopped = run_auto(f, stages, confirm);
             break;
@@ -383,6 +384,10 @@ SearchOutcome run_search(const vk::Context& ctx, const Scene& scene, const Searc
             r.stopped = search.run_stage(0);
             break;
         }
+        case SearchMethod::Levenberg:
+            f.begin_stage(r.method, stages[0]);
+            r.stopped = run_levenberg(f, space.start, r.levenberg.emplace());
+            break;
         default:
             f.begin_stage(r.method, stages[0]);
             r.stopped = run_single(f, settings.method, r.flat_directions);
@@ -409,11 +414,22 @@ SearchOutcome run_search(const vk::Context& ctx, const Scene& scene, const Searc
     r.stages = f.stages();
     for (const Candidate& c : r.history)
         r.infeasible += c.feasible ? 0 : 1;
+    // The best of the last stage that has one; for auto's runs beyond a handful of
+    // parameters (each polished at the last stage's fidelity, with the same rays, a run cut
+    // short by the budget among them), the best of the stages at that very fidelity (a tie
+    // to the later).
+    const bool restarted = auto_population;
     for (auto s = r.stages.rbegin(); s != r.stages.rend(); ++s)
         if (s->best) {
             r.best = s->best;
             r.best_l2_lm = s->best_l2_lm;
             r.best_score = s->best_score;
+            for (auto e = std::next(s); restarted && e != r.stages.rend(); ++e)
+                if (e->best && e->fidelity == s->fidelity && e->best_score < r.best_score) {
+                    r.best = e->best;
+                    r.best_l2_lm = e->best_l2_lm;
+                    r.best_score = e->best_score;
+                }
             break;
         }
     if (r.best) {

@@ -64,9 +64,25 @@ StartReport start_report_from_json(const nlohmann::json& j) {
 }
 
 std::string population_summary(const PopulationReport& p) {
+    std::string runs;
+    for (const PopulationReport::Run& run : p.runs)
+        runs +=
+            fmt::format("{}{} {:.4g} -> {:.4g}", runs.empty() ? "; runs (best, polished): " : ", ",
+                        run.method, run.before_polish, run.polished);
     return fmt::format(
-        "{} of {}, {} generations, heights sampled {}", p.algorithm, p.size, p.generations,
-        p.modes > 0 ? "as the " + p.modes_grid + " grid's cosine modes" : "each on its own");
+        "{} of {}, {} generations, heights sampled {}{}", p.algorithm, p.size, p.generations,
+        p.modes > 0 ? "as the " + p.modes_grid + " grid's cosine modes" : "each on its own", runs);
+}
+
+std::string levenberg_summary(const LevenbergReport& l) {
+    std::string grids;
+    for (const std::string& g : l.model_grids)
+        grids += (grids.empty() ? "" : ", then ") + g;
+    return fmt::format(
+        "Levenberg-Marquardt, {} Jacobians and {} damped steps on the far field ({}{}); {}",
+        l.jacobians, l.iterations, grids.empty() ? "no model" : grids,
+        l.modes > 0 ? fmt::format("; {} modes, up to degree {}", l.modes, l.degree) : "",
+        l.verdict);
 }
 
 nlohmann::json search_json(const SearchResult& r) {
@@ -130,6 +146,15 @@ nlohmann::json search_json(const SearchResult& r) {
         nlohmann::json spread = nlohmann::json::object();
         for (std::size_t k = 0; k < p.spread.size() && k < r.names.size(); ++k)
             spread[r.names[k]] = p.spread[k];
+        nlohmann::json runs = nlohmann::json::array();
+        for (const PopulationReport::Run& run : p.runs)
+            runs.push_back({{"method", run.method},
+                            {"seed", run.seed},
+                            {"generations", run.generations},
+                            {"candidates", run.candidates},
+                            {"before_polish", run.before_polish},
+                            {"polished", run.polished},
+                            {"noise_limit", run.noise_limit}});
         population = {{"algorithm", p.algorithm},
                       {"size", p.size},
                       {"generations", p.generations},
@@ -139,8 +164,17 @@ nlohmann::json search_json(const SearchResult& r) {
                       {"height_sampling", p.modes > 0 ? "modes" : "independent"},
                       {"modes", p.modes},
                       {"modes_grid", p.modes_grid},
+                      {"runs", runs},
                       {"verdict", p.verdict}};
     }
+    nlohmann::json levenberg = nullptr;
+    if (r.levenberg)
+        levenberg = {{"modes", r.levenberg->modes},
+                     {"degree", r.levenberg->degree},
+                     {"iterations", r.levenberg->iterations},
+                     {"jacobians", r.levenberg->jacobians},
+                     {"model_grids", r.levenberg->model_grids},
+                     {"verdict", r.levenberg->verdict}};
     nlohmann::json constraints = nlohmann::json::array();
     for (const ConstraintAtOptimum& c : r.constraints)
         constraints.push_back({{"name", c.name},
@@ -192,6 +226,7 @@ nlohmann::json search_json(const SearchResult& r) {
             {"flat_directions", flat},
             {"lattice", lattice},
             {"population", population},
+            {"levenberg", levenberg},
             {"constraints", constraints},
             {"desired", r.desired},
             {"time_s", r.time_s},

@@ -17,6 +17,9 @@ nlohmann::json search_json(const SearchResult& result);
 // One line on a population search: "cmaes of 14, 357 generations, heights sampled as the
 // 6 x 6 grid's cosine modes" (the CLI's summary and the workbench's optimize panel).
 std::string population_summary(const PopulationReport& population);
+// One line on a Levenberg-Marquardt run (--method levenberg, auto's polish): its Jacobians,
+// steps and model grids, and why it ended.
+std::string levenberg_summary(const LevenbergReport& levenberg);
 
 // Where the search began: {"kind", "parameters"} and, for a tailored start, what its making
 // chose and took ("edge_ray", "rim_polar_deg", "source_share", "reaches_rim",

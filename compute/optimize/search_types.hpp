@@ -153,6 +153,30 @@ struct PopulationReport {
     std::size_t modes = 0;
     std::string modes_grid;
     std::string verdict; // one line: why it ended
+    // auto's runs: Levenberg-Marquardt from the start, then CMA-ES runs each with the
+    // generator's next stream: what each found before and after its polish, and the l2
+    // noise alone explains there.
+    struct Run {
+        std::string method;            // "levenberg" or "cmaes"
+        std::uint32_t seed = 0;        // CMA-ES's generator (0 for levenberg)
+        std::uint64_t generations = 0; // CMA-ES's
+        std::uint64_t candidates = 0;  // of its stages, the polish's included
+        double before_polish = 0.0;    // its best at the last stage's fidelity before the polish
+        double polished = 0.0;         // the best after the polish
+        double noise_limit = 0.0;      // stage_noise's limit at the polished best
+    };
+    std::vector<Run> runs;
+};
+
+// Levenberg-Marquardt on the far field (--method levenberg, or auto's polish after a
+// population search; method_levenberg.cpp).
+struct LevenbergReport {
+    std::size_t modes = 0;        // coordinates that are a height grid's modes (0: none)
+    std::size_t degree = 0;       // the finest mode degree (kx + ky) freed
+    std::uint64_t iterations = 0; // damped steps tried (each a batch of damping values)
+    std::uint64_t jacobians = 0;  // Jacobians traced (2 candidates per free coordinate each)
+    std::vector<std::string> model_grids; // the far-field grids its model used, "90x45", ...
+    std::string verdict;                  // one line: why it ended
 };
 
 // Where a search began (fird optimize --start): the scene's reflector, or the profile
@@ -188,7 +212,9 @@ struct SearchResult {
     std::vector<Candidate> history;
     std::vector<StageSummary> stages;
     std::uint64_t infeasible = 0;
-    std::optional<std::uint64_t> best; // the best candidate of the last stage that has one
+    // The best candidate of the last stage that has one (auto beyond a handful of
+    // parameters: of the stages at that one's very fidelity, its runs' polishes).
+    std::optional<std::uint64_t> best;
     std::map<std::string, double> best_parameters;
     double best_l2_lm = 0.0;
     std::optional<double> start_l2_lm; // the start (StartReport), scene fidelity
@@ -209,6 +235,7 @@ struct SearchResult {
     std::optional<LatticeCheck> lattice;          // lattice methods (auto, grid)
     std::optional<RefineReport> refine;           // --refine
     std::optional<PopulationReport> population;   // cmaes, xnes (and auto beyond a handful)
+    std::optional<LevenbergReport> levenberg;     // levenberg (and auto's polish after cmaes)
     std::vector<ConstraintAtOptimum> constraints; // [reflector.constraints] at the best
     std::string desired;                          // what the desired far field is
     StopReason stopped = StopReason::None;
