@@ -71,11 +71,11 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> model_grids(std::uint32_t w
             double(rays) >= kRaysPerModelCell * double(grid.first) * double(grid.second))
             fine = grid;
     }
-    if (fine.first == 0) fine = coarse;
-    std::vector<std::pair<std::uint32_t, std::uint32_t>> grids{coarse, fine};
-    std::sort(grids.begin(), grids.end()); // coarse (fewer cells) first
-    grids.erase(std::unique(grids.begin(), grids.end()), grids.end());
-    return grids;
+    // Where the rays hold no finer cells than the coarse model's, the ray-limited grid alone.
+    if (fine.first == 0 ||
+        std::uint64_t(fine.first) * fine.second <= std::uint64_t(coarse.first) * coarse.second)
+        return {fine.first == 0 ? coarse : fine};
+    return {coarse, fine};
 }
 
 // r = sqrt(w) (F - D) on the model grid (F and D on the stage's grid).
@@ -185,43 +185,57 @@ StopReason run_levenberg(Objective& f, const std::vector<double>& x0, LevenbergR
                 report.model_grids.end())
                 report.model_grids.push_back(grid);
             double lambda = 1e-2;
+            // The model at x, kept while no step moves x (only the damping changes).
+            std::vector<double> modelled_at;
+            Eigen::MatrixXd normal;
+            Eigen::VectorXd gradient;
+            double score = 0.0;
             while (true) {
-                // The Jacobian's points: each free coordinate's step either way, inside the
-                // box, traced with x as one list of batches.
-                std::vector<std::vector<double>> points{x};
-                for (const std::size_t k : free)
-                    for (const double sign : {1.0, -1.0}) {
-                        std::vector<double> y = x;
-                        for (std::size_t p = 0; p < n; ++p)
-                            y[p] += sign * along[k].step * along[k].unit[p];
-                        points.push_back(inside(std::move(y)));
+                if (modelled_at != x) {
+                    // The Jacobian's points: each free coordinate's step either way, inside the
+                    // box, traced with x as one list of batches.
+                    std::vector<std::vector<double>> points{x};
+                    for (const std::size_t k : free)
+                        for (const double sign : {1.0, -1.0}) {
+                            std::vector<double> y = x;
+                            for (std::size_t p = 0; p < n; ++p)
+                                y[p] += sign * along[k].step * along[k].unit[p];
+                            points.push_back(inside(std::move(y)));
+                        }
+                    const Objective::ScoredFarFields traced = f.evaluate_all_with_farfields(points);
+                    ++report.jacobians;
+                    score = traced.scores[0];
+                    // An infeasible x (a start that cuts the source) has no far field to model.
+                    if (traced.farfields[0].lm.empty()) {
+                        report.verdict = "stopped: the start is infeasible (no far field to model)";
+                        return StopReason::Converged;
                     }
-                const Objective::ScoredFarFields traced = f.evaluate_all_with_farfields(points);
-                ++report.jacobians;
-                const double score = traced.scores[0];
-                const Eigen::VectorXd r = residual(traced.farfields[0], desired, metric, w, h);
-                Eigen::MatrixXd jacobian = Eigen::MatrixXd::Zero(r.size(), m);
-                for (Eigen::Index j = 0; j < m; ++j) {
-                    const std::size_t k = free[std::size_t(j)];
-                    // How far the two points lie apart along the direction (a bound may
-                    // have shortened either side); an infeasible side (no far field) is
-                    // replaced by x, leaving the difference one-sided.
-                    std::size_t up = 1 + 2 * std::size_t(j), down = up + 1;
-                    if (traced.farfields[up].lm.empty()) up = 0;
-                    if (traced.farfields[down].lm.empty()) down = 0;
-                    double span = 0.0, units = 0.0;
-                    for (std::size_t p = 0; p < n; ++p) {
-                        span += (points[up][p] - points[down][p]) * along[k].unit[p];
-                        units += along[k].unit[p] * along[k].unit[p];
+                    const Eigen::VectorXd r = residual(traced.farfields[0], desired, metric, w, h);
+                    Eigen::MatrixXd jacobian = Eigen::MatrixXd::Zero(r.size(), m);
+                    for (Eigen::Index j = 0; j < m; ++j) {
+                        const std::size_t k = free[std::size_t(j)];
+                        // How far the two points lie apart along the direction (a bound may
+                        // have shortened either side); an infeasible side (no far field) is
+                        // replaced by x, leaving the difference one-sided.
+                        std::size_t up = 1 + 2 * std::size_t(j), down = up + 1;
+                        if (traced.farfields[up].lm.empty()) up = 0;
+                        if (traced.farfields[down].lm.empty()) down = 0;
+                        double span = 0.0, units = 0.0;
+                        for (std::size_t p = 0; p < n; ++p) {
+                            span += (points[up][p] - points[down][p]) * along[k].unit[p];
+                            units += along[k].unit[p] * along[k].unit[p];
+                        }
+                        span /= units;
+                        if (!(std::abs(span) > 1e-12)) continue; // no room: its column stays 0
+                        jacobian.col(j) =
+                            (residual(traced.farfields[up], desired, metric, w, h) -
+                             residual(traced.farfields[down], desired, metric, w, h)) /
+                            span;
                     }
-                    span /= units;
-                    if (!(std::abs(span) > 1e-12)) continue; // no room: its column stays 0
-                    jacobian.col(j) = (residual(traced.farfields[up], desired, metric, w, h) -
-                                       residual(traced.farfields[down], desired, metric, w, h)) /
-                                      span;
+                    normal = jacobian.transpose() * jacobian;
+                    gradient = jacobian.transpose() * r;
+                    modelled_at = x;
                 }
-                const Eigen::MatrixXd normal = jacobian.transpose() * jacobian;
-                const Eigen::VectorXd gradient = jacobian.transpose() * r;
                 // A coordinate that moves nothing has a zero row: a trace's worth of ridge
                 // keeps the system solvable without moving it.
                 const double ridge = 1e-12 * (1.0 + normal.diagonal().maxCoeff());

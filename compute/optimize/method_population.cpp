@@ -320,11 +320,17 @@ StopReason run_auto_population(Objective& f, const std::vector<Fidelity>& stages
                                          report.runs.size(), *best_polished);
             return StopReason::Converged;
         }
-        if (f.remaining() < used) {
+        // A CMA-ES run takes its stages' budgets (30 (n + 1) each, 40 (n + 1) the last) and
+        // a polish: after Levenberg-Marquardt's shorter run, at least those; else as long as
+        // the last.
+        const std::uint64_t cmaes = (30 * (stages.size() - 1) + 40) * (n + 1);
+        const std::uint64_t next = number == 0 ? std::max<std::uint64_t>(used, cmaes) : used;
+        if (f.remaining() < next) {
             report.verdict = fmt::format(
-                "{} runs; the budget left ({}) holds no other run like the last ({} candidates)",
-                report.runs.size(), f.remaining(), used);
-            return StopReason::Converged;
+                "{} runs, the best {:.4g} above what noise explains; the budget left ({}) holds "
+                "no other run (about {} candidates)",
+                report.runs.size(), *best_polished, f.remaining(), next);
+            return StopReason::MaxEvaluations;
         }
     }
     return StopReason::Converged;

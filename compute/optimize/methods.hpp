@@ -91,9 +91,10 @@ constexpr std::size_t kPopulationAbove = 6;
 // NLopt methods' first step (CMA-ES wants the optimum within about two of them of the start).
 constexpr double kPopulationSigma0 = 0.25;
 
-// auto's CMA-ES runs at most (the first and its restarts): the 36-height freeform's runs
-// end 1.15-1.8 x the noise floor by the basin CMA-ES settles in (docs/optimization.md),
-// and four take about a quarter hour on this project's 2-core machine.
+// auto's runs at most beyond a handful of parameters (Levenberg-Marquardt's, then CMA-ES's
+// while the polished best is above the noise): the 36-height freeform's CMA-ES runs end
+// 1.15-1.8 x the noise floor by the basin they settle in (docs/optimization.md), and four
+// runs take about a quarter hour on this project's 2-core machine.
 constexpr std::uint32_t kPopulationRuns = 4;
 
 // pagmo2's CMA-ES or xNES (method_population.cpp), driven one generation at a time so that
@@ -127,16 +128,16 @@ class PopulationSearch {
 StopReason run_levenberg(Objective& objective, const std::vector<double>& x0,
                          LevenbergReport& report, bool coarse_to_fine = true);
 
-// auto beyond kPopulationAbove free parameters: one CMA-ES run continued through the
-// stages (few rays on a coarse far field first, the scene's last), each stage its own
-// common random numbers, then Levenberg-Marquardt from its best at the last stage's
-// fidelity (the polish: CMA-ES finds the basin, the far field's Jacobian its floor). Where
-// the polished best is above what noise explains (stage_noise), the whole run starts again
-// from the start with the generator's next stream, up to kPopulationRuns runs while the
-// budget holds one more like the last; the search's best is the best polish. With
-// `retrace_start` the start is traced again first thing in the last stage (a tailored
-// start, an answer in itself: the search then never ends above it at that stage's
-// fidelity, whatever the coarse stages' noise did to the population).
+// auto beyond kPopulationAbove free parameters: Levenberg-Marquardt from the start (a
+// height grid's modes freed by degree, judged on the scene's far-field grid at the first
+// stage's rays), then the polish (Levenberg-Marquardt at the last stage's fidelity, every
+// coordinate at once). Where the polished best is above what noise explains (stage_noise),
+// CMA-ES runs follow, each with the generator's next stream through the stages (few rays
+// on a coarse far field first, the scene's last, each stage its own common random
+// numbers) and its own polish, up to kPopulationRuns runs in all while the budget holds
+// another. With `retrace_start` the start is traced again first thing in the first polish
+// (a tailored start, an answer in itself: the search then never ends above it at that
+// fidelity, whatever the coarse stage's noise did).
 StopReason run_auto_population(Objective& objective, const std::vector<Fidelity>& stages,
                                PopulationReport& report, LevenbergReport& polish,
                                bool retrace_start = false);

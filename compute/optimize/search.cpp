@@ -415,23 +415,27 @@ SearchOutcome run_search(const vk::Context& ctx, const Scene& scene, const Searc
     for (const Candidate& c : r.history)
         r.infeasible += c.feasible ? 0 : 1;
     // The best of the last stage that has one; for auto's runs beyond a handful of
-    // parameters (each polished at the last stage's fidelity, with the same rays, a run cut
-    // short by the budget among them), the best of the stages at that very fidelity (a tie
-    // to the later).
-    const bool restarted = auto_population;
-    for (auto s = r.stages.rbegin(); s != r.stages.rend(); ++s)
-        if (s->best) {
+    // parameters (each polished at the scene's fidelity with the same rays, a run cut short
+    // by the budget or a stop among them), the best of the stages at that very fidelity
+    // (a tie to the later), whichever stage the search stopped in.
+    for (auto s = r.stages.rbegin(); s != r.stages.rend(); ++s) {
+        if (!s->best) continue;
+        if (auto_population && !(s->fidelity == stages.back())) continue;
+        if (!r.best || s->best_score < r.best_score) {
             r.best = s->best;
             r.best_l2_lm = s->best_l2_lm;
             r.best_score = s->best_score;
-            for (auto e = std::next(s); restarted && e != r.stages.rend(); ++e)
-                if (e->best && e->fidelity == s->fidelity && e->best_score < r.best_score) {
-                    r.best = e->best;
-                    r.best_l2_lm = e->best_l2_lm;
-                    r.best_score = e->best_score;
-                }
-            break;
         }
+        if (!auto_population) break;
+    }
+    if (auto_population && !r.best)
+        for (auto s = r.stages.rbegin(); s != r.stages.rend(); ++s)
+            if (s->best) {
+                r.best = s->best;
+                r.best_l2_lm = s->best_l2_lm;
+                r.best_score = s->best_score;
+                break;
+            }
     if (r.best) {
         const std::vector<double>& x = r.history[*r.best].x;
         r.best_parameters = space.named(x);
