@@ -221,15 +221,11 @@ StopReason PopulationSearch::run_stage(std::uint64_t max_evaluations) {
 
 namespace {
 
-// One of auto's runs: its stages (Levenberg-Marquardt's or CMA-ES's, named with the run's
-// number from the second on), then the polish from the best at the last stage's fidelity,
-// and the noise at the polished best.
-struct AutoRun {
-    std::uint32_t number = 0; // 0, 1, ...
-    std::string stage_name(const char* name) const {
-        return number == 0 ? name : fmt::format("{} {}", name, number + 1);
-    }
-};
+// A stage of auto's run `number` (from 0): the first run's stages by their names, the later
+// runs' with the run's number ("explore 2", "polish 2", ...).
+std::string run_stage_name(const char* name, std::uint32_t number) {
+    return number == 0 ? name : fmt::format("{} {}", name, number + 1);
+}
 
 } // namespace
 
@@ -239,7 +235,6 @@ StopReason run_auto_population(Objective& f, const std::vector<Fidelity>& stages
     const std::size_t n = f.space().size();
     std::optional<double> best_polished;
     for (std::uint32_t number = 0; number < kPopulationRuns; ++number) {
-        const AutoRun run{.number = number};
         const std::uint64_t first = f.evaluations();
         PopulationReport::Run record{.method = number == 0 ? "levenberg" : "cmaes"};
         std::vector<double> x = f.space().start;
@@ -265,7 +260,7 @@ StopReason run_auto_population(Objective& f, const std::vector<Fidelity>& stages
             std::unique_ptr<PopulationSearch> search;
             for (std::size_t s = 0; s < stages.size(); ++s) {
                 const bool last = s + 1 == stages.size();
-                f.begin_stage(run.stage_name(s == 0 ? "explore" : "refine"), stages[s]);
+                f.begin_stage(run_stage_name(s == 0 ? "explore" : "refine", number), stages[s]);
                 // The run begins in the first stage from the scene's start, a quarter of
                 // each box wide (as the NLopt methods' first step), and carries its mean,
                 // covariance and step size into the next stages, where only the rays change.
@@ -289,7 +284,7 @@ StopReason run_auto_population(Objective& f, const std::vector<Fidelity>& stages
         }
         // The polish, at the last stage's fidelity and rays, from the run's best so far
         // (a tailored start traced there first: the search then never ends above it).
-        f.begin_stage(run.stage_name("polish"), stages.back());
+        f.begin_stage(run_stage_name("polish", number), stages.back());
         if (retrace_start && number == 0) (void)f(f.space().snap(f.space().start));
         if (number == 0) record.before_polish = f(x);
         LevenbergReport this_polish;
