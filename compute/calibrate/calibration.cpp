@@ -27,10 +27,6 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
-std::uint64_t avoid_seed(const Scene& s) {
-    return s.target.kind == TargetDesc::Kind::Reflector ? s.target.seed : ~0ull;
-}
-
 void check_stop(const SearchControl* control) {
     if (control && control->stop.load())
         throw std::runtime_error("calibration stopped before it finished");
@@ -45,7 +41,7 @@ DesiredFarField calibration_desired(const vk::Context& ctx, const Scene& scene, 
                                     std::uint64_t seed, double* noise_lm2 = nullptr) {
     Fidelity f = scene_fidelity(scene);
     f.rays = rays;
-    f.seed = stream_seed(seed, kDesiredStream, avoid_seed(scene));
+    f.seed = stream_seed(seed, kDesiredStream, streams_avoid(scene));
     Evaluator desired(ctx, scene, f);
     const CandidateResult r = desired.evaluate(desired_reflector(scene));
     if (scene.target.kind == TargetDesc::Kind::Photometric) {
@@ -56,7 +52,7 @@ DesiredFarField calibration_desired(const vk::Context& ctx, const Scene& scene, 
                       .description =
                           fmt::format("the desired reflector traced with {} rays", rays)};
     if (noise_lm2) {
-        desired.set_seed(stream_seed(seed, kDesiredStream + 1, avoid_seed(scene)));
+        desired.set_seed(stream_seed(seed, kDesiredStream + 1, streams_avoid(scene)));
         (void)desired.evaluate(desired_reflector(scene));
         const double l2 = farfield_distance(d.farfield, desired.farfield(), desired.metric());
         *noise_lm2 = 0.5 * l2 * l2;
@@ -187,7 +183,7 @@ std::vector<RunPair> trace_run_pairs(Evaluator& evaluator, const Scene& scene,
                                      std::span<const std::uint32_t> first_runs) {
     const ReflectorDesc reflector = desired_reflector(scene);
     const auto trace_run = [&](std::uint32_t run) {
-        evaluator.set_seed(stream_seed(o.seed, kRunStreams * (c + 1) + run, avoid_seed(scene)));
+        evaluator.set_seed(stream_seed(o.seed, kRunStreams * (c + 1) + run, streams_avoid(scene)));
         return *evaluator.evaluate(reflector).l2_lm;
     };
     std::vector<RunPair> pairs;
@@ -223,7 +219,7 @@ NoiseReplicates noise_replicates(Evaluator& evaluator, const Scene& scene,
     double sum = 0.0, sum2 = 0.0;
     for (std::uint32_t r = 0; r < o.noise_runs; ++r) {
         check_stop(control);
-        n.seeds.push_back(stream_seed(o.seed, ++stream, avoid_seed(scene)));
+        n.seeds.push_back(stream_seed(o.seed, ++stream, streams_avoid(scene)));
         evaluator.set_seed(n.seeds.back());
         const double l2 = *evaluator.evaluate(centre).l2_lm;
         n.centre_l2.push_back(l2);
@@ -322,7 +318,7 @@ SemivariogramResult calibrate_semivariogram(const vk::Context& ctx, const Scene&
             ReflectorDesc r = centre;
             r.parameters[names[p]] = x;
             if (!candidate_feasibility(scene, r).feasible) continue;
-            points.push_back({names[p], x, stream_seed(o.seed, stream, avoid_seed(scene))});
+            points.push_back({names[p], x, stream_seed(o.seed, stream, streams_avoid(scene))});
             traced.push_back(j);
         }
         const SeriesTracer here = [&](std::span<const SeriesPoint> part) {

@@ -140,7 +140,7 @@ std::vector<Direction> directions(const SampleCoordinates& c, const ParameterSpa
 } // namespace
 
 StopReason run_levenberg(Objective& f, const std::vector<double>& x0, LevenbergReport& report,
-                         bool coarse_to_fine) {
+                         ModeOrder order) {
     const ParameterSpace& space = f.space();
     const std::size_t n = space.size();
     const Fidelity& fidelity = f.stage().fidelity;
@@ -163,8 +163,8 @@ StopReason run_levenberg(Objective& f, const std::vector<double>& x0, LevenbergR
     for (const Direction& d : along)
         finest = std::max(finest, d.degree);
     std::vector<std::size_t> degrees;
-    for (std::size_t g = coarse_to_fine ? std::min<std::size_t>(1, finest) : finest; g <= finest;
-         ++g)
+    for (std::size_t g = order == ModeOrder::ByDegree ? std::min<std::size_t>(1, finest) : finest;
+         g <= finest; ++g)
         degrees.push_back(g);
     report = {.modes = coordinates.modes};
     const auto moved = [&](const std::vector<double>& y) {

@@ -96,6 +96,11 @@ constexpr double kPopulationSigma0 = 0.25;
 // 1.15-1.8 x the noise floor by the basin they settle in (docs/optimization.md), and four
 // runs take about a quarter hour on this project's 2-core machine.
 constexpr std::uint32_t kPopulationRuns = 4;
+// Of which Levenberg-Marquardt's, each with its own rays in the coarse stages: on the
+// 36-height freeform, one to three such runs end within 1.07 x the noise floor for five
+// search seeds of six (docs/optimization.md), a run taking 2-3 minutes here, where
+// CMA-ES's runs, about 4 minutes each, end 1.15-1.8 x.
+constexpr std::uint32_t kLevenbergRuns = 3;
 
 // pagmo2's CMA-ES or xNES (method_population.cpp), driven one generation at a time so that
 // each generation is traced as one batch. The run's state (mean, covariance, step size,
@@ -120,24 +125,29 @@ class PopulationSearch {
     std::unique_ptr<State> state_;
 };
 
+// In which order Levenberg-Marquardt frees a height grid's cosine modes: by degree (the
+// piston and tilts first, the finest last) or all at once.
+enum class ModeOrder { ByDegree, AllAtOnce };
+
 // Levenberg-Marquardt on the far field from x0 (clamped into the box) at the current
 // stage's fidelity (method_levenberg.cpp): a Jacobian of the far field by central
 // differences of two lattice steps, on a coarser far field first, then the stage's; a
-// freed height grid in its cosine modes, freed by degree (`coarse_to_fine`: the tilts
-// first) or all at once. Ends when no damped step gains or moves. Throws SearchStopped.
+// freed height grid in its cosine modes, freed in `order`. Ends when no damped step gains
+// or moves. Throws SearchStopped.
 StopReason run_levenberg(Objective& objective, const std::vector<double>& x0,
-                         LevenbergReport& report, bool coarse_to_fine = true);
+                         LevenbergReport& report, ModeOrder order = ModeOrder::ByDegree);
 
 // auto beyond kPopulationAbove free parameters: Levenberg-Marquardt from the start (a
 // height grid's modes freed by degree, judged on the scene's far-field grid at the first
 // stage's rays), then the polish (Levenberg-Marquardt at the last stage's fidelity, every
 // coordinate at once). Where the polished best is above what noise explains (stage_noise),
-// CMA-ES runs follow, each with the generator's next stream through the stages (few rays
-// on a coarse far field first, the scene's last, each stage its own common random
-// numbers) and its own polish, up to kPopulationRuns runs in all while the budget holds
-// another. With `retrace_start` the start is traced again first thing in the first polish
-// (a tailored start, an answer in itself: the search then never ends above it at that
-// fidelity, whatever the coarse stage's noise did).
+// more runs follow: Levenberg-Marquardt again from the start with the coarse stages' rays
+// of other streams (kLevenbergRuns in all), then CMA-ES runs, each with the generator's
+// next stream through the stages (few rays on a coarse far field first, the scene's last,
+// each stage its own common random numbers), each run with its own polish, up to
+// kPopulationRuns runs in all while the budget holds another. With `retrace_start` the start is
+// traced again first thing in the first polish (a tailored start, an answer in itself: the search
+// then never ends above it at that fidelity, whatever the coarse stage's noise did).
 StopReason run_auto_population(Objective& objective, const std::vector<Fidelity>& stages,
                                PopulationReport& report, LevenbergReport& polish,
                                bool retrace_start = false);

@@ -149,9 +149,7 @@ namespace {
 
 Fidelity search_final_fidelity(const Scene& scene, const SearchSettings& settings) {
     Fidelity f = scene_fidelity(scene);
-    f.seed =
-        stream_seed(settings.seed, kFinalStream,
-                    scene.target.kind == TargetDesc::Kind::Reflector ? scene.target.seed : ~0ull);
+    f.seed = stream_seed(settings.seed, kFinalStream, streams_avoid(scene));
     return f;
 }
 
@@ -239,6 +237,10 @@ std::uint64_t stream_seed(std::uint64_t seed, std::uint64_t stream, std::uint64_
     }
 }
 
+std::uint64_t streams_avoid(const Scene& scene) {
+    return scene.target.kind == TargetDesc::Kind::Reflector ? scene.target.seed : ~0ull;
+}
+
 std::pair<std::uint32_t, std::uint32_t> stage_farfield(std::uint32_t w, std::uint32_t h,
                                                        std::uint64_t rays) {
     const std::uint32_t g = std::gcd(w, h);
@@ -249,8 +251,7 @@ std::pair<std::uint32_t, std::uint32_t> stage_farfield(std::uint32_t w, std::uin
 
 std::vector<Fidelity> search_stages(const Scene& scene, const SearchSettings& settings) {
     const Fidelity base = scene_fidelity(scene);
-    const std::uint64_t avoid =
-        scene.target.kind == TargetDesc::Kind::Reflector ? scene.target.seed : ~0ull;
+    const std::uint64_t avoid = streams_avoid(scene);
     const auto stage = [&](std::uint64_t rays, std::size_t k, bool last) {
         Fidelity f = base;
         f.rays = rays;
@@ -308,8 +309,7 @@ SearchOutcome run_search(const vk::Context& ctx, const Scene& scene, const Searc
     // stream re-evaluates the best at the end): the flux a relative photometric target is
     // scaled to, once for the whole search, and the start's l2 unless the search starts
     // elsewhere (request.start).
-    const std::uint64_t avoid =
-        scene.target.kind == TargetDesc::Kind::Reflector ? scene.target.seed : ~0ull;
+    const std::uint64_t avoid = streams_avoid(scene);
     const Fidelity final_fidelity = search_final_fidelity(scene, settings);
     Evaluator final_eval(ctx, scene, final_fidelity, settings.backend);
     bool scene_start_traced = false;

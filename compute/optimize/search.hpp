@@ -54,6 +54,9 @@ std::vector<Fidelity> search_stages(const Scene& scene, const SearchSettings& se
 // seed at a counter holding the stream (DESIGN.md §2: a counter-based generator, not XOR-ed
 // hashes), never equal to `avoid` (the target reflector's seed).
 std::uint64_t stream_seed(std::uint64_t seed, std::uint64_t stream, std::uint64_t avoid);
+// The seed no stream of a search takes: the target reflector's (a candidate traced with the
+// target's own rays would match it noise and all); none for other targets.
+std::uint64_t streams_avoid(const Scene& scene);
 
 // The coarsest grid whose cells are blocks of the scene's and that has no more cells than
 // rays / 20 (so a stage's histogram is not mostly counting noise); the scene's own grid

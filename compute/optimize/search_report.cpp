@@ -69,7 +69,7 @@ std::string population_summary(const PopulationReport& p) {
         runs +=
             fmt::format("{}{} {:.4g} -> {:.4g}", runs.empty() ? "; runs (best, polished): " : ", ",
                         run.method, run.before_polish, run.polished);
-    if (p.size == 0) // auto's first run alone: no population was drawn
+    if (p.size == 0) // auto's Levenberg-Marquardt runs alone: no population was drawn
         return fmt::format("Levenberg-Marquardt only{}", runs);
     return fmt::format(
         "{} of {}, {} generations, heights sampled {}{}", p.algorithm, p.size, p.generations,

@@ -61,9 +61,7 @@ SearchStartPoint tailored_start(const vk::Context& ctx, const Scene& scene, cons
                              .heights = start.reflector.bspline.nx};
 
     Fidelity quick = search_stages(scene, settings).front();
-    quick.seed =
-        stream_seed(settings.seed, kTailoredStream,
-                    scene.target.kind == TargetDesc::Kind::Reflector ? scene.target.seed : ~0ull);
+    quick.seed = stream_seed(settings.seed, kTailoredStream, streams_avoid(scene));
     Evaluator eval(ctx, start, quick, settings.backend);
     eval.set_desired(desired);
     SearchStartPoint best;

@@ -30,8 +30,7 @@ constexpr double kNoiseSigmas = 2.0;
 // traced with at least the stage's rays is at most this pair's in expectation (a
 // noise-free desired gives 1/sqrt 2 of it), so the limit errs towards calling a mismatch.
 ConfirmNoise stage_noise(Objective& f, const std::vector<double>& x, double l2_lm) {
-    const std::uint64_t avoid =
-        f.scene().target.kind == TargetDesc::Kind::Reflector ? f.scene().target.seed : ~0ull;
+    const std::uint64_t avoid = streams_avoid(f.scene());
     const auto [a, b] = f.noise_pair(x, stream_seed(f.settings().seed, kStageNoiseStream, avoid));
     // In the scene's metric: each cell's squared difference weighted (w = 1 for l2), the
     // variance of S = sum w d^2 then 2 sum w^2 v^2, so s4 sums (w d^2)^2.

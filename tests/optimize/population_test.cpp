@@ -5,6 +5,7 @@
 // where the uninterrupted one does; auto chooses CMA-ES only beyond six free parameters.
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <set>
 
 #include "evaluation/evaluator.hpp"
@@ -193,18 +194,23 @@ TEST_F(PopulationRules, AutoSearchesWithLevenbergBeyondSixFreeParameters) {
 }
 
 // Heights held within a millimetre of the flat start, where the target tilts by 8 mm across
-// the holder: no run can polish the far field down to what noise explains, so after
-// Levenberg-Marquardt auto starts again with CMA-ES, each run with the generator's next
-// stream, while the budget holds another run, and the search's
-// best is the best polish of all of them (each polished at the scene's rays, the same
-// rays: comparable).
-TEST_F(PopulationRules, AutoStartsAgainWhileThePolishedBestIsAboveTheNoise) {
-    Scene s = scene("freeform_search.toml");
+// the holder: no run can polish the far field down to what noise explains, so auto starts
+// again while the budget holds another run: Levenberg-Marquardt with the coarse stage's
+// rays of another stream (kLevenbergRuns in all), then CMA-ES with the generator's next
+// stream; the search's best is the best polish of all of them (each polished at the
+// scene's rays, the same rays: comparable).
+Scene freeform_the_box_cannot_reach(const Scene& freeform) {
+    Scene s = freeform;
     for (auto& [name, range] : s.reflector.optimize) // h_<i>_<j>, as heights_mm frees them
         range = {-7.0, -5.0, 0.5};
     for (auto& [name, h] : s.target.parameters) // h_<i>_<j>: -10, -6, -2 along x
         h = -10.0 + 4.0 * double(name[2] - '0');
-    s.optimize.max_evaluations = 2500;
+    return s;
+}
+
+TEST_F(PopulationRules, AutoStartsAgainWhileThePolishedBestIsAboveTheNoise) {
+    Scene s = freeform_the_box_cannot_reach(scene("freeform_search.toml"));
+    s.optimize.max_evaluations = 6000;
     const SearchResult r = search(ctx(), s, SearchMethod::Auto).result;
     ASSERT_TRUE(r.population && r.levenberg && r.best);
     const auto& runs = r.population->runs;
@@ -214,14 +220,17 @@ TEST_F(PopulationRules, AutoStartsAgainWhileThePolishedBestIsAboveTheNoise) {
     for (std::size_t k = 0; k < runs.size(); ++k) {
         candidates += runs[k].candidates;
         EXPECT_GT(runs[k].noise_limit, 0.0) << k;
-        EXPECT_EQ(runs[k].method, k == 0 ? "levenberg" : "cmaes") << k;
+        EXPECT_EQ(runs[k].method, k < kLevenbergRuns ? "levenberg" : "cmaes") << k;
         if (k + 1 < runs.size()) {
             EXPECT_GT(runs[k].polished, runs[k].noise_limit) << k;
         }
-        if (k >= 2) {
+        if (k > kLevenbergRuns) {
             EXPECT_NE(runs[k].seed, runs[k - 1].seed) << k;
         }
     }
+    // The budget holds every run here: the Levenberg-Marquardt runs, then a CMA-ES one.
+    ASSERT_EQ(runs.size(), std::size_t(kPopulationRuns)) << r.population->verdict;
+    static_assert(kLevenbergRuns < kPopulationRuns);
     // Every candidate belongs to a reported run, unless the budget cut a run short (not
     // reported); auto starts no run the budget left cannot hold.
     const bool cut_short = r.population->verdict.find("holds no other run") == std::string::npos &&
@@ -235,8 +244,22 @@ TEST_F(PopulationRules, AutoStartsAgainWhileThePolishedBestIsAboveTheNoise) {
         return std::find_if(r.stages.begin(), r.stages.end(),
                             [&](const StageSummary& st) { return st.name == name; });
     };
-    EXPECT_NE(named("explore 2"), r.stages.end());
-    EXPECT_NE(named("polish 2"), r.stages.end());
+    ASSERT_NE(named("explore"), r.stages.end());
+    ASSERT_NE(named("explore 2"), r.stages.end());
+    ASSERT_NE(named("polish 2"), r.stages.end());
+    // A second Levenberg-Marquardt run: its coarse stage's rays another stream's, at the
+    // same count and grid; its polish the scene's rays, as the first's.
+    Fidelity other = named("explore 2")->fidelity;
+    EXPECT_NE(other.seed, named("explore")->fidelity.seed);
+    other.seed = named("explore")->fidelity.seed;
+    EXPECT_EQ(other, named("explore")->fidelity);
+    EXPECT_EQ(named("polish 2")->fidelity, named("polish")->fidelity);
+    // The CMA-ES run's coarse stage: the first run's rays (the stages' own streams; its far
+    // field the stage's coarse grid, where Levenberg-Marquardt judges on the scene's).
+    const std::string cmaes_explore = "explore " + std::to_string(kLevenbergRuns + 1);
+    ASSERT_NE(named(cmaes_explore), r.stages.end());
+    EXPECT_EQ(named(cmaes_explore)->fidelity.seed, named("explore")->fidelity.seed);
+    EXPECT_EQ(named(cmaes_explore)->fidelity.rays, named("explore")->fidelity.rays);
     EXPECT_EQ(r.population->algorithm, "cmaes");
     EXPECT_EQ(r.population->size, 10u); // 4 + floor(3 ln 9)
     // The best: the lowest score of the stages at the scene's fidelity (the polishes'),
@@ -251,6 +274,37 @@ TEST_F(PopulationRules, AutoStartsAgainWhileThePolishedBestIsAboveTheNoise) {
     for (const auto& run : runs)
         polished = std::min(polished, run.polished);
     EXPECT_EQ(r.best_score, polished);
+}
+
+// Ctrl-C in the middle of auto's second Levenberg-Marquardt run (its coarse stage, whose
+// rays are another stream's): resumed from that history, the search replays the recorded
+// candidates and ends exactly where the uninterrupted one does.
+TEST_F(PopulationRules, AutoInterruptedInItsSecondRunAndResumedEndsWhereTheUninterruptedOneDoes) {
+    Scene s = freeform_the_box_cannot_reach(scene("freeform_search.toml"));
+    s.optimize.max_evaluations = 6000;
+    const auto whole = search(ctx(), s, SearchMethod::Auto).result;
+    std::optional<std::uint64_t> cut_at;
+    for (const Candidate& c : whole.history)
+        if (whole.stages[c.stage].name == "explore 2") {
+            cut_at = c.index + 40; // within its first Jacobian's batch or just after
+            break;
+        }
+    ASSERT_TRUE(cut_at);
+    SearchControl control;
+    const auto cut = search(ctx(), s, SearchMethod::Auto, &control, {},
+                            [&](const Candidate& c, const StageSummary&) {
+                                if (c.index == *cut_at) control.stop = true;
+                            })
+                         .result;
+    EXPECT_EQ(cut.stopped, StopReason::Interrupted);
+    ASSERT_GT(cut.history.size(), *cut_at);
+    const auto resumed = search(ctx(), s, SearchMethod::Auto, nullptr, cut.history).result;
+    expect_resumed_is_whole(resumed, whole, cut.history.size());
+    ASSERT_TRUE(resumed.population && whole.population);
+    ASSERT_EQ(resumed.population->runs.size(), whole.population->runs.size());
+    for (std::size_t k = 0; k < whole.population->runs.size(); ++k)
+        EXPECT_EQ(resumed.population->runs[k].polished, whole.population->runs[k].polished) << k;
+    EXPECT_EQ(resumed.best_score, whole.best_score);
 }
 
 // A start the request gives, marked tailored (fird optimize --start tailored): the search
