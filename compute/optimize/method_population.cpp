@@ -236,9 +236,12 @@ StopReason run_auto_population(Objective& f, const std::vector<Fidelity>& stages
                                bool retrace_start) {
     const std::size_t n = f.space().size();
     std::optional<double> best_polished;
+    // Levenberg-Marquardt starts again only with coarse stages to draw other rays for: with
+    // the scene's stage alone, another run would repeat the first candidate for candidate.
+    const std::uint32_t levenberg_runs = stages.size() > 1 ? kLevenbergRuns : 1;
     for (std::uint32_t number = 0; number < kPopulationRuns; ++number) {
         const std::uint64_t first = f.evaluations();
-        const bool levenberg = number < kLevenbergRuns;
+        const bool levenberg = number < levenberg_runs;
         PopulationReport::Run record{.method = levenberg ? "levenberg" : "cmaes"};
         std::vector<double> x = f.space().start;
         if (levenberg) {
@@ -334,8 +337,8 @@ StopReason run_auto_population(Objective& f, const std::vector<Fidelity>& stages
         // stages' budgets (30 (n + 1) each, 40 (n + 1) the last) and a polish: after
         // Levenberg-Marquardt's shorter runs, at least those; else as long as the last.
         const std::uint64_t cmaes = (30 * (stages.size() - 1) + 40) * (n + 1);
-        const std::uint64_t next =
-            number + 1 < kLevenbergRuns || !levenberg ? used : std::max<std::uint64_t>(used, cmaes);
+        const bool cmaes_next = number + 1 == levenberg_runs;
+        const std::uint64_t next = cmaes_next ? std::max<std::uint64_t>(used, cmaes) : used;
         if (f.remaining() < next) {
             report.verdict = fmt::format(
                 "{} runs, the best {:.4g} above what noise explains; the budget left ({}) holds "

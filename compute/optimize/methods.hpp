@@ -91,15 +91,15 @@ constexpr std::size_t kPopulationAbove = 6;
 // NLopt methods' first step (CMA-ES wants the optimum within about two of them of the start).
 constexpr double kPopulationSigma0 = 0.25;
 
-// auto's runs at most beyond a handful of parameters (Levenberg-Marquardt's, then CMA-ES's
-// while the polished best is above the noise): the 36-height freeform's CMA-ES runs end
-// 1.15-1.8 x the noise floor by the basin they settle in (docs/optimization.md), and four
-// runs take about a quarter hour on this project's 2-core machine.
+// auto's runs at most beyond a handful of parameters, while the polished best is above the
+// noise: Levenberg-Marquardt's, then CMA-ES's, a method of another kind for where
+// Levenberg-Marquardt's basins are poor (the road luminaire's profiles of
+// docs/optimization.md: 59.5 cd after Levenberg-Marquardt, 49.5 after CMA-ES).
 constexpr std::uint32_t kPopulationRuns = 4;
-// Of which Levenberg-Marquardt's, each with its own rays in the coarse stages: on the
-// 36-height freeform, one to three such runs end within 1.07 x the noise floor for five
-// search seeds of six (docs/optimization.md), a run taking 2-3 minutes here, where
-// CMA-ES's runs, about 4 minutes each, end 1.15-1.8 x.
+// Of which Levenberg-Marquardt's (with coarse stages; one without), each with its own rays
+// in the coarse stages: on the 36-height freeform, one to three such runs end within
+// 1.07 x the noise floor for five search seeds of six (docs/optimization.md: 1400-2900
+// candidates a run, 5-7 minutes beside other work here), where CMA-ES's runs end 1.15-1.8 x.
 constexpr std::uint32_t kLevenbergRuns = 3;
 
 // pagmo2's CMA-ES or xNES (method_population.cpp), driven one generation at a time so that
@@ -139,15 +139,15 @@ StopReason run_levenberg(Objective& objective, const std::vector<double>& x0,
 
 // auto beyond kPopulationAbove free parameters: Levenberg-Marquardt from the start (a
 // height grid's modes freed by degree, judged on the scene's far-field grid at the first
-// stage's rays), then the polish (Levenberg-Marquardt at the last stage's fidelity, every
-// coordinate at once). Where the polished best is above what noise explains (stage_noise),
-// more runs follow: Levenberg-Marquardt again from the start with the coarse stages' rays
-// of other streams (kLevenbergRuns in all), then CMA-ES runs, each with the generator's
-// next stream through the stages (few rays on a coarse far field first, the scene's last,
-// each stage its own common random numbers), each run with its own polish, up to
-// kPopulationRuns runs in all while the budget holds another. With `retrace_start` the start is
-// traced again first thing in the first polish (a tailored start, an answer in itself: the search
-// then never ends above it at that fidelity, whatever the coarse stage's noise did).
+// stage's rays), then the polish (Levenberg-Marquardt at the last stage's fidelity, the
+// modes freed by degree again). Where the polished best is above what noise explains
+// (stage_noise), more runs follow: Levenberg-Marquardt again from the start with the coarse
+// stages' rays of other streams (kLevenbergRuns in all where there are coarse stages), then
+// CMA-ES, each run with the generator's next stream through the stages (few rays on a coarse far
+// field first, the scene's last, each stage its own common random numbers), each run with its own
+// polish, up to kPopulationRuns runs in all while the budget holds another. With `retrace_start`
+// the start is traced again first thing in the first polish (a tailored start, an answer in itself:
+// the search then never ends above it at that fidelity, whatever the coarse stage's noise did).
 StopReason run_auto_population(Objective& objective, const std::vector<Fidelity>& stages,
                                PopulationReport& report, LevenbergReport& polish,
                                bool retrace_start = false);

@@ -153,9 +153,9 @@ struct PopulationReport {
     std::size_t modes = 0;
     std::string modes_grid;
     std::string verdict; // one line: why it ended
-    // auto's runs: Levenberg-Marquardt from the start, then CMA-ES runs each with the
-    // generator's next stream: what each found before and after its polish, and the l2
-    // noise alone explains there.
+    // auto's runs: Levenberg-Marquardt from the start (again with other coarse rays), then
+    // CMA-ES with the generator's next stream: what each found before and after its
+    // polish, and the l2 noise alone explains there.
     struct Run {
         std::string method;            // "levenberg" or "cmaes"
         std::uint32_t seed = 0;        // CMA-ES's generator (0 for levenberg)

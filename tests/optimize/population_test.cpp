@@ -214,8 +214,9 @@ TEST_F(PopulationRules, AutoStartsAgainWhileThePolishedBestIsAboveTheNoise) {
     const SearchResult r = search(ctx(), s, SearchMethod::Auto).result;
     ASSERT_TRUE(r.population && r.levenberg && r.best);
     const auto& runs = r.population->runs;
-    ASSERT_GE(runs.size(), 2u) << r.population->verdict;
-    EXPECT_LE(runs.size(), std::size_t(kPopulationRuns));
+    // The budget holds every run here: the Levenberg-Marquardt runs, then a CMA-ES one.
+    ASSERT_EQ(runs.size(), std::size_t(kPopulationRuns)) << r.population->verdict;
+    static_assert(kLevenbergRuns < kPopulationRuns);
     std::uint64_t candidates = 0;
     for (std::size_t k = 0; k < runs.size(); ++k) {
         candidates += runs[k].candidates;
@@ -224,21 +225,9 @@ TEST_F(PopulationRules, AutoStartsAgainWhileThePolishedBestIsAboveTheNoise) {
         if (k + 1 < runs.size()) {
             EXPECT_GT(runs[k].polished, runs[k].noise_limit) << k;
         }
-        if (k > kLevenbergRuns) {
-            EXPECT_NE(runs[k].seed, runs[k - 1].seed) << k;
-        }
     }
-    // The budget holds every run here: the Levenberg-Marquardt runs, then a CMA-ES one.
-    ASSERT_EQ(runs.size(), std::size_t(kPopulationRuns)) << r.population->verdict;
-    static_assert(kLevenbergRuns < kPopulationRuns);
-    // Every candidate belongs to a reported run, unless the budget cut a run short (not
-    // reported); auto starts no run the budget left cannot hold.
-    const bool cut_short = r.population->verdict.find("holds no other run") == std::string::npos &&
-                           r.stopped == StopReason::MaxEvaluations;
-    if (cut_short)
-        EXPECT_LT(candidates, r.history.size());
-    else
-        EXPECT_EQ(candidates, r.history.size()) << r.population->verdict;
+    // Every candidate belongs to a reported run.
+    EXPECT_EQ(candidates, r.history.size()) << r.population->verdict;
     // Stage names carry the run: explore, refine, polish, explore 2, ...
     const auto named = [&](const std::string& name) {
         return std::find_if(r.stages.begin(), r.stages.end(),
@@ -254,6 +243,12 @@ TEST_F(PopulationRules, AutoStartsAgainWhileThePolishedBestIsAboveTheNoise) {
     other.seed = named("explore")->fidelity.seed;
     EXPECT_EQ(other, named("explore")->fidelity);
     EXPECT_EQ(named("polish 2")->fidelity, named("polish")->fidelity);
+    ASSERT_NE(named("explore 3"), r.stages.end());
+    EXPECT_NE(named("explore 3")->fidelity.seed, named("explore 2")->fidelity.seed);
+    EXPECT_NE(named("explore 3")->fidelity.seed, named("explore")->fidelity.seed);
+    // Other rays, another path: the runs' coarse stages end at other points.
+    ASSERT_TRUE(named("explore 2")->best && named("explore")->best);
+    EXPECT_NE(r.history[*named("explore 2")->best].x, r.history[*named("explore")->best].x);
     // The CMA-ES run's coarse stage: the first run's rays (the stages' own streams; its far
     // field the stage's coarse grid, where Levenberg-Marquardt judges on the scene's).
     const std::string cmaes_explore = "explore " + std::to_string(kLevenbergRuns + 1);
@@ -276,6 +271,21 @@ TEST_F(PopulationRules, AutoStartsAgainWhileThePolishedBestIsAboveTheNoise) {
     EXPECT_EQ(r.best_score, polished);
 }
 
+// With one stage (one ray count) there are no coarse rays to draw again: a second
+// Levenberg-Marquardt run would repeat the first, so CMA-ES follows it.
+TEST_F(PopulationRules, AutoWithOneStageFollowsLevenbergWithCmaes) {
+    Scene s = freeform_the_box_cannot_reach(scene("freeform_search.toml"));
+    s.optimize.rays = {20000};
+    s.optimize.max_evaluations = 1500;
+    const SearchResult r = search(ctx(), s, SearchMethod::Auto).result;
+    ASSERT_TRUE(r.population);
+    const auto& runs = r.population->runs;
+    ASSERT_GE(runs.size(), 2u) << r.population->verdict;
+    EXPECT_EQ(runs[0].method, "levenberg");
+    for (std::size_t k = 1; k < runs.size(); ++k)
+        EXPECT_EQ(runs[k].method, "cmaes") << k;
+}
+
 // Ctrl-C in the middle of auto's second Levenberg-Marquardt run (its coarse stage, whose
 // rays are another stream's): resumed from that history, the search replays the recorded
 // candidates and ends exactly where the uninterrupted one does.
@@ -290,6 +300,8 @@ TEST_F(PopulationRules, AutoInterruptedInItsSecondRunAndResumedEndsWhereTheUnint
             break;
         }
     ASSERT_TRUE(cut_at);
+    ASSERT_LT(*cut_at, whole.history.size());
+    ASSERT_EQ(whole.stages[whole.history[*cut_at].stage].name, "explore 2");
     SearchControl control;
     const auto cut = search(ctx(), s, SearchMethod::Auto, &control, {},
                             [&](const Candidate& c, const StageSummary&) {
