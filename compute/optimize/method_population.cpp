@@ -33,7 +33,8 @@ namespace fird {
 namespace {
 
 // The population generator's stream (search.cpp's streams: stages from 0, the final and
-// noise runs at 1000 and 1001, the stage noise pair at 1002).
+// noise runs at 1000 and 1001, the stage noise pair at 1002, the tailored start's quick
+// trace at 1004).
 constexpr std::uint64_t kPopulationStream = 1003;
 // auto's restarts: run r (from 1) draws its generator from stream kRestartStreams + r, and
 // a Levenberg-Marquardt run r its stage s's rays from kRestartRayStreams + r S + s (S

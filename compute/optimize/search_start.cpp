@@ -17,9 +17,10 @@ namespace fird {
 
 namespace {
 
-// The quick trace's rays: a stream of the search's seed apart from its stages' (0, 1, ...)
-// and its final and noise runs' (search.cpp's 1000 and 1001).
-constexpr std::uint64_t kTailoredStream = 1002;
+// The quick trace's rays: a stream of the search's seed apart from its stages' (0, 1, ...),
+// its final and noise runs' (search.cpp's 1000 and 1001), the stage noise pair's (1002) and
+// the population generator's (1003).
+constexpr std::uint64_t kTailoredStream = 1004;
 // The source's polar distribution: 0.1 degree bands from 2e5 of its rays (a band near the
 // nadir holds few, but the flux map reads their sum, whose noise is 1/sqrt of the rays in
 // the cone: about 0.3 % at 10 degrees for an isotropic source).
