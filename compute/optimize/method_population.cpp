@@ -323,7 +323,6 @@ StopReason run_auto_population(Objective& f, const std::vector<Fidelity>& stages
             again = polished->l2_lm > noise.limit_lm;
         }
         report.runs.push_back(record);
-        const std::uint64_t used = f.evaluations() - first;
         if (!again) {
             report.verdict = fmt::format("run {} ({}) polished to what noise explains", number + 1,
                                          record.method);
@@ -339,7 +338,8 @@ StopReason run_auto_population(Objective& f, const std::vector<Fidelity>& stages
         // Levenberg-Marquardt's shorter runs, at least those; else as long as the last.
         const std::uint64_t cmaes = (30 * (stages.size() - 1) + 40) * (n + 1);
         const bool cmaes_next = number + 1 == levenberg_runs;
-        const std::uint64_t next = cmaes_next ? std::max<std::uint64_t>(used, cmaes) : used;
+        const std::uint64_t next =
+            cmaes_next ? std::max<std::uint64_t>(record.candidates, cmaes) : record.candidates;
         if (f.remaining() < next) {
             report.verdict = fmt::format(
                 "{} runs, the best {:.4g} above what noise explains; the budget left ({}) holds "

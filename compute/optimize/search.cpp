@@ -418,22 +418,24 @@ SearchOutcome run_search(const vk::Context& ctx, const Scene& scene, const Searc
     // parameters (each polished at the scene's fidelity with the same rays, a run cut short
     // by the budget or a stop among them), the best of the stages at that very fidelity
     // (a tie to the later), whichever stage the search stopped in.
+    const auto take = [&](const StageSummary& s) {
+        r.best = s.best;
+        r.best_l2_lm = s.best_l2_lm;
+        r.best_score = s.best_score;
+    };
     for (auto s = r.stages.rbegin(); s != r.stages.rend(); ++s) {
         if (!s->best) continue;
-        if (auto_population && !(s->fidelity == stages.back())) continue;
-        if (!r.best || s->best_score < r.best_score) {
-            r.best = s->best;
-            r.best_l2_lm = s->best_l2_lm;
-            r.best_score = s->best_score;
+        if (!auto_population) {
+            take(*s);
+            break;
         }
-        if (!auto_population) break;
+        if (s->fidelity == stages.back() && (!r.best || s->best_score < r.best_score)) take(*s);
     }
+    // Stopped before any stage at the scene's fidelity had a best: the last stage's.
     if (auto_population && !r.best)
         for (auto s = r.stages.rbegin(); s != r.stages.rend(); ++s)
             if (s->best) {
-                r.best = s->best;
-                r.best_l2_lm = s->best_l2_lm;
-                r.best_score = s->best_score;
+                take(*s);
                 break;
             }
     if (r.best) {
