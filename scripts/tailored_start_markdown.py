@@ -5,7 +5,8 @@ same seed, stages and desired far field, so the stages' metrics compare between 
 the metric at the start (scene fidelity), the final (fresh rays) against its noise floor,
 evaluations, the search's own time (time_s) and the command's wall time (with the --out
 files: the part's CAD fit and the candidates' reflectors.pvd), and the evaluations each needed to come within 5 % of the scene
-start's best in the last stage ("-": never)."""
+start's best at the scene's fidelity ("-": never): in the stages with the last stage's rays,
+seed and far-field grid (auto's CMA-ES run's last stage and its polish, whose bests compare)."""
 import csv
 import json
 import os
@@ -26,10 +27,17 @@ def load(run):
     return j, wall, rows
 
 
-def reached(rows, stage, metric_key, level):
-    """The first evaluation (1-based count) of `stage` whose metric is at or below level."""
+def scene_fidelity(j):
+    """The stages traced as the last one is (its rays, seed and far-field grid)."""
+    last = j["rays_per_evaluation"][-1]
+    same = ("rays", "seed", "farfield")
+    return [st for st in j["rays_per_evaluation"] if all(st.get(k) == last.get(k) for k in same)]
+
+
+def reached(rows, stages, metric_key, level):
+    """The first evaluation (1-based count) in `stages` whose metric is at or below level."""
     for r in rows:
-        if r["stage_name"] == stage and r["feasible"] == "1" and float(r[metric_key]) <= level:
+        if r["stage_name"] in stages and r["feasible"] == "1" and float(r[metric_key]) <= level:
             return int(r["index"]) + 1
     return None
 
@@ -50,11 +58,11 @@ for name in names:
     runs = {s: load(f"{name}.{s}") for s in starts}
     j0, _, rows0 = runs["scene"]
     key = f"{j0['metric']}_{j0['metric_unit']}"
-    level = 1.05 * j0["rays_per_evaluation"][-1]["best_l2"]
+    level = 1.05 * min(st["best_l2"] for st in scene_fidelity(j0))
     for start, (j, wall, rows) in runs.items():
-        # Each run's own last stage (a one-stage run's is at the scene's fidelity too, with
-        # rays of another stream).
-        n = reached(rows, j["rays_per_evaluation"][-1]["stage"], key, level)
+        # Each run's own stages at the last one's fidelity (a one-stage run's is at the
+        # scene's too, with rays of another stream).
+        n = reached(rows, {st["stage"] for st in scene_fidelity(j)}, key, level)
         ratio = j["final_l2"] / j["noise_floor_l2"] if j.get("final_l2") else None
         p = j.get("population") or {}
         stages = "+".join(f"{st['rays']:.0e}".replace("e+0", "e") for st in j["rays_per_evaluation"])
@@ -62,7 +70,7 @@ for name in names:
         print(f"| {name} | {start.split('-')[0]}"
               + (f" ({j['start']['edge_ray']}{'; ' + variant if variant else ''})"
                  if start != "scene" else "")
-              + f" | {p.get('sigma0', '-')} | {stages}"
+              + f" | {p.get('sigma0') or '-'} | {stages}"
               + f" | {j['start']['metric_at_start']:.4g} | {j['final_l2']:.4g} | "
               f"{ratio:.2f} | {j['evaluations']} | {n if n else '-'} | {j['time_s']:.0f} | "
               f"{wall.get('wall_s', j['time_s']):.0f} | {wall.get('load', '-')} |")

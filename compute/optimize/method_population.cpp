@@ -240,9 +240,15 @@ StopReason run_auto_population(Objective& f, const std::vector<Fidelity>& stages
     // Levenberg-Marquardt starts again only with coarse stages to draw other rays for: with
     // the scene's stage alone, another run would repeat the first candidate for candidate.
     const std::uint32_t levenberg_runs = stages.size() > 1 ? kLevenbergRuns : 1;
+    // Levenberg-Marquardt's runs are numbers [first_levenberg, first_levenberg +
+    // levenberg_runs), CMA-ES's the others (kCmaesFirstUpTo).
+    const std::uint32_t first_levenberg = n <= kCmaesFirstUpTo ? 1 : 0;
+    const auto is_levenberg = [&](std::uint32_t number) {
+        return number >= first_levenberg && number < first_levenberg + levenberg_runs;
+    };
     for (std::uint32_t number = 0; number < kPopulationRuns; ++number) {
         const std::uint64_t first = f.evaluations();
-        const bool levenberg = number < levenberg_runs;
+        const bool levenberg = is_levenberg(number);
         PopulationReport::Run record{.method = levenberg ? "levenberg" : "cmaes"};
         std::vector<double> x = f.space().start;
         if (levenberg) {
@@ -260,9 +266,9 @@ StopReason run_auto_population(Objective& f, const std::vector<Fidelity>& stages
                 Fidelity fidelity = stages[s];
                 fidelity.farfield_w = stages.back().farfield_w;
                 fidelity.farfield_h = stages.back().farfield_h;
-                if (number > 0)
+                if (const std::uint32_t again = number - first_levenberg; again > 0)
                     fidelity.seed = stream_seed(f.settings().seed,
-                                                kRestartRayStreams + number * stages.size() + s,
+                                                kRestartRayStreams + again * stages.size() + s,
                                                 streams_avoid(f.scene()));
                 f.begin_stage(run_stage_name(s == 0 ? "explore" : "refine", number), fidelity);
                 LevenbergReport stage_report;
@@ -337,7 +343,7 @@ StopReason run_auto_population(Objective& f, const std::vector<Fidelity>& stages
         // stages' budgets (30 (n + 1) each, 40 (n + 1) the last) and a polish: after
         // Levenberg-Marquardt's shorter runs, at least those; else as long as the last.
         const std::uint64_t cmaes = (30 * (stages.size() - 1) + 40) * (n + 1);
-        const bool cmaes_next = number + 1 == levenberg_runs;
+        const bool cmaes_next = !is_levenberg(number + 1);
         const std::uint64_t next =
             cmaes_next ? std::max<std::uint64_t>(record.candidates, cmaes) : record.candidates;
         if (f.remaining() < next) {

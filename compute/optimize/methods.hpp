@@ -92,15 +92,25 @@ constexpr std::size_t kPopulationAbove = 6;
 constexpr double kPopulationSigma0 = 0.25;
 
 // auto's runs at most beyond a handful of parameters, while the polished best is above the
-// noise: Levenberg-Marquardt's, then CMA-ES's, a method of another kind for where
-// Levenberg-Marquardt's basins are poor (the road luminaire's profiles of
-// docs/optimization.md: 59.5 cd after Levenberg-Marquardt, 49.5 after CMA-ES).
+// noise: Levenberg-Marquardt's and CMA-ES's, methods of two kinds (kCmaesFirstUpTo: which
+// runs first).
 constexpr std::uint32_t kPopulationRuns = 4;
 // Of which Levenberg-Marquardt's (with coarse stages; one without), each with its own rays
 // in the coarse stages: on the 36-height freeform, one to three such runs end within
 // 1.07 x the noise floor for five search seeds of six (docs/optimization.md: 1400-2900
 // candidates a run, 5-7 minutes beside other work here), where CMA-ES's runs end 1.15-1.8 x.
 constexpr std::uint32_t kLevenbergRuns = 3;
+
+// Up to this many free parameters auto's first run is CMA-ES's, Levenberg-Marquardt's
+// runs after it; beyond, Levenberg-Marquardt's first and CMA-ES's last. Measured
+// (docs/optimization.md, the real-target table): at 8 and 16 heights, a profile's
+// Levenberg-Marquardt run descends from the paraboloid into the box's floor, a near-flat
+// bowl (the batwing's 16-height profile 38.6 cd, efficiency 0.28), where CMA-ES's
+// spread finds a better basin on all four targets (32.6 cd, 0.47); at 36 and 100
+// heights CMA-ES's covariance, which needs on the order of n^2 generations, is still
+// learning when its budget ends (the 36-height freeform 1.15-1.8 x the noise floor against
+// Levenberg-Marquardt's 1.07 x; every bspline row of the real-target table).
+constexpr std::size_t kCmaesFirstUpTo = 16;
 
 // pagmo2's CMA-ES or xNES (method_population.cpp), driven one generation at a time so that
 // each generation is traced as one batch. The run's state (mean, covariance, step size,
@@ -137,17 +147,19 @@ enum class ModeOrder { ByDegree, AllAtOnce };
 StopReason run_levenberg(Objective& objective, const std::vector<double>& x0,
                          LevenbergReport& report, ModeOrder order = ModeOrder::ByDegree);
 
-// auto beyond kPopulationAbove free parameters: Levenberg-Marquardt from the start (a
-// height grid's modes freed by degree, judged on the scene's far-field grid at the first
-// stage's rays), then the polish (Levenberg-Marquardt at the last stage's fidelity, the
-// modes freed by degree again). Where the polished best is above what noise explains
-// (stage_noise), more runs follow: Levenberg-Marquardt again from the start with the coarse
-// stages' rays of other streams (kLevenbergRuns in all where there are coarse stages), then
-// CMA-ES, each run with the generator's next stream through the stages (few rays on a coarse far
-// field first, the scene's last, each stage its own common random numbers), each run with its own
-// polish, up to kPopulationRuns runs in all while the budget holds another. With `retrace_start`
-// the start is traced again first thing in the first polish (a tailored start, an answer in itself:
-// the search then never ends above it at that fidelity, whatever the coarse stage's noise did).
+// auto beyond kPopulationAbove free parameters: runs from the start, each with its own
+// polish (Levenberg-Marquardt at the last stage's fidelity, a height grid's modes freed by
+// degree), while the polished best is above what noise explains (stage_noise) and the budget
+// holds another run, up to kPopulationRuns in all. A Levenberg-Marquardt run (a height grid's
+// modes freed by degree, judged on the scene's far-field grid at the coarse stages' rays;
+// kLevenbergRuns of them where there are coarse stages, one without), a run after its first
+// with the coarse stages' rays of other streams; a CMA-ES run through the stages (few rays on
+// a coarse far field first, the scene's last, each stage its own common random numbers), each
+// with the generator's next stream. Up to kCmaesFirstUpTo parameters CMA-ES runs first, then
+// Levenberg-Marquardt's runs; beyond, Levenberg-Marquardt's first, then CMA-ES. With
+// `retrace_start` the start is traced again first thing in the first polish (a tailored start,
+// an answer in itself: the search then never ends above it at that fidelity, whatever the
+// coarse stage's noise did).
 StopReason run_auto_population(Objective& objective, const std::vector<Fidelity>& stages,
                                PopulationReport& report, LevenbergReport& polish,
                                bool retrace_start = false);
