@@ -122,7 +122,9 @@ def main():
             title = f"{family} against {target} ({file})"
             path = os.path.join(out, f"{target}_{family}.toml")
             rel = os.path.relpath(os.path.join(CORPUS, file), out)
-            max_evals = 600 if family == "paraboloid" else 1500
+            # A profile: room for CMA-ES's run and its polish at 16 heights (about 1600
+            # candidates) and another run after it.
+            max_evals = {"paraboloid": 600, "profile8": 3000, "profile16": 3000}.get(family, 1500)
             text = HEADER.format(title=title) + body() + TAIL.format(target=rel, max_evals=max_evals)
             with open(path, "w") as f:
                 f.write(text)

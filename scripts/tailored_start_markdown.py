@@ -31,7 +31,8 @@ def scene_fidelity(j):
     """The stages traced as the last one is (its rays, seed and far-field grid)."""
     last = j["rays_per_evaluation"][-1]
     same = ("rays", "seed", "farfield")
-    return [st for st in j["rays_per_evaluation"] if all(st.get(k) == last.get(k) for k in same)]
+    return [st for st in j["rays_per_evaluation"]
+            if all(st.get(k) == last.get(k) for k in same) and st.get("best_l2") is not None]
 
 
 def reached(rows, stages, metric_key, level):

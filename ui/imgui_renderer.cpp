@@ -11,6 +11,11 @@ namespace fird::ui {
 
 ImGuiRenderer::ImGuiRenderer(const vk::Context& ctx, std::uint32_t frames)
     : ctx_(&ctx), slots_(std::max(1u, frames)) {
+    // record() draws each command at its VtxOffset, so a window may hold more than the 65,536
+    // vertices 16-bit indices reach: ImGui then splits its draw list at that bound instead of
+    // asserting (a freeform search's progress chart and its heights' charts, a dot for each
+    // of thousands of candidates, passed it).
+    ImGui::GetIO().BackendFlags |= ImGuiBackendFlags_RendererHasVtxOffset;
     unsigned char* pixels = nullptr;
     int w = 0, h = 0;
     ImGui::GetIO().Fonts->GetTexDataAsRGBA32(&pixels, &w, &h);

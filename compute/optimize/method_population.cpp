@@ -37,8 +37,8 @@ namespace {
 // trace at 1004).
 constexpr std::uint64_t kPopulationStream = 1003;
 // auto's restarts: run r (from 1) draws its generator from stream kRestartStreams + r, and
-// a Levenberg-Marquardt run r its stage s's rays from kRestartRayStreams + r S + s (S
-// stages).
+// its Levenberg-Marquardt run r (from 0; the first with the stages' own rays) its stage s's
+// rays from kRestartRayStreams + r S + s (S stages).
 constexpr std::uint64_t kRestartStreams = 1100;
 constexpr std::uint64_t kRestartRayStreams = 1200;
 
@@ -237,122 +237,144 @@ StopReason run_auto_population(Objective& f, const std::vector<Fidelity>& stages
                                bool retrace_start) {
     const std::size_t n = f.space().size();
     std::optional<double> best_polished;
-    // Levenberg-Marquardt starts again only with coarse stages to draw other rays for: with
-    // the scene's stage alone, another run would repeat the first candidate for candidate.
-    const std::uint32_t levenberg_runs = stages.size() > 1 ? kLevenbergRuns : 1;
-    // Levenberg-Marquardt's runs are numbers [first_levenberg, first_levenberg +
-    // levenberg_runs), CMA-ES's the others (kCmaesFirstUpTo).
-    const std::uint32_t first_levenberg = n <= kCmaesFirstUpTo ? 1 : 0;
+    // Beyond kCmaesFirstUpTo parameters, Levenberg-Marquardt's runs first (numbers [0,
+    // levenberg_runs)), CMA-ES's after; up to it, CMA-ES's first and one Levenberg-Marquardt
+    // run last. Levenberg-Marquardt starts again only with coarse stages to draw other rays
+    // for: with the scene's stage alone, another run would repeat the first candidate for
+    // candidate.
+    const bool cmaes_first = n <= kCmaesFirstUpTo;
+    const std::uint32_t levenberg_runs = cmaes_first || stages.size() == 1 ? 1 : kLevenbergRuns;
+    const std::uint32_t first_levenberg = cmaes_first ? kPopulationRuns - 1 : 0;
     const auto is_levenberg = [&](std::uint32_t number) {
         return number >= first_levenberg && number < first_levenberg + levenberg_runs;
     };
-    for (std::uint32_t number = 0; number < kPopulationRuns; ++number) {
-        const std::uint64_t first = f.evaluations();
-        const bool levenberg = is_levenberg(number);
-        PopulationReport::Run record{.method = levenberg ? "levenberg" : "cmaes"};
-        std::vector<double> x = f.space().start;
-        if (levenberg) {
-            // Levenberg-Marquardt from the start: the height grid's modes freed by degree
-            // on the first stage's coarse far field, the broad shape first, then all at
-            // once on the others'. Which basin it ends in is decided by its path through
-            // the coarse stages' noise (on the 36-height freeform from its flat start, one
-            // search seed of six ended with two corner heights 7-8 mm off), so a run after
-            // the first draws the coarse stages' rays from a stream of its own (the polish
-            // keeps the scene's rays, so that the runs' bests compare).
-            for (std::size_t s = 0; s + 1 < stages.size(); ++s) {
-                // Its steps judged on the scene's far-field grid at the stage's rays (its
-                // model takes coarser cells): on the explore stage's coarse grid alone,
-                // the 36-height freeform ended 2.4 x that grid's floor for one seed of five.
-                Fidelity fidelity = stages[s];
-                fidelity.farfield_w = stages.back().farfield_w;
-                fidelity.farfield_h = stages.back().farfield_h;
-                if (const std::uint32_t again = number - first_levenberg; again > 0)
-                    fidelity.seed = stream_seed(f.settings().seed,
-                                                kRestartRayStreams + again * stages.size() + s,
-                                                streams_avoid(f.scene()));
-                f.begin_stage(run_stage_name(s == 0 ? "explore" : "refine", number), fidelity);
-                LevenbergReport stage_report;
-                (void)run_levenberg(f, x, stage_report,
-                                    s == 0 ? ModeOrder::ByDegree : ModeOrder::AllAtOnce);
-                if (const Candidate* b = f.stage_best()) x = b->x;
+    std::uint32_t number = 0;
+    try {
+        for (; number < kPopulationRuns; ++number) {
+            const std::uint64_t first = f.evaluations();
+            const bool levenberg = is_levenberg(number);
+            PopulationReport::Run record{.method = levenberg ? "levenberg" : "cmaes"};
+            std::vector<double> x = f.space().start;
+            if (levenberg) {
+                // Levenberg-Marquardt from the start: the height grid's modes freed by degree
+                // on the first stage's coarse far field, the broad shape first, then all at
+                // once on the others'. Which basin it ends in is decided by its path through
+                // the coarse stages' noise (on the 36-height freeform from its flat start, one
+                // search seed of six ended with two corner heights 7-8 mm off), so a run after
+                // the first draws the coarse stages' rays from a stream of its own (the polish
+                // keeps the scene's rays, so that the runs' bests compare).
+                for (std::size_t s = 0; s + 1 < stages.size(); ++s) {
+                    // Its steps judged on the scene's far-field grid at the stage's rays (its
+                    // model takes coarser cells): on the explore stage's coarse grid alone,
+                    // the 36-height freeform ended 2.4 x that grid's floor for one seed of five.
+                    Fidelity fidelity = stages[s];
+                    fidelity.farfield_w = stages.back().farfield_w;
+                    fidelity.farfield_h = stages.back().farfield_h;
+                    if (const std::uint32_t again = number - first_levenberg; again > 0)
+                        fidelity.seed = stream_seed(f.settings().seed,
+                                                    kRestartRayStreams + again * stages.size() + s,
+                                                    streams_avoid(f.scene()));
+                    f.begin_stage(run_stage_name(s == 0 ? "explore" : "refine", number), fidelity);
+                    LevenbergReport stage_report;
+                    (void)run_levenberg(f, x, stage_report,
+                                        s == 0 ? ModeOrder::ByDegree : ModeOrder::AllAtOnce);
+                    if (const Candidate* b = f.stage_best()) x = b->x;
+                }
+            } else {
+                std::unique_ptr<PopulationSearch> search;
+                for (std::size_t s = 0; s < stages.size(); ++s) {
+                    const bool last = s + 1 == stages.size();
+                    f.begin_stage(run_stage_name(s == 0 ? "explore" : "refine", number), stages[s]);
+                    // The run begins in the first stage from the scene's start, a quarter of
+                    // each box wide (as the NLopt methods' first step), and carries its mean,
+                    // covariance and step size into the next stages, where only the rays change.
+                    if (!search)
+                        search = std::make_unique<PopulationSearch>(
+                            f, SearchMethod::Cmaes, f.space().start, kPopulationSigma0, report,
+                            number);
+                    // The coarse stages are cheap but noisy: each may use 30 (n + 1) candidates
+                    // (1110 for 36 heights, about 80 generations of 14) before the next takes
+                    // over; the last 40 (n + 1), enough to settle in a basin (measured on the
+                    // 36-height freeform: docs/optimization.md), which the polish then descends
+                    // far faster than CMA-ES, whose covariance needs on the order of n^2
+                    // generations to learn the valley.
+                    (void)search->run_stage((last ? 40 : 30) * (n + 1));
+                }
+                record.seed = report.seed;
+                record.generations = report.generations;
+                if (const Candidate* b = f.stage_best()) {
+                    x = b->x;
+                    record.before_polish = b->score;
+                }
             }
-        } else {
-            std::unique_ptr<PopulationSearch> search;
-            for (std::size_t s = 0; s < stages.size(); ++s) {
-                const bool last = s + 1 == stages.size();
-                f.begin_stage(run_stage_name(s == 0 ? "explore" : "refine", number), stages[s]);
-                // The run begins in the first stage from the scene's start, a quarter of
-                // each box wide (as the NLopt methods' first step), and carries its mean,
-                // covariance and step size into the next stages, where only the rays change.
-                if (!search)
-                    search = std::make_unique<PopulationSearch>(
-                        f, SearchMethod::Cmaes, f.space().start, kPopulationSigma0, report, number);
-                // The coarse stages are cheap but noisy: each may use 30 (n + 1) candidates
-                // (1110 for 36 heights, about 80 generations of 14) before the next takes
-                // over; the last 40 (n + 1), enough to settle in a basin (measured on the
-                // 36-height freeform: docs/optimization.md), which the polish then descends
-                // far faster than CMA-ES, whose covariance needs on the order of n^2
-                // generations to learn the valley.
-                (void)search->run_stage((last ? 40 : 30) * (n + 1));
+            // The polish, at the last stage's fidelity and rays, from the run's best so far
+            // (a tailored start traced there first: the search then never ends above it), the
+            // modes freed by degree again: the coarse stages' noise can leave the broad shape
+            // off (on the 36-height freeform, the whole grid 2 mm low for two search seeds of
+            // six), which every mode at once did not mend (1.26 and 1.5 x the noise floor),
+            // nor the piston and tilts first and then all (1.24 and 1.71 x); freed by degree
+            // at these rays, 1.15 and 1.18 x.
+            f.begin_stage(run_stage_name("polish", number), stages.back());
+            const std::uint64_t polish_first = f.evaluations();
+            if (retrace_start && number == 0) (void)f(f.space().snap(f.space().start));
+            if (levenberg) record.before_polish = f(x);
+            LevenbergReport this_polish;
+            (void)run_levenberg(f, x, this_polish, ModeOrder::ByDegree);
+            const Candidate* polished = f.stage_best();
+            record.candidates = f.evaluations() - first;
+            record.polished = polished ? polished->score : 0.0;
+            if (polished && (!best_polished || polished->score < *best_polished)) {
+                best_polished = polished->score;
+                polish = this_polish;
             }
-            record.seed = report.seed;
-            record.generations = report.generations;
-            if (const Candidate* b = f.stage_best()) {
-                x = b->x;
-                record.before_polish = b->score;
+            // At the noise: done. Else again, where the budget holds another run like this one.
+            bool again = false;
+            if (polished) {
+                const ConfirmNoise noise = stage_noise(f, polished->x, polished->l2_lm);
+                record.noise_limit = noise.limit_lm;
+                again = polished->l2_lm > noise.limit_lm;
+            }
+            report.runs.push_back(record);
+            if (!again) {
+                report.verdict = fmt::format("run {} ({}) polished to what noise explains",
+                                             number + 1, record.method);
+                return StopReason::Converged;
+            }
+            if (number + 1 == kPopulationRuns) {
+                report.verdict = fmt::format("{} runs, the best {:.4g} above what noise explains",
+                                             report.runs.size(), *best_polished);
+                return StopReason::Converged;
+            }
+            // How long the next run will be, about: a CMA-ES run its stages' budgets (30 (n + 1)
+            // each, 40 (n + 1) the last) and a polish, so at least those and at least as long as
+            // this run; a Levenberg-Marquardt run after another as long as that one; after a
+            // CMA-ES run, a descent from the start at the coarse stages' rays and a polish like
+            // this run's, so twice this polish (a CMA-ES run's length would leave half the
+            // budget unused: the road luminaire's 8-height profile stopped at 795 of 1500).
+            const std::uint64_t cmaes = (30 * (stages.size() - 1) + 40) * (n + 1);
+            const std::uint64_t this_polish_candidates = f.evaluations() - polish_first;
+            const std::uint64_t next = !is_levenberg(number + 1)
+                                           ? std::max<std::uint64_t>(record.candidates, cmaes)
+                                       : levenberg ? record.candidates
+                                                   : 2 * this_polish_candidates;
+            if (f.remaining() < next) {
+                report.verdict =
+                    fmt::format("{} runs, the best {:.4g} above what noise explains; the budget "
+                                "left ({}) holds "
+                                "no other run (about {} candidates)",
+                                report.runs.size(), *best_polished, f.remaining(), next);
+                return StopReason::MaxEvaluations;
             }
         }
-        // The polish, at the last stage's fidelity and rays, from the run's best so far
-        // (a tailored start traced there first: the search then never ends above it), the
-        // modes freed by degree again: the coarse stages' noise can leave the broad shape
-        // off (on the 36-height freeform, the whole grid 2 mm low for two search seeds of
-        // six), which every mode at once did not mend (1.26 and 1.5 x the noise floor),
-        // nor the piston and tilts first and then all (1.24 and 1.71 x); freed by degree
-        // at these rays, 1.15 and 1.18 x.
-        f.begin_stage(run_stage_name("polish", number), stages.back());
-        if (retrace_start && number == 0) (void)f(f.space().snap(f.space().start));
-        if (levenberg) record.before_polish = f(x);
-        LevenbergReport this_polish;
-        (void)run_levenberg(f, x, this_polish, ModeOrder::ByDegree);
-        const Candidate* polished = f.stage_best();
-        record.candidates = f.evaluations() - first;
-        record.polished = polished ? polished->score : 0.0;
-        if (polished && (!best_polished || polished->score < *best_polished)) {
-            best_polished = polished->score;
-            polish = this_polish;
-        }
-        // At the noise: done. Else again, where the budget holds another run like this one.
-        bool again = false;
-        if (polished) {
-            const ConfirmNoise noise = stage_noise(f, polished->x, polished->l2_lm);
-            record.noise_limit = noise.limit_lm;
-            again = polished->l2_lm > noise.limit_lm;
-        }
-        report.runs.push_back(record);
-        if (!again) {
-            report.verdict = fmt::format("run {} ({}) polished to what noise explains", number + 1,
-                                         record.method);
-            return StopReason::Converged;
-        }
-        if (number + 1 == kPopulationRuns) {
-            report.verdict = fmt::format("{} runs, the best {:.4g} above what noise explains",
-                                         report.runs.size(), *best_polished);
-            return StopReason::Converged;
-        }
-        // Another Levenberg-Marquardt run about as long as this one; a CMA-ES run its
-        // stages' budgets (30 (n + 1) each, 40 (n + 1) the last) and a polish: after
-        // Levenberg-Marquardt's shorter runs, at least those; else as long as the last.
-        const std::uint64_t cmaes = (30 * (stages.size() - 1) + 40) * (n + 1);
-        const bool cmaes_next = !is_levenberg(number + 1);
-        const std::uint64_t next =
-            cmaes_next ? std::max<std::uint64_t>(record.candidates, cmaes) : record.candidates;
-        if (f.remaining() < next) {
-            report.verdict = fmt::format(
-                "{} runs, the best {:.4g} above what noise explains; the budget left ({}) holds "
-                "no other run (about {} candidates)",
-                report.runs.size(), *best_polished, f.remaining(), next);
-            return StopReason::MaxEvaluations;
-        }
+    } catch (const SearchStopped& stop) {
+        // A run cut short (the budget, a threshold, Ctrl-C): the report says which, not the
+        // verdict of its last completed stage.
+        report.verdict = fmt::format(
+            "run {} ({}) stopped ({}) in its stage {}, after {} complete run{}", number + 1,
+            is_levenberg(number) ? "levenberg" : "cmaes", stop_reason_name(stop.reason),
+            f.stages().empty() ? std::string("-") : f.stages().back().name, report.runs.size(),
+            report.runs.size() == 1 ? "" : "s");
+        throw;
     }
     return StopReason::Converged;
 }

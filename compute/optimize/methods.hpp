@@ -82,9 +82,10 @@ StopReason run_sub_step(Objective& objective, const std::vector<double>& centre,
 void run_refine(Objective& objective, std::uint32_t lattice_stage, const ConfirmNoise& noise,
                 const std::vector<FlatDirection>& flat, RefineReport& report);
 
-// More free parameters than this and auto searches with CMA-ES instead of DIRECT and the
-// lattice: DIRECT's budget grows as 12 m (m + 1) and a lattice neighbourhood with pairs of
-// steps as 2 m^2, both out of reach at tens of heights (docs/optimization.md).
+// More free parameters than this and auto searches in runs of Levenberg-Marquardt and
+// CMA-ES (run_auto_population) instead of DIRECT and the lattice: DIRECT's budget grows as
+// 12 m (m + 1) and a lattice neighbourhood with pairs of steps as 2 m^2, both out of reach
+// at tens of heights (docs/optimization.md).
 constexpr std::size_t kPopulationAbove = 6;
 
 // A population search's first spread, a fraction of each parameter's box: a quarter, as the
@@ -95,21 +96,25 @@ constexpr double kPopulationSigma0 = 0.25;
 // noise: Levenberg-Marquardt's and CMA-ES's, methods of two kinds (kCmaesFirstUpTo: which
 // runs first).
 constexpr std::uint32_t kPopulationRuns = 4;
-// Of which Levenberg-Marquardt's (with coarse stages; one without), each with its own rays
+// Of which Levenberg-Marquardt's beyond kCmaesFirstUpTo parameters (with coarse stages; one
+// without), each with its own rays
 // in the coarse stages: on the 36-height freeform, one to three such runs end within
 // 1.07 x the noise floor for five search seeds of six (docs/optimization.md: 1400-2900
 // candidates a run, 5-7 minutes beside other work here), where CMA-ES's runs end 1.15-1.8 x.
 constexpr std::uint32_t kLevenbergRuns = 3;
 
-// Up to this many free parameters auto's first run is CMA-ES's, Levenberg-Marquardt's
-// runs after it; beyond, Levenberg-Marquardt's first and CMA-ES's last. Measured
-// (docs/optimization.md, the real-target table): at 8 and 16 heights, a profile's
-// Levenberg-Marquardt run descends from the paraboloid into the box's floor, a near-flat
-// bowl (the batwing's 16-height profile 38.6 cd, efficiency 0.28), where CMA-ES's
-// spread finds a better basin on all four targets (32.6 cd, 0.47); at 36 and 100
-// heights CMA-ES's covariance, which needs on the order of n^2 generations, is still
-// learning when its budget ends (the 36-height freeform 1.15-1.8 x the noise floor against
-// Levenberg-Marquardt's 1.07 x; every bspline row of the real-target table).
+// Up to this many free parameters auto's runs are CMA-ES's, each with the generator's next
+// stream, and one Levenberg-Marquardt run last; beyond, kLevenbergRuns Levenberg-Marquardt
+// runs first and CMA-ES's after. Measured (docs/optimization.md, the real-target table): at
+// 8 and 16 heights, a profile's Levenberg-Marquardt run descends from the paraboloid into
+// the box's floor, a near-flat bowl (the batwing's 16-height profile 38.6 cd, efficiency
+// 0.28), where CMA-ES's spread finds a better basin on all four targets (32.6 cd, 0.47);
+// after a CMA-ES run above the noise (the road luminaire's 8-height profile, 58.6 cd), a
+// Levenberg-Marquardt run from the start ended at 57.8-60.9 cd in three tries, a second
+// CMA-ES run at 55.1 and 57.8. At 36 and 100 heights CMA-ES's covariance, which needs on
+// the order of n^2 generations, is still learning when its budget ends (the 36-height
+// freeform 1.15-1.8 x the noise floor against Levenberg-Marquardt's 1.07 x; every bspline
+// row of the real-target table).
 constexpr std::size_t kCmaesFirstUpTo = 16;
 
 // pagmo2's CMA-ES or xNES (method_population.cpp), driven one generation at a time so that
@@ -150,13 +155,13 @@ StopReason run_levenberg(Objective& objective, const std::vector<double>& x0,
 // auto beyond kPopulationAbove free parameters: runs from the start, each with its own
 // polish (Levenberg-Marquardt at the last stage's fidelity, a height grid's modes freed by
 // degree), while the polished best is above what noise explains (stage_noise) and the budget
-// holds another run, up to kPopulationRuns in all. A Levenberg-Marquardt run (a height grid's
-// modes freed by degree, judged on the scene's far-field grid at the coarse stages' rays;
-// kLevenbergRuns of them where there are coarse stages, one without), a run after its first
-// with the coarse stages' rays of other streams; a CMA-ES run through the stages (few rays on
-// a coarse far field first, the scene's last, each stage its own common random numbers), each
-// with the generator's next stream. Up to kCmaesFirstUpTo parameters CMA-ES runs first, then
-// Levenberg-Marquardt's runs; beyond, Levenberg-Marquardt's first, then CMA-ES. With
+// holds another run, up to kPopulationRuns in all. A Levenberg-Marquardt run: a height grid's
+// modes freed by degree, judged on the scene's far-field grid at the coarse stages' rays, a
+// run after its first with the coarse stages' rays of other streams. A CMA-ES run: through
+// the stages (few rays on a coarse far field first, the scene's last, each stage its own
+// common random numbers), each with the generator's next stream. Up to kCmaesFirstUpTo
+// parameters CMA-ES's runs first and one Levenberg-Marquardt run last; beyond, kLevenbergRuns
+// Levenberg-Marquardt runs (one with a single stage) first, then CMA-ES's. With
 // `retrace_start` the start is traced again first thing in the first polish (a tailored start,
 // an answer in itself: the search then never ends above it at that fidelity, whatever the
 // coarse stage's noise did).

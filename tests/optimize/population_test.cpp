@@ -252,13 +252,15 @@ Scene freeform_the_box_cannot_reach(const Scene& freeform) {
 }
 
 // The order of auto's runs by the number of free parameters (kCmaesFirstUpTo): up to it
-// CMA-ES, then the Levenberg-Marquardt runs; beyond, the Levenberg-Marquardt runs, then
-// CMA-ES. kPopulationRuns in all where there are coarse stages and the budget holds them.
-std::vector<std::string> auto_runs(std::size_t n) {
+// CMA-ES's, then one Levenberg-Marquardt run; beyond, kLevenbergRuns Levenberg-Marquardt runs
+// (one with a single stage), then CMA-ES's. kPopulationRuns in all where the budget holds them.
+std::vector<std::string> auto_runs(std::size_t n, std::size_t stages) {
     std::vector<std::string> runs(kPopulationRuns, "cmaes");
-    const std::uint32_t first = n <= kCmaesFirstUpTo ? 1 : 0;
-    for (std::uint32_t k = first; k < first + kLevenbergRuns; ++k)
-        runs[k] = "levenberg";
+    if (n <= kCmaesFirstUpTo)
+        runs.back() = "levenberg";
+    else
+        for (std::uint32_t k = 0; k < (stages > 1 ? kLevenbergRuns : 1); ++k)
+            runs[k] = "levenberg";
     return runs;
 }
 
@@ -274,10 +276,10 @@ TEST_P(AutoStartsAgain, WhileThePolishedBestIsAboveTheNoise) {
     // The budget holds every run here.
     ASSERT_EQ(runs.size(), std::size_t(kPopulationRuns)) << r.population->verdict;
     static_assert(kLevenbergRuns < kPopulationRuns);
-    const std::vector<std::string> order = auto_runs(n);
+    const std::vector<std::string> order = auto_runs(n, 2);
     std::uint64_t candidates = 0;
-    std::vector<std::string> levenberg_explores; // their explore stages, in order
-    std::string cmaes_explore;
+    std::vector<std::string> levenberg_explores, cmaes_explores; // their explore stages
+    std::set<std::uint32_t> generators;                          // the CMA-ES runs' streams
     for (std::size_t k = 0; k < runs.size(); ++k) {
         candidates += runs[k].candidates;
         EXPECT_GT(runs[k].noise_limit, 0.0) << k;
@@ -289,23 +291,30 @@ TEST_P(AutoStartsAgain, WhileThePolishedBestIsAboveTheNoise) {
         ASSERT_NE(named(r, explore), r.stages.end()) << explore;
         ASSERT_NE(named(r, k == 0 ? "polish" : "polish " + std::to_string(k + 1)), r.stages.end())
             << k;
-        if (runs[k].method == "levenberg")
+        if (runs[k].method == "levenberg") {
             levenberg_explores.push_back(explore);
-        else if (cmaes_explore.empty())
-            cmaes_explore = explore;
+        } else {
+            cmaes_explores.push_back(explore);
+            generators.insert(runs[k].seed);
+        }
     }
     // Every candidate belongs to a reported run.
     EXPECT_EQ(candidates, r.history.size()) << r.population->verdict;
-    ASSERT_EQ(levenberg_explores.size(), std::size_t(kLevenbergRuns));
-    // Levenberg-Marquardt's first run: the scene's coarse rays, as CMA-ES's coarse stage
-    // (the stages' own streams; its far field the scene's grid, where CMA-ES's is the
-    // stage's coarse one).
+    ASSERT_FALSE(levenberg_explores.empty());
+    ASSERT_FALSE(cmaes_explores.empty());
+    // Each CMA-ES run its own generator; their coarse stages the scene's first rays.
+    EXPECT_EQ(generators.size(), cmaes_explores.size());
+    const std::uint64_t coarse_seed = r.stages[0].fidelity.seed;
+    for (const std::string& explore : cmaes_explores)
+        EXPECT_EQ(named(r, explore)->fidelity.seed, coarse_seed) << explore;
+    // Levenberg-Marquardt's first run: those rays too, at the same count (its far field the
+    // scene's grid, where CMA-ES's is the stage's coarse one).
     const auto first = named(r, levenberg_explores[0]);
-    EXPECT_EQ(first->fidelity.seed, named(r, "explore")->fidelity.seed);
-    EXPECT_EQ(named(r, cmaes_explore)->fidelity.seed, named(r, "explore")->fidelity.seed);
-    EXPECT_EQ(named(r, cmaes_explore)->fidelity.rays, first->fidelity.rays);
-    // Its later runs: their coarse stage's rays other streams', at the same count and grid;
-    // other rays, another path: they end at other points.
+    EXPECT_EQ(first->fidelity.seed, coarse_seed);
+    EXPECT_EQ(first->fidelity.rays, named(r, cmaes_explores[0])->fidelity.rays);
+    EXPECT_NE(first->fidelity.farfield_w, named(r, cmaes_explores[0])->fidelity.farfield_w);
+    // Its later runs (beyond kCmaesFirstUpTo): their coarse stage's rays other streams', at
+    // the same count and grid; other rays, another path: they end at other points.
     for (std::size_t k = 1; k < levenberg_explores.size(); ++k) {
         Fidelity other = named(r, levenberg_explores[k])->fidelity;
         for (std::size_t j = 0; j < k; ++j)
@@ -340,41 +349,52 @@ INSTANTIATE_TEST_SUITE_P(ByFreeParameters, AutoStartsAgain,
                                                                                    : "TwentyFive";
                          });
 
-// With one stage (one ray count) there are no coarse rays to draw again: a second
-// Levenberg-Marquardt run would repeat the first, so there is one, CMA-ES's runs around it.
-TEST_F(PopulationRules, AutoWithOneStageRunsLevenbergOnce) {
-    for (const char* name : {"freeform_search.toml", "freeform_search_5x5.toml"}) {
-        Scene s = freeform_the_box_cannot_reach(scene(name));
-        s.optimize.rays = {20000};
-        s.optimize.max_evaluations = 2000;
-        const std::size_t n = parameter_space(s).size();
-        const SearchResult r = search(ctx(), s, SearchMethod::Auto).result;
-        ASSERT_TRUE(r.population);
-        const auto& runs = r.population->runs;
-        ASSERT_GE(runs.size(), 2u) << name << ": " << r.population->verdict;
-        const std::size_t levenberg = n <= kCmaesFirstUpTo ? 1 : 0;
-        for (std::size_t k = 0; k < runs.size(); ++k)
-            EXPECT_EQ(runs[k].method, k == levenberg ? "levenberg" : "cmaes") << name << k;
-    }
+// With one stage (one ray count) there are no coarse rays to draw again: beyond
+// kCmaesFirstUpTo parameters a second Levenberg-Marquardt run would repeat the first, so
+// CMA-ES follows it.
+TEST_F(PopulationRules, AutoWithOneStageBeyondSixteenFollowsLevenbergWithCmaes) {
+    Scene s = freeform_the_box_cannot_reach(scene("freeform_search_5x5.toml"));
+    s.optimize.rays = {20000};
+    s.optimize.max_evaluations = 2000;
+    const std::size_t n = parameter_space(s).size();
+    ASSERT_GT(n, kCmaesFirstUpTo);
+    const SearchResult r = search(ctx(), s, SearchMethod::Auto).result;
+    ASSERT_TRUE(r.population);
+    const auto& runs = r.population->runs;
+    ASSERT_GE(runs.size(), 2u) << r.population->verdict;
+    const std::vector<std::string> order = auto_runs(n, 1);
+    for (std::size_t k = 0; k < runs.size(); ++k)
+        EXPECT_EQ(runs[k].method, order[k]) << k;
+    EXPECT_EQ(runs[1].method, "cmaes");
 }
 
-// Ctrl-C in the middle of auto's second Levenberg-Marquardt run (its coarse stage, whose
-// rays are another stream's): resumed from that history, the search replays the recorded
-// candidates and ends exactly where the uninterrupted one does.
-TEST_F(PopulationRules, AutoInterruptedInItsSecondRunAndResumedEndsWhereTheUninterruptedOneDoes) {
-    Scene s = freeform_the_box_cannot_reach(scene("freeform_search_5x5.toml"));
-    ASSERT_EQ(auto_runs(parameter_space(s).size())[1], "levenberg");
-    s.optimize.max_evaluations = 2000;
+// Ctrl-C in the middle of a later run of auto (its coarse stage): resumed from that history,
+// the search replays the recorded candidates and ends exactly where the uninterrupted one
+// does. Nine parameters: in the Levenberg-Marquardt run after three CMA-ES runs; 25: in the
+// second Levenberg-Marquardt run, whose coarse rays are another stream's.
+struct InterruptedRun {
+    const char* scene;
+    std::uint64_t max_evaluations;
+    std::size_t run; // from 0
+};
+
+class AutoInterrupted : public VulkanTest, public ::testing::WithParamInterface<InterruptedRun> {};
+
+TEST_P(AutoInterrupted, InALaterRunAndResumedEndsWhereTheUninterruptedOneDoes) {
+    Scene s = freeform_the_box_cannot_reach(scene(GetParam().scene));
+    ASSERT_EQ(auto_runs(parameter_space(s).size(), 2)[GetParam().run], "levenberg");
+    s.optimize.max_evaluations = GetParam().max_evaluations;
+    const std::string stage = "explore " + std::to_string(GetParam().run + 1);
     const auto whole = search(ctx(), s, SearchMethod::Auto).result;
     std::optional<std::uint64_t> cut_at;
     for (const Candidate& c : whole.history)
-        if (whole.stages[c.stage].name == "explore 2") {
+        if (whole.stages[c.stage].name == stage) {
             cut_at = c.index + 60; // within its first Jacobian's batch or just after
             break;
         }
-    ASSERT_TRUE(cut_at);
+    ASSERT_TRUE(cut_at) << whole.population->verdict;
     ASSERT_LT(*cut_at, whole.history.size());
-    ASSERT_EQ(whole.stages[whole.history[*cut_at].stage].name, "explore 2");
+    ASSERT_EQ(whole.stages[whole.history[*cut_at].stage].name, stage);
     SearchControl control;
     const auto cut = search(ctx(), s, SearchMethod::Auto, &control, {},
                             [&](const Candidate& c, const StageSummary&) {
@@ -383,6 +403,12 @@ TEST_F(PopulationRules, AutoInterruptedInItsSecondRunAndResumedEndsWhereTheUnint
                          .result;
     EXPECT_EQ(cut.stopped, StopReason::Interrupted);
     ASSERT_GT(cut.history.size(), *cut_at);
+    // The report names the run cut short, not its last complete stage's verdict.
+    ASSERT_TRUE(cut.population);
+    EXPECT_EQ(cut.population->runs.size(), GetParam().run);
+    const std::string verdict = "run " + std::to_string(GetParam().run + 1) +
+                                " (levenberg) stopped (interrupted) in its stage " + stage;
+    EXPECT_EQ(cut.population->verdict.rfind(verdict, 0), 0u) << cut.population->verdict;
     const auto resumed = search(ctx(), s, SearchMethod::Auto, nullptr, cut.history).result;
     expect_resumed_is_whole(resumed, whole, cut.history.size());
     ASSERT_TRUE(resumed.population && whole.population);
@@ -391,6 +417,15 @@ TEST_F(PopulationRules, AutoInterruptedInItsSecondRunAndResumedEndsWhereTheUnint
         EXPECT_EQ(resumed.population->runs[k].polished, whole.population->runs[k].polished) << k;
     EXPECT_EQ(resumed.best_score, whole.best_score);
 }
+
+INSTANTIATE_TEST_SUITE_P(ByFreeParameters, AutoInterrupted,
+                         ::testing::Values(InterruptedRun{"freeform_search.toml", 6000, 3},
+                                           InterruptedRun{"freeform_search_5x5.toml", 2000, 1}),
+                         [](const auto& p) {
+                             return std::string(p.param.scene) == "freeform_search.toml"
+                                        ? "Nine"
+                                        : "TwentyFive";
+                         });
 
 // A start the request gives, marked tailored (fird optimize --start tailored): the search
 // begins there (history row 0), reports it, and auto traces it again first in its polish
@@ -435,9 +470,20 @@ TEST_F(PopulationRules, AGenerationsBendingEnergiesAreEachCandidatesMeasuredAlon
     s.optimize.max_evaluations = 60;
     s.target.kind = TargetDesc::Kind::Reflector;
     s.target.parameters = {{"h_2", 1.0}};
-    const SearchResult r = search(ctx(), s, SearchMethod::Cmaes).result;
+    // Traced in batches (as AGenerationIsTracedAsOneBatch... counts them): the device's
+    // submission count takes far fewer values over the candidates than there are candidates.
+    std::set<std::uint64_t> submissions;
+    std::size_t traced = 0;
+    const SearchResult r = search(ctx(), s, SearchMethod::Cmaes, nullptr, {},
+                                  [&](const Candidate& c, const StageSummary&) {
+                                      if (!c.feasible) return;
+                                      ++traced;
+                                      submissions.insert(ctx().submissions());
+                                  })
+                               .result;
     ASSERT_TRUE(r.population);
     ASSERT_GE(r.population->generations, 3u);
+    EXPECT_LT(submissions.size(), traced / 3) << "one submission per candidate: " << traced;
     const ParameterSpace space = parameter_space(s);
     std::set<double> energies;
     std::size_t feasible = 0;

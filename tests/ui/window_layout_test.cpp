@@ -224,6 +224,26 @@ TEST(TailoredStart, TheWindowsSearchBeginsAtTheTailoredProfile) {
         EXPECT_EQ(stats.at("parameters").at(name).get<double>(), value.get<double>()) << name;
 }
 
+// tests/ui/freeform_search.fird: auto on nine free heights ran to its end in the window
+// (hundreds of candidates on its charts, more vertices in one window than 16-bit indices
+// reach), CMA-ES's run first as the command runs it, and its best went on the sliders.
+TEST(FreeformSearch, TheWindowsAutoSearchRunsToItsEndWithItsBestOnTheSliders) {
+    const auto stats = read_stats("freeform_stats.json");
+    std::ifstream in(std::string(FIRD_UI_DATA_DIR) +
+                     "/data_freeform/fird/runs/freeform_search-optimize-1/search.json");
+    ASSERT_TRUE(in);
+    const auto search = nlohmann::json::parse(in);
+    EXPECT_EQ(search.at("method"), "auto");
+    EXPECT_EQ(search.at("stopped"), "converged");
+    const auto& runs = search.at("population").at("runs");
+    ASSERT_FALSE(runs.empty());
+    EXPECT_EQ(runs.at(0).at("method"), "cmaes");
+    EXPECT_GT(search.at("evaluations").get<int>(), 300);
+    ASSERT_EQ(search.at("best_parameters").size(), 9u);
+    for (const auto& [name, value] : search.at("best_parameters").items())
+        EXPECT_EQ(stats.at("parameters").at(name).get<double>(), value.get<double>()) << name;
+}
+
 // The rows of a tolerance.csv, each split at its commas, the header first.
 std::vector<std::vector<std::string>> csv_rows(const std::string& path) {
     std::ifstream in(path);
