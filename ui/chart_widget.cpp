@@ -13,6 +13,9 @@ namespace {
 
 // A point within this many pixels of the mouse is the one the readout names.
 constexpr double kHoverPx = 8.0;
+// The most points one ImDrawList::AddPolyline is given (draw_series): 4 vertices a point at
+// most, so 8192 points stay far below the 65,536 vertices of one 16-bit-indexed piece.
+constexpr std::size_t kPolylinePoints = 8192;
 
 ImU32 with_alpha(ImU32 c, float alpha) {
     ImVec4 v = ImGui::ColorConvertU32ToFloat4(c);
@@ -73,8 +76,16 @@ void draw_series(ImDrawList* dl, const plot::Chart& c, const plot::Series& s,
         if (s.dashed)
             for (std::size_t i = 1; i < run.size(); ++i)
                 dashed_line(dl, run[i - 1], run[i], colour, float(s.width));
-        else if (run.size() >= 2)
-            dl->AddPolyline(run.data(), int(run.size()), colour, 0, float(s.width));
+        else
+            // In pieces of at most kPolylinePoints, each starting where the last ended: ImGui
+            // splits a draw list at 16-bit indices' 65,536 vertices only between primitives,
+            // and one polyline past the bound wraps its indices (wrong triangles drawn); an
+            // anti-aliased polyline takes up to 4 vertices a point, and a stage's best-so-far
+            // line has a point per candidate (100,000 for a long CMA-ES search).
+            for (std::size_t first = 0; first + 1 < run.size(); first += kPolylinePoints - 1)
+                dl->AddPolyline(run.data() + first,
+                                int(std::min(kPolylinePoints, run.size() - first)), colour, 0,
+                                float(s.width));
         run.clear();
     };
     for (std::size_t i = 0; i < n; ++i)

@@ -97,8 +97,8 @@ constexpr double kPopulationSigma0 = 0.25;
 // runs first).
 constexpr std::uint32_t kPopulationRuns = 4;
 // Of which Levenberg-Marquardt's beyond kCmaesFirstUpTo parameters (with coarse stages; one
-// without), each with its own rays
-// in the coarse stages: on the 36-height freeform, one to three such runs end within
+// without), each with its own rays in the coarse stages: on the 36-height freeform, one to
+// three such runs end within
 // 1.07 x the noise floor for five search seeds of six (docs/optimization.md: 1400-2900
 // candidates a run, 5-7 minutes beside other work here), where CMA-ES's runs end 1.15-1.8 x.
 constexpr std::uint32_t kLevenbergRuns = 3;
