@@ -230,6 +230,69 @@ std::string run_stage_name(const char* name, std::uint32_t number) {
     return number == 0 ? name : fmt::format("{} {}", name, number + 1);
 }
 
+// A Levenberg-Marquardt run's stages before its polish, from the start: the height grid's
+// modes freed by degree on the first stage's coarse far field, the broad shape first, then
+// all at once on the others'. Which basin it ends in is decided by its path through the
+// coarse stages' noise (on the 36-height freeform from its flat start, one search seed of
+// six ended with two corner heights 7-8 mm off), so a run after the first (`again` > 0)
+// draws the coarse stages' rays from a stream of its own (the polish keeps the scene's rays,
+// so that the runs' bests compare). Returns the best point.
+std::vector<double> levenberg_descent(Objective& f, const std::vector<Fidelity>& stages,
+                                      std::uint32_t number, std::uint32_t again) {
+    std::vector<double> x = f.space().start;
+    for (std::size_t s = 0; s + 1 < stages.size(); ++s) {
+        // Its steps judged on the scene's far-field grid at the stage's rays (its model takes
+        // coarser cells): on the explore stage's coarse grid alone, the 36-height freeform
+        // ended 2.4 x that grid's floor for one seed of five.
+        Fidelity fidelity = stages[s];
+        fidelity.farfield_w = stages.back().farfield_w;
+        fidelity.farfield_h = stages.back().farfield_h;
+        if (again > 0)
+            fidelity.seed =
+                stream_seed(f.settings().seed, kRestartRayStreams + again * stages.size() + s,
+                            streams_avoid(f.scene()));
+        f.begin_stage(run_stage_name(s == 0 ? "explore" : "refine", number), fidelity);
+        LevenbergReport stage_report;
+        (void)run_levenberg(f, x, stage_report,
+                            s == 0 ? ModeOrder::ByDegree : ModeOrder::AllAtOnce);
+        if (const Candidate* b = f.stage_best()) x = b->x;
+    }
+    return x;
+}
+
+// A CMA-ES run through every stage, from the start: `record` gets its generator and
+// generations, and its best before the polish. Returns the best point.
+std::vector<double> cmaes_stages(Objective& f, const std::vector<Fidelity>& stages,
+                                 std::uint32_t number, PopulationReport& report,
+                                 PopulationReport::Run& record) {
+    const std::size_t n = f.space().size();
+    std::vector<double> x = f.space().start;
+    std::unique_ptr<PopulationSearch> search;
+    for (std::size_t s = 0; s < stages.size(); ++s) {
+        const bool last = s + 1 == stages.size();
+        f.begin_stage(run_stage_name(s == 0 ? "explore" : "refine", number), stages[s]);
+        // The run begins in the first stage from the scene's start, a quarter of each box
+        // wide (as the NLopt methods' first step), and carries its mean, covariance and step
+        // size into the next stages, where only the rays change.
+        if (!search)
+            search = std::make_unique<PopulationSearch>(f, SearchMethod::Cmaes, f.space().start,
+                                                        kPopulationSigma0, report, number);
+        // The coarse stages are cheap but noisy: each may use 30 (n + 1) candidates (1110 for
+        // 36 heights, about 80 generations of 14) before the next takes over; the last
+        // 40 (n + 1), enough to settle in a basin (measured on the 36-height freeform:
+        // docs/optimization.md), which the polish then descends far faster than CMA-ES, whose
+        // covariance needs on the order of n^2 generations to learn the valley.
+        (void)search->run_stage((last ? 40 : 30) * (n + 1));
+    }
+    record.seed = report.seed;
+    record.generations = report.generations;
+    if (const Candidate* b = f.stage_best()) {
+        x = b->x;
+        record.before_polish = b->score;
+    }
+    return x;
+}
+
 } // namespace
 
 StopReason run_auto_population(Objective& f, const std::vector<Fidelity>& stages,
@@ -254,59 +317,9 @@ StopReason run_auto_population(Objective& f, const std::vector<Fidelity>& stages
             const std::uint64_t first = f.evaluations();
             const bool levenberg = is_levenberg(number);
             PopulationReport::Run record{.method = levenberg ? "levenberg" : "cmaes"};
-            std::vector<double> x = f.space().start;
-            if (levenberg) {
-                // Levenberg-Marquardt from the start: the height grid's modes freed by degree
-                // on the first stage's coarse far field, the broad shape first, then all at
-                // once on the others'. Which basin it ends in is decided by its path through
-                // the coarse stages' noise (on the 36-height freeform from its flat start, one
-                // search seed of six ended with two corner heights 7-8 mm off), so a run after
-                // the first draws the coarse stages' rays from a stream of its own (the polish
-                // keeps the scene's rays, so that the runs' bests compare).
-                for (std::size_t s = 0; s + 1 < stages.size(); ++s) {
-                    // Its steps judged on the scene's far-field grid at the stage's rays (its
-                    // model takes coarser cells): on the explore stage's coarse grid alone,
-                    // the 36-height freeform ended 2.4 x that grid's floor for one seed of five.
-                    Fidelity fidelity = stages[s];
-                    fidelity.farfield_w = stages.back().farfield_w;
-                    fidelity.farfield_h = stages.back().farfield_h;
-                    if (const std::uint32_t again = number - first_levenberg; again > 0)
-                        fidelity.seed = stream_seed(f.settings().seed,
-                                                    kRestartRayStreams + again * stages.size() + s,
-                                                    streams_avoid(f.scene()));
-                    f.begin_stage(run_stage_name(s == 0 ? "explore" : "refine", number), fidelity);
-                    LevenbergReport stage_report;
-                    (void)run_levenberg(f, x, stage_report,
-                                        s == 0 ? ModeOrder::ByDegree : ModeOrder::AllAtOnce);
-                    if (const Candidate* b = f.stage_best()) x = b->x;
-                }
-            } else {
-                std::unique_ptr<PopulationSearch> search;
-                for (std::size_t s = 0; s < stages.size(); ++s) {
-                    const bool last = s + 1 == stages.size();
-                    f.begin_stage(run_stage_name(s == 0 ? "explore" : "refine", number), stages[s]);
-                    // The run begins in the first stage from the scene's start, a quarter of
-                    // each box wide (as the NLopt methods' first step), and carries its mean,
-                    // covariance and step size into the next stages, where only the rays change.
-                    if (!search)
-                        search = std::make_unique<PopulationSearch>(
-                            f, SearchMethod::Cmaes, f.space().start, kPopulationSigma0, report,
-                            number);
-                    // The coarse stages are cheap but noisy: each may use 30 (n + 1) candidates
-                    // (1110 for 36 heights, about 80 generations of 14) before the next takes
-                    // over; the last 40 (n + 1), enough to settle in a basin (measured on the
-                    // 36-height freeform: docs/optimization.md), which the polish then descends
-                    // far faster than CMA-ES, whose covariance needs on the order of n^2
-                    // generations to learn the valley.
-                    (void)search->run_stage((last ? 40 : 30) * (n + 1));
-                }
-                record.seed = report.seed;
-                record.generations = report.generations;
-                if (const Candidate* b = f.stage_best()) {
-                    x = b->x;
-                    record.before_polish = b->score;
-                }
-            }
+            std::vector<double> x =
+                levenberg ? levenberg_descent(f, stages, number, number - first_levenberg)
+                          : cmaes_stages(f, stages, number, report, record);
             // The polish, at the last stage's fidelity and rays, from the run's best so far
             // (a tailored start traced there first: the search then never ends above it), the
             // modes freed by degree again: the coarse stages' noise can leave the broad shape
@@ -360,8 +373,7 @@ StopReason run_auto_population(Objective& f, const std::vector<Fidelity>& stages
             if (f.remaining() < next) {
                 report.verdict =
                     fmt::format("{} runs, the best {:.4g} above what noise explains; the budget "
-                                "left ({}) holds "
-                                "no other run (about {} candidates)",
+                                "left ({}) holds no other run (about {} candidates)",
                                 report.runs.size(), *best_polished, f.remaining(), next);
                 return StopReason::MaxEvaluations;
             }
@@ -372,8 +384,7 @@ StopReason run_auto_population(Objective& f, const std::vector<Fidelity>& stages
         report.verdict = fmt::format(
             "run {} ({}) stopped ({}) in its stage {}, after {} complete run{}", number + 1,
             is_levenberg(number) ? "levenberg" : "cmaes", stop_reason_name(stop.reason),
-            f.stages().empty() ? std::string("-") : f.stages().back().name, report.runs.size(),
-            report.runs.size() == 1 ? "" : "s");
+            f.stages().back().name, report.runs.size(), report.runs.size() == 1 ? "" : "s");
         throw;
     }
     return StopReason::Converged;
