@@ -66,9 +66,10 @@ StartReport start_report_from_json(const nlohmann::json& j) {
 std::string population_summary(const PopulationReport& p) {
     std::string runs;
     for (const PopulationReport::Run& run : p.runs)
-        runs +=
-            fmt::format("{}{} {:.4g} -> {:.4g}", runs.empty() ? "; runs (best, polished): " : ", ",
-                        run.method, run.before_polish, run.polished);
+        runs += fmt::format(
+            "{}{} {:.4g} -> {:.4g}{}", runs.empty() ? "; runs (best, polished): " : ", ",
+            run.method, run.before_polish, run.polished,
+            run.long_steps > 0 ? fmt::format(" ({} long steps)", run.long_steps) : "");
     if (p.size == 0) // auto's Levenberg-Marquardt runs alone: no population was drawn
         return fmt::format("Levenberg-Marquardt only{}", runs);
     return fmt::format(
@@ -156,7 +157,8 @@ nlohmann::json search_json(const SearchResult& r) {
                             {"candidates", run.candidates},
                             {"before_polish", run.before_polish},
                             {"polished", run.polished},
-                            {"noise_limit", run.noise_limit}});
+                            {"noise_limit", run.noise_limit},
+                            {"long_steps", run.long_steps}});
         population = {{"algorithm", p.algorithm},
                       {"size", p.size},
                       {"generations", p.generations},

@@ -164,6 +164,7 @@ struct PopulationReport {
         double before_polish = 0.0;    // its best at the last stage's fidelity before the polish
         double polished = 0.0;         // the best after the polish
         double noise_limit = 0.0;      // stage_noise's limit at the polished best
+        std::uint32_t long_steps = 0;  // long steps that gained, each polished again
     };
     std::vector<Run> runs;
 };

@@ -264,6 +264,116 @@ std::vector<std::string> auto_runs(std::size_t n, std::size_t stages) {
     return runs;
 }
 
+// Beyond kCmaesFirstUpTo parameters, the last Levenberg-Marquardt run's polish, above the
+// noise, is followed by long steps: rounds of candidates, each the round's start (the stage's
+// best) with one parameter alone moved by a share of its box either way (kLongStepsOfBox,
+// onto its lattice), every parameter moved in every round; a round whose best beats its
+// start is polished again (Levenberg-Marquardt: its candidates move many heights at once)
+// and the next round starts from the stage's new best. Read from the history alone, the
+// rounds and their gains agree with the report of run `run_index` (its polish `polish_name`).
+void expect_long_steps(const SearchResult& r, const Scene& s, std::size_t run_index,
+                       const std::string& polish_name) {
+    const ParameterSpace space = parameter_space(s);
+    const std::size_t n = space.size();
+    ASSERT_LT(run_index, r.population->runs.size());
+    const auto& run = r.population->runs[run_index];
+    ASSERT_EQ(run.method, "levenberg");
+    ASSERT_GT(run.polished, run.noise_limit);
+    const auto polish = named(r, polish_name);
+    ASSERT_NE(polish, r.stages.end());
+    const auto stage = std::size_t(polish - r.stages.begin());
+    EXPECT_EQ(run.polished, polish->best_score);
+    // The values a long step gives parameter k from x (either way, each share of its box).
+    const auto long_steps_of = [&](const std::vector<double>& x, std::size_t k) {
+        std::set<double> to;
+        for (const double share : kLongStepsOfBox)
+            for (const double sign : {1.0, -1.0}) {
+                std::vector<double> y = x;
+                y[k] = std::clamp(x[k] + sign * share * (space.hi[k] - space.lo[k]), space.lo[k],
+                                  space.hi[k]);
+                if (const double v = space.snap(y)[k]; v != x[k]) to.insert(v);
+            }
+        return to;
+    };
+    // The one parameter c moves from x by a long step, if it does.
+    const auto long_step = [&](const std::vector<double>& x,
+                               const Candidate& c) -> std::optional<std::size_t> {
+        std::optional<std::size_t> moved;
+        for (std::size_t k = 0; k < n; ++k)
+            if (c.x[k] != x[k]) {
+                if (moved || !long_steps_of(x, k).count(c.x[k])) return std::nullopt;
+                moved = k;
+            }
+        return moved;
+    };
+    struct Round {
+        std::vector<double> from;
+        double from_score = 0.0;
+        double best = HUGE_VAL;
+        std::size_t candidates = 0;
+        std::size_t after = 0; // the polish's candidates after it
+        // The stage's points traced by the round's end (a point traced before in the stage
+        // is answered from its memo, not traced again).
+        std::set<std::vector<double>> traced;
+    };
+    std::vector<Round> rounds;
+    std::optional<std::size_t> best; // the stage's best so far (a history index)
+    bool in_round = false;
+    std::set<std::vector<double>> traced;
+    for (const Candidate& c : r.history) {
+        if (c.stage != stage) continue;
+        if (in_round) rounds.back().traced = traced;
+        traced.insert(c.x);
+        if (best) {
+            const std::vector<double>& from = in_round ? rounds.back().from : r.history[*best].x;
+            if (const auto k = long_step(from, c)) {
+                if (!in_round)
+                    rounds.push_back({.from = from, .from_score = r.history[*best].score});
+                in_round = true;
+                ++rounds.back().candidates;
+                rounds.back().best = std::min(rounds.back().best, c.score);
+            } else {
+                in_round = false;
+                if (!rounds.empty()) ++rounds.back().after;
+            }
+        }
+        if (c.feasible && (!best || c.score < r.history[*best].score)) best = c.index;
+    }
+    if (in_round) rounds.back().traced = traced;
+    ASSERT_FALSE(rounds.empty()) << "no long steps after a polish above the noise";
+    ASSERT_LE(rounds.size(), std::size_t(kLongStepRounds));
+    // The rounds start from the best polish of every run: the earlier runs' (all
+    // Levenberg-Marquardt's, with the same rays in their polish) traced again here.
+    for (std::size_t k = 0; k < run_index; ++k)
+        EXPECT_LE(rounds[0].from_score, r.population->runs[k].polished) << k;
+    std::uint32_t gained = 0;
+    for (std::size_t k = 0; k < rounds.size(); ++k) {
+        const Round& round = rounds[k];
+        // Every parameter's every long step from the round's start traced by its end.
+        for (std::size_t p = 0; p < n; ++p)
+            for (const double v : long_steps_of(round.from, p)) {
+                std::vector<double> y = round.from;
+                y[p] = v;
+                EXPECT_TRUE(round.traced.count(y)) << "round " << k << ", parameter " << p;
+            }
+        EXPECT_LE(round.candidates, n * 2 * std::size(kLongStepsOfBox)) << k;
+        const bool gain = round.best < round.from_score;
+        gained += gain ? 1u : 0u;
+        // Polished again after a gain, and only then; the polish keeps the round's best.
+        EXPECT_EQ(round.after > 0, gain) << k;
+        if (gain) {
+            EXPECT_LE(polish->best_score, round.best) << k;
+        } else {
+            EXPECT_EQ(k + 1, rounds.size()) << "no round after one that did not gain";
+        }
+    }
+    EXPECT_EQ(run.long_steps, gained);
+    // A round follows each gain until kLongStepRounds.
+    if (gained < kLongStepRounds) {
+        EXPECT_EQ(rounds.size(), gained + 1u);
+    }
+}
+
 class AutoStartsAgain : public VulkanTest, public ::testing::WithParamInterface<const char*> {};
 
 TEST_P(AutoStartsAgain, WhileThePolishedBestIsAboveTheNoise) {
@@ -340,6 +450,15 @@ TEST_P(AutoStartsAgain, WhileThePolishedBestIsAboveTheNoise) {
     for (const auto& run : runs)
         polished = std::min(polished, run.polished);
     EXPECT_EQ(r.best_score, polished);
+    // Long steps after the last Levenberg-Marquardt run beyond kCmaesFirstUpTo, none else.
+    const auto last_levenberg = std::size_t(
+        std::find(order.rbegin(), order.rend(), "levenberg").base() - order.begin() - 1);
+    for (std::size_t k = 0; k < runs.size(); ++k)
+        if (k != last_levenberg || n <= kCmaesFirstUpTo) {
+            EXPECT_EQ(runs[k].long_steps, 0u) << k;
+        }
+    if (n > kCmaesFirstUpTo)
+        expect_long_steps(r, s, last_levenberg, "polish " + std::to_string(last_levenberg + 1));
 }
 
 INSTANTIATE_TEST_SUITE_P(ByFreeParameters, AutoStartsAgain,
