@@ -32,13 +32,24 @@ namespace fird {
 
 using namespace fast_tracer_detail;
 
+namespace {
+// maxmip.comp's constants: the scene's (unused there) and FIRD_SPEC_MAXMIP_LEVEL_ZERO.
+std::array<std::uint32_t, FIRD_SPEC_MAXMIP_LEVEL_ZERO + 1> maxmip_specialization(bool level_zero) {
+    std::array<std::uint32_t, FIRD_SPEC_MAXMIP_LEVEL_ZERO + 1> spec{};
+    spec[FIRD_SPEC_MAXMIP_LEVEL_ZERO] = level_zero ? 1u : 0u;
+    return spec;
+}
+} // namespace
+
 FastTracer::FastTracer(const vk::Context& ctx, const Scene& scene, std::uint64_t seed,
                        std::uint64_t max_batch_rays)
     : ctx_(&ctx), scene_(scene), origin_(fird::frame_origin(scene.holder)),
       params_(scene_params(scene, seed)), spec_(specialization(params_, scene.reflector.family)),
       rayset_pipeline_(ctx, fird_spv_rayset_comp, "fird.rayset", spec_),
       heightfield_pipeline_(ctx, fird_spv_heightfield_comp, "fird.heightfield", spec_),
-      maxmip_pipeline_(ctx, fird_spv_maxmip_comp, "fird.maxmip"),
+      maxmip_level0_pipeline_(ctx, fird_spv_maxmip_comp, "fird.maxmip.level0",
+                              maxmip_specialization(true)),
+      maxmip_pipeline_(ctx, fird_spv_maxmip_comp, "fird.maxmip", maxmip_specialization(false)),
       trace_pipeline_(trace_pipeline(ctx, spec_, {}, "fird.trace")),
       to_lm_pipeline_(ctx, fird_spv_counts_to_lm_comp, "fird.counts_to_lm"),
       order_pipeline_(ctx, fird_spv_rayset_order_comp, "fird.rayset.order"),

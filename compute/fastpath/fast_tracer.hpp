@@ -279,7 +279,8 @@ class FastTracer {
     std::array<std::uint32_t, FIRD_SPEC_COUNT> spec_; // the scene's fixed shader choices
     passes::RaysetPass rayset_pipeline_;
     passes::HeightfieldPass heightfield_pipeline_;
-    passes::MaxMipPass maxmip_pipeline_;
+    passes::MaxMipPass maxmip_level0_pipeline_; // FIRD_SPEC_MAXMIP_LEVEL_ZERO 1
+    passes::MaxMipPass maxmip_pipeline_;        // the levels above
     passes::TracePass trace_pipeline_;
     passes::ToLmPass to_lm_pipeline_;
     passes::OrderPass order_pipeline_;

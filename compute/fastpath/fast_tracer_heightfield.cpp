@@ -48,11 +48,14 @@ void FastTracer::record_heightfield(VkCommandBuffer cb, FastRun& run) {
         const passes::MaxMipBindings mm{.params = vk::storage(state().params_buffer),
                                         .paper = vk::storage(state().paper_tree),
                                         .refined = vk::storage(state().refined_tree),
-                                        .corners = vk::storage(state().corners)};
+                                        .corners = vk::texel(state().corners_view),
+                                        .paper_in = vk::texel(state().paper_view),
+                                        .refined_in = vk::texel(state().refined_view)};
         for (std::uint32_t level = 0; level < params_.levels; ++level) {
             const gpu::MaxMipPush push{.level = level};
-            maxmip_pipeline_.dispatch(cb, mm, push, groups(params_.level_w[level], g),
-                                      groups(params_.level_h[level], g));
+            (level == 0 ? maxmip_level0_pipeline_ : maxmip_pipeline_)
+                .dispatch(cb, mm, push, groups(params_.level_w[level], g),
+                          groups(params_.level_h[level], g));
             vk::barrier_all(cb);
         }
         const passes::WalkStartBindings ws{

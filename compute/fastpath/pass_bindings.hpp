@@ -47,14 +47,16 @@ using HeightfieldPass = vk::TypedPass<HeightfieldBindings>;
 
 // maxmip.comp: one level of the paper's and the refined max-mip quadtrees.
 struct MaxMipBindings {
-    vk::Binding params, paper, refined, corners;
+    vk::Binding params, paper, refined, corners, paper_in, refined_in;
     static constexpr auto fields() {
         using B = MaxMipBindings;
-        return std::array<vk::BindingField<B>, 4>{{
+        return std::array<vk::BindingField<B>, 6>{{
             {gpu::kBindParams, kStorage, &B::params},
             {gpu::kMaxMipBindPaper, kStorage, &B::paper},
             {gpu::kMaxMipBindRefined, kStorage, &B::refined},
-            {gpu::kMaxMipBindCorners, kStorage, &B::corners},
+            {gpu::kMaxMipBindCorners, kTexel, &B::corners},
+            {gpu::kMaxMipBindPaperIn, kTexel, &B::paper_in},
+            {gpu::kMaxMipBindRefinedIn, kTexel, &B::refined_in},
         }};
     }
 };

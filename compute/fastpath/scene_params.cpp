@@ -141,6 +141,7 @@ std::array<std::uint32_t, FIRD_SPEC_COUNT> specialization(const gpu::SceneParams
     spec[FIRD_SPEC_FAMILY] = gpu_family(family);
     spec[FIRD_SPEC_HIT_MODE] = p.hit_mode;
     spec[FIRD_SPEC_STRICT_POLICY] = p.strict_policy;
+    spec[FIRD_SPEC_SPREAD] = p.spread_rad > 0.0f ? 1u : 0u;
     return spec;
 }
 

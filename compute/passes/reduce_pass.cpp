@@ -15,8 +15,18 @@ std::uint32_t groups_for(std::uint32_t count) {
 }
 } // namespace
 
+namespace {
+ReducePass::Pipeline reduce_pipeline(const vk::Context& ctx, std::uint32_t mode, const char* name) {
+    const std::uint32_t spec[] = {mode}; // FIRD_SPEC_REDUCE_MODE
+    return ReducePass::Pipeline(ctx, fird_spv_reduce_sum_comp, name, spec);
+}
+} // namespace
+
 ReducePass::ReducePass(const vk::Context& ctx)
-    : pipeline_(ctx, fird_spv_reduce_sum_comp, "fird.reduce_sum") {}
+    : pipelines_{reduce_pipeline(ctx, gpu::kReduceSum, "fird.reduce_sum"),
+                 reduce_pipeline(ctx, gpu::kReduceSquaredDifference, "fird.reduce_sum.l2"),
+                 reduce_pipeline(ctx, gpu::kReduceCandelaSquaredDifference,
+                                 "fird.reduce_sum.candela_l2")} {}
 
 // Storage-buffer offsets must respect minStorageBufferOffsetAlignment (<= 256 by spec).
 static VkDeviceSize align_offset(VkDeviceSize bytes) {
@@ -66,10 +76,9 @@ void ReducePass::record(VkCommandBuffer cb, const vk::Buffer& a, const vk::Buffe
                                       .row_weight =
                                           vk::storage(weighted ? *difference.row_weights : *input)};
         const gpu::ReducePush push{.count = n,
-                                   .mode = mode,
                                    .width = weighted ? difference.width : 1u,
                                    .height = weighted ? count / difference.width : 1u};
-        pipeline_.dispatch(cb, bindings, push, groups > 0 ? groups : 1);
+        pipelines_.at(mode).dispatch(cb, bindings, push, groups > 0 ? groups : 1);
         vk::barrier_all(cb);
         input = &scratch;
         input_offset = scratch_offset;

@@ -45,6 +45,7 @@ struct ReduceBindings {
 
 class ReducePass {
   public:
+    using Pipeline = vk::TypedPass<ReduceBindings, gpu::ReducePush>;
     explicit ReducePass(const vk::Context& ctx);
 
     // Scratch bytes needed to reduce `count` values.
@@ -65,7 +66,7 @@ class ReducePass {
   private:
     double run(const vk::Context& ctx, const vk::Buffer& a, const vk::Buffer* b,
                std::uint32_t count, ReduceDifference difference) const;
-    vk::TypedPass<ReduceBindings, gpu::ReducePush> pipeline_;
+    std::array<Pipeline, 3> pipelines_; // by mode (gpu::kReduceSum, ...)
 };
 
 } // namespace fird

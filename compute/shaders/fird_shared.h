@@ -34,11 +34,14 @@ FIRD_CONSTANT(uint, kReduceSum, 0u);
 FIRD_CONSTANT(uint, kReduceSquaredDifference, 1u);
 // (a - b)^2 / (4 pi omega), omega the cell's solid angle (farfield.hpp's candela_l2)
 FIRD_CONSTANT(uint, kReduceCandelaSquaredDifference, 2u);
+// The mode is a specialization constant (one pipeline per mode): CPU drivers run every
+// side of a branch, and the candela mode's row of each cell costs a division per lane.
+#define FIRD_SPEC_REDUCE_MODE 0
 struct ReducePush {
     uint count;
-    uint mode;
-    uint width;  // kReduceCandelaSquaredDifference: the far field's grid
+    uint width; // kReduceCandelaSquaredDifference: the far field's grid
     uint height;
+    uint unused;
 };
 
 // ---- bin_keys.comp: atomic histogram of integer keys ----
@@ -123,7 +126,8 @@ FIRD_CONSTANT(uint, kHitModeRefined, 1u);
 #define FIRD_SPEC_RECORD_WALK 5 // record one ray's RQRM walk (a pipeline of its own)
 #define FIRD_SPEC_PROFILE 6     // count walk steps and leaf tests (a pipeline of its own)
 #define FIRD_SPEC_DIAGNOSTICS 7 // record hits and count texel hits (a pipeline of its own)
-#define FIRD_SPEC_COUNT 8
+#define FIRD_SPEC_SPREAD 8      // the finish spreads the reflection (a mirror draws nothing)
+#define FIRD_SPEC_COUNT 9
 
 // Bindings of the fast-path passes.
 FIRD_CONSTANT(uint, kBindParams, 0u);
@@ -140,6 +144,15 @@ FIRD_CONSTANT(uint, kHeightfieldBindCorners, 4u);
 FIRD_CONSTANT(uint, kMaxMipBindPaper, 1u);
 FIRD_CONSTANT(uint, kMaxMipBindRefined, 2u);
 FIRD_CONSTANT(uint, kMaxMipBindCorners, 3u);
+// The levels below, read through texel views of the same buffers (CPU drivers gather a
+// texel fetch; a storage-buffer load at per-lane indices is a scalar loop per lane).
+FIRD_CONSTANT(uint, kMaxMipBindPaperIn, 4u);
+FIRD_CONSTANT(uint, kMaxMipBindRefinedIn, 5u);
+// maxmip.comp's specialization constant: 1 in the pipeline that builds level 0 (the
+// refined pyramid's from the corners), 0 in the one for the levels above (one pipeline
+// each: CPU drivers would run both bodies for every texel, masked).
+// (An id past the scene's constants of common.glsl, which maxmip.comp includes.)
+#define FIRD_SPEC_MAXMIP_LEVEL_ZERO FIRD_SPEC_COUNT
 FIRD_CONSTANT(uint, kWalkStartBindPyramid, 1u); // walk_start.comp: the traversal quadtree
 FIRD_CONSTANT(uint, kWalkStartBindLevel, 2u);   // uint: the level the source's rays start at
 FIRD_CONSTANT(uint, kWalkStartMaxNodes, 4096u); // nodes over the source checked per level

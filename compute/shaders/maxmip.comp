@@ -8,10 +8,16 @@
 #include "common.glsl"
 
 layout(local_size_x = FIRD_HEIGHTFIELD_WORKGROUP_SIZE, local_size_y = FIRD_HEIGHTFIELD_WORKGROUP_SIZE) in;
-layout(std430, binding = kMaxMipBindPaper) buffer Paper { float paper[]; };
-layout(std430, binding = kMaxMipBindRefined) buffer Refined { float refined[]; };
-layout(std430, binding = kMaxMipBindCorners) readonly buffer Corners { float corners[]; };
+layout(std430, binding = kMaxMipBindPaper) writeonly buffer Paper { float paper[]; };
+layout(std430, binding = kMaxMipBindRefined) writeonly buffer Refined { float refined[]; };
+// What a level reads: texel views of the corners and of the two pyramids (the level below,
+// written by the dispatch before). CPU drivers gather a texel fetch for all lanes at once;
+// storage-buffer loads at per-lane indices run a scalar loop per lane.
+layout(binding = kMaxMipBindCorners) uniform samplerBuffer corners;
+layout(binding = kMaxMipBindPaperIn) uniform samplerBuffer paper_in;
+layout(binding = kMaxMipBindRefinedIn) uniform samplerBuffer refined_in;
 layout(push_constant) uniform Push { MaxMipPush pc; };
+layout(constant_id = FIRD_SPEC_MAXMIP_LEVEL_ZERO) const uint kLevelZero = 0u;
 
 void main() {
     const uint level = pc.level;
@@ -19,23 +25,25 @@ void main() {
     const uint w = P.level_w[level], h = P.level_h[level];
     if (p.x >= w || p.y >= h) return;
     const uint out_index = P.level_offset[level] + p.y * w + p.x;
-    if (level == 0u) {
-        const uint row = w + 1u, c = p.y * row + p.x;
-        const float m = max(max(corners[c], corners[c + 1u]), max(corners[c + row], corners[c + row + 1u]));
+    if (kLevelZero != 0u) {
+        const int row = int(w + 1u), c = int(p.y) * row + int(p.x);
+        const float m = max(max(texelFetch(corners, c).r, texelFetch(corners, c + 1).r),
+                            max(texelFetch(corners, c + row).r, texelFetch(corners, c + row + 1).r));
         // A margin above float rounding of the interpolation in trace.comp.
         refined[out_index] = m + 1e-5 * (abs(m) + 1.0);
         return;
     }
     const uint cw = P.level_w[level - 1u], ch = P.level_h[level - 1u];
     const uint base = P.level_offset[level - 1u];
-    float mp = -3.0e38, mr = -3.0e38;
-    for (uint dy = 0u; dy < 2u; ++dy)
-        for (uint dx = 0u; dx < 2u; ++dx) {
-            const uvec2 c = 2u * p + uvec2(dx, dy);
-            if (c.x >= cw || c.y >= ch) continue;
-            mp = max(mp, paper[base + c.y * cw + c.x]);
-            mr = max(mr, refined[base + c.y * cw + c.x]);
-        }
+    // The children that exist (a last odd row or column has one): a missing one reads
+    // its existing neighbour again, which leaves the maximum as it is.
+    const uvec2 c0 = 2u * p, c1 = min(c0 + 1u, uvec2(cw, ch) - 1u);
+    const int i00 = int(base + c0.y * cw + c0.x), i10 = int(base + c0.y * cw + c1.x);
+    const int i01 = int(base + c1.y * cw + c0.x), i11 = int(base + c1.y * cw + c1.x);
+    const float mp = max(max(texelFetch(paper_in, i00).r, texelFetch(paper_in, i10).r),
+                         max(texelFetch(paper_in, i01).r, texelFetch(paper_in, i11).r));
+    const float mr = max(max(texelFetch(refined_in, i00).r, texelFetch(refined_in, i10).r),
+                         max(texelFetch(refined_in, i01).r, texelFetch(refined_in, i11).r));
     paper[out_index] = mp;
     refined[out_index] = mr;
 }

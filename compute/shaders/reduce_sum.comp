@@ -11,6 +11,7 @@ layout(std430, binding = kReduceBindingB) readonly buffer B { float b[]; };
 layout(std430, binding = kReduceBindingPartial) writeonly buffer Partial { float partial[]; };
 layout(std430, binding = kReduceBindingRowWeight) readonly buffer RowWeight { float row_weight[]; };
 layout(push_constant) uniform Push { ReducePush pc; };
+layout(constant_id = FIRD_SPEC_REDUCE_MODE) const uint kMode = kReduceSum;
 
 shared float sums[kReduceWorkgroupSize];
 
@@ -21,10 +22,10 @@ void main() {
     for (uint k = 0u; k < kReduceItemsPerThread; ++k) {
         const uint i = base + k * kReduceWorkgroupSize;
         if (i < pc.count) {
-            if (pc.mode == kReduceSquaredDifference) {
+            if (kMode == kReduceSquaredDifference) {
                 const float d = a[i] - b[i];
                 s += d * d;
-            } else if (pc.mode == kReduceCandelaSquaredDifference) {
+            } else if (kMode == kReduceCandelaSquaredDifference) {
                 const float d = a[i] - b[i];
                 // 1 / (4 pi omega) for the row's cells (farfield.hpp metric_cell_weight, in
                 // double on the host: ReducePass's row weights).

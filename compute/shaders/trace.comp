@@ -429,8 +429,9 @@ void main() {
     w.O = (w.o.xy - lo.xy) / texel_mm;
     w.D = w.d.xy / texel_mm;
 
-    // Every lane reaches the counting at the end (no early returns), so the counters
-    // are aggregated per subgroup.
+    // Every lane with a ray reaches the counting at the end (no early returns past the
+    // one above, for invocations beyond the active rays), so the counters are aggregated
+    // per subgroup.
     bool below = false, aborted = false, blocked = false, direct = false;
     bool far_miss = false, far_final = false, lost_again = false, append = false;
     vec3 far_dir = w.d;
@@ -470,13 +471,16 @@ void main() {
                 const vec2 g = kHitMode == kHitModePaper ? gradient_at(hit_texel) : hit_gradient(p, hit_texel);
                 const vec3 n = normalize(vec3(-g, 1.0));
                 vec2 u = vec2(0.5);
-                if (P.spread_rad > 0.0) { // this reflection's draw: (ray index, bounce) alone
+                // A mirror (kSpread 0) folds the draw and the spread away: CPU drivers would
+                // run them for every reflection, masked, on the value of P.spread_rad alone.
+                const float spread_rad = kSpread != 0u ? P.spread_rad : 0.0;
+                if (kSpread != 0u) { // this reflection's draw: (ray index, bounce) alone
                     const uint index_lo = floatBitsToUint(ray.origin.w);
                     const uint index_hi = pc.first_hi + (index_lo < pc.first_lo ? 1u : 0u);
                     u = to_unit(philox(uvec4(index_lo, index_hi, kMaterialStream + pc.bounce, 0u),
                                        uvec2(P.seed_lo, P.seed_hi)).xy);
                 }
-                vec3 r = reflected_direction(w.d, n, P.spread_rad, P.spread_lobe, u.x, u.y);
+                vec3 r = reflected_direction(w.d, n, spread_rad, P.spread_lobe, u.x, u.y);
                 if (kHitMode != kHitModePaper) {
                     // Never into the surface traced: where the true normal and the patch
                     // hit part (within a texel of a kink), reflect about the patch itself,
@@ -516,14 +520,30 @@ void main() {
         const uint layer = P.farfield_layers > 1u ? reflections : 0u;
         atomicAdd(farfield[layer * P.ff_w * P.ff_h + far_field_cell(far_dir)], 1u);
     }
-    FIRD_COUNT(counters, kCounterBelow, below);
-    FIRD_COUNT(counters, kCounterAborted, aborted);
-    FIRD_COUNT(counters, kCounterLost, below || aborted || blocked || lost_again);
-    FIRD_COUNT(counters, kCounterLostByReflections + pc.bounce, below || aborted || blocked || lost_again);
-    FIRD_COUNT(counters, kCounterDirect, direct);
-    FIRD_COUNT(counters, kCounterFarField, far_miss || far_final);
-    FIRD_COUNT(counters, kCounterByReflections + pc.bounce, far_miss);
-    FIRD_COUNT(counters, kCounterByReflections + pc.bounce + 1u, far_final);
+    // The bounce's tally: every counter this ray adds to, 8 bits each (a subgroup has at
+    // most 128 lanes), summed over the subgroup in one reduction and added by one lane.
+    // (CPU drivers run a subgroup operation or an atomic as a loop over the lanes: one
+    // reduction in place of a ballot and an election per counter.)
+    const bool lost = below || aborted || blocked || lost_again;
+    const uvec2 tally = subgroupAdd(uvec2(uint(below) | (uint(aborted) << 8u) | (uint(lost) << 16u) |
+                                              (uint(direct) << 24u),
+                                          uint(far_miss) | (uint(far_final) << 8u)));
+    if (subgroupElect()) {
+        const uint copy = (gl_WorkGroupID.x % kTallyCopies) * kCounterCount;
+        const uint n_below = tally.x & 0xFFu, n_aborted = (tally.x >> 8u) & 0xFFu;
+        const uint n_lost = (tally.x >> 16u) & 0xFFu, n_direct = tally.x >> 24u;
+        const uint n_far_miss = tally.y & 0xFFu, n_far_final = tally.y >> 8u;
+        if (n_below > 0u) atomicAdd(counters[copy + kCounterBelow], n_below);
+        if (n_aborted > 0u) atomicAdd(counters[copy + kCounterAborted], n_aborted);
+        if (n_lost > 0u) {
+            atomicAdd(counters[copy + kCounterLost], n_lost);
+            atomicAdd(counters[copy + kCounterLostByReflections + pc.bounce], n_lost);
+        }
+        if (n_direct > 0u) atomicAdd(counters[copy + kCounterDirect], n_direct);
+        if (n_far_miss + n_far_final > 0u) atomicAdd(counters[copy + kCounterFarField], n_far_miss + n_far_final);
+        if (n_far_miss > 0u) atomicAdd(counters[copy + kCounterByReflections + pc.bounce], n_far_miss);
+        if (n_far_final > 0u) atomicAdd(counters[copy + kCounterByReflections + pc.bounce + 1u], n_far_final);
+    }
     uint slot;
     FIRD_APPEND_INDEX(counters, kCounterActiveOut, append, slot);
     if (append) {
