@@ -54,8 +54,9 @@ Evaluator::Evaluator(const vk::Context& ctx, const Scene& scene, const Fidelity&
     if (backend == Backend::Fast) tracer_.emplace(ctx, scene_, fidelity.seed);
 }
 
-Evaluator::DeviceHeightField Evaluator::device_heightfield() const {
-    const FastTracer& t = fast();
+Evaluator::DeviceHeightField Evaluator::device_heightfield() {
+    FastTracer& t = fast();
+    t.build_paper_heightfield();
     return {.heights = &t.heights_buffer(),
             .gradients = &t.gradients_buffer(),
             .origin_z_mm = t.frame_origin().z,

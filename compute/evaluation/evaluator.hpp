@@ -116,7 +116,7 @@ class Evaluator {
         double origin_z_mm = 0.0;              // the device frame's z (heights are relative)
         std::uint32_t width = 0, height = 0;
     };
-    DeviceHeightField device_heightfield() const;
+    DeviceHeightField device_heightfield();
     std::vector<float> read_quadtree() { return fast().read_quadtree(); }
     std::vector<glm::vec2> read_gradients() { return fast().read_gradients(); }
     void set_count_texel_hits(bool on) { fast().set_count_texel_hits(on); }

@@ -33,11 +33,35 @@ namespace fird {
 using namespace fast_tracer_detail;
 
 namespace {
-// maxmip.comp's constants: the scene's (unused there) and FIRD_SPEC_MAXMIP_LEVEL_ZERO.
-std::array<std::uint32_t, FIRD_SPEC_MAXMIP_LEVEL_ZERO + 1> maxmip_specialization(bool level_zero) {
-    std::array<std::uint32_t, FIRD_SPEC_MAXMIP_LEVEL_ZERO + 1> spec{};
-    spec[FIRD_SPEC_MAXMIP_LEVEL_ZERO] = level_zero ? 1u : 0u;
+using HeightfieldSpec = std::array<std::uint32_t, FIRD_SPEC_REFINED_ONLY + 1>;
+// heightfield.comp's constants: the scene's and FIRD_SPEC_REFINED_ONLY.
+HeightfieldSpec heightfield_specialization(const std::array<std::uint32_t, FIRD_SPEC_COUNT>& scene,
+                                           bool refined_only) {
+    HeightfieldSpec spec{};
+    std::copy(scene.begin(), scene.end(), spec.begin());
+    spec[FIRD_SPEC_REFINED_ONLY] = refined_only ? 1u : 0u;
     return spec;
+}
+// maxmip.comp's: the scene's (unused there), FIRD_SPEC_MAXMIP_LEVEL_ZERO and
+// FIRD_SPEC_REFINED_ONLY.
+HeightfieldSpec maxmip_specialization(bool level_zero, bool refined_only) {
+    HeightfieldSpec spec{};
+    spec[FIRD_SPEC_MAXMIP_LEVEL_ZERO] = level_zero ? 1u : 0u;
+    spec[FIRD_SPEC_REFINED_ONLY] = refined_only ? 1u : 0u;
+    return spec;
+}
+// The plain run's two trace pipelines (FIRD_SPEC_BOUNCE_KIND: the source's rays, reflected
+// rays), created on two threads: the largest shader FIRD has, each ~40 ms to create on
+// lavapipe even from its shader cache (a whole evaluation's start-up).
+std::array<passes::TracePass, 2>
+plain_trace_pipelines(const vk::Context& ctx,
+                      const std::array<std::uint32_t, FIRD_SPEC_COUNT>& spec) {
+    auto reflected = std::async(std::launch::async, [&] {
+        return trace_pipeline(ctx, spec, {}, "fird.trace.reflected", gpu::kBounceReflected);
+    });
+    passes::TracePass source =
+        trace_pipeline(ctx, spec, {}, "fird.trace.source", gpu::kBounceFromSource);
+    return {std::move(source), reflected.get()};
 }
 } // namespace
 
@@ -46,11 +70,17 @@ FastTracer::FastTracer(const vk::Context& ctx, const Scene& scene, std::uint64_t
     : ctx_(&ctx), scene_(scene), origin_(fird::frame_origin(scene.holder)),
       params_(scene_params(scene, seed)), spec_(specialization(params_, scene.reflector.family)),
       rayset_pipeline_(ctx, fird_spv_rayset_comp, "fird.rayset", spec_),
-      heightfield_pipeline_(ctx, fird_spv_heightfield_comp, "fird.heightfield", spec_),
+      heightfield_pipeline_(ctx, fird_spv_heightfield_comp, "fird.heightfield",
+                            heightfield_specialization(spec_, false)),
+      heightfield_refined_pipeline_(ctx, fird_spv_heightfield_comp, "fird.heightfield.refined",
+                                    heightfield_specialization(spec_, true)),
       maxmip_level0_pipeline_(ctx, fird_spv_maxmip_comp, "fird.maxmip.level0",
-                              maxmip_specialization(true)),
-      maxmip_pipeline_(ctx, fird_spv_maxmip_comp, "fird.maxmip", maxmip_specialization(false)),
-      trace_pipeline_(trace_pipeline(ctx, spec_, {}, "fird.trace")),
+                              maxmip_specialization(true, false)),
+      maxmip_pipeline_(ctx, fird_spv_maxmip_comp, "fird.maxmip",
+                       maxmip_specialization(false, false)),
+      maxmip_refined_pipeline_(ctx, fird_spv_maxmip_comp, "fird.maxmip.refined",
+                               maxmip_specialization(false, true)),
+      trace_pipelines_(plain_trace_pipelines(ctx, spec_)),
       to_lm_pipeline_(ctx, fird_spv_counts_to_lm_comp, "fird.counts_to_lm"),
       order_pipeline_(ctx, fird_spv_rayset_order_comp, "fird.rayset.order"),
       bucket_scan_pipeline_(ctx, fird_spv_bucket_scan_comp, "fird.rayset.bucket_scan"),

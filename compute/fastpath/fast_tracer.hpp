@@ -161,9 +161,14 @@ class FastTracer {
     std::vector<Ray> rayset() const;
 
     const vk::Buffer& farfield_lm() const { return current_.farfield_lm; }
+    // Builds the current reflector's paper quadtree and gradients where they are not (a
+    // refined trace of an analytic family reads neither, and builds neither: ReflectorState).
+    void build_paper_heightfield();
     // The device height field as the viewport draws it (no readback): the paper quadtree,
     // whose first W x H floats are the texel heights less frame_origin().z, and the
-    // gradients (vec2 per texel). Current after a run (or a read_quadtree()).
+    // gradients (vec2 per texel). Current after build_paper_heightfield() (read_quadtree()
+    // and read_gradients() call it) and after a run that traces them (the paper hit mode,
+    // or a mesh).
     const vk::Buffer& heights_buffer() const { return current_.paper_tree; }
     const vk::Buffer& gradients_buffer() const { return current_.gradients; }
     // Where the device's frame sits in the scene (the holder's centre, scene_params.hpp).
@@ -191,9 +196,11 @@ class FastTracer {
     // The mesh reflector's raster (its own submissions: render passes) when the height
     // field changed; returns its wall time.
     double rasterize_mesh();
-    // The height field, quadtree and walk start when the reflector changed.
-    void record_heightfield(VkCommandBuffer cb, FastRun& run);
-    void build_heightfield(FastRun& run); // the same as a submission of its own
+    // The height field, quadtree and walk start when the reflector changed: what the trace
+    // reads, and with `with_paper` also the paper's products where the trace does not.
+    void record_heightfield(VkCommandBuffer cb, FastRun& run, bool with_paper = false);
+    // Whether the trace reads the paper quadtree and the texel gradients.
+    bool trace_reads_paper_tree() const;
     // Clears the far field (and the diagnostics' counts) for a run.
     void record_run_start(VkCommandBuffer cb, bool clear_diagnostics);
     // Clears a batch's counters and the bounce loop's state; `effective` (rays given, not
@@ -279,9 +286,12 @@ class FastTracer {
     std::array<std::uint32_t, FIRD_SPEC_COUNT> spec_; // the scene's fixed shader choices
     passes::RaysetPass rayset_pipeline_;
     passes::HeightfieldPass heightfield_pipeline_;
-    passes::MaxMipPass maxmip_level0_pipeline_; // FIRD_SPEC_MAXMIP_LEVEL_ZERO 1
-    passes::MaxMipPass maxmip_pipeline_;        // the levels above
-    passes::TracePass trace_pipeline_;
+    passes::HeightfieldPass heightfield_refined_pipeline_; // FIRD_SPEC_REFINED_ONLY 1
+    passes::MaxMipPass maxmip_level0_pipeline_;            // FIRD_SPEC_MAXMIP_LEVEL_ZERO 1
+    passes::MaxMipPass maxmip_pipeline_;                   // the levels above
+    passes::MaxMipPass maxmip_refined_pipeline_;           // ... the refined pyramid's alone
+    // [0] bounce 0's, [1] the bounces after's (FIRD_SPEC_BOUNCE_KIND).
+    std::array<passes::TracePass, 2> trace_pipelines_;
     passes::ToLmPass to_lm_pipeline_;
     passes::OrderPass order_pipeline_;
     passes::BucketScanPass bucket_scan_pipeline_;

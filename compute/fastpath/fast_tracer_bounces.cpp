@@ -15,12 +15,12 @@ namespace fird {
 
 using namespace fast_tracer_detail;
 
-passes::TracePass
-fast_tracer_detail::trace_pipeline(const vk::Context& ctx,
-                                   std::array<std::uint32_t, FIRD_SPEC_COUNT> spec,
-                                   std::initializer_list<int> variant, const char* name) {
+passes::TracePass fast_tracer_detail::trace_pipeline(
+    const vk::Context& ctx, std::array<std::uint32_t, FIRD_SPEC_COUNT> spec,
+    std::initializer_list<int> variant, const char* name, std::uint32_t bounce_kind) {
     for (const int id : variant)
         spec[std::size_t(id)] = 1;
+    spec[FIRD_SPEC_BOUNCE_KIND] = bounce_kind;
     return passes::TracePass(ctx, fird_spv_trace_comp, name, spec);
 }
 
@@ -53,10 +53,11 @@ void FastTracer::dispatch_trace(VkCommandBuffer cb, const vk::Buffer& in, const 
         trace_diagnostics_pipeline_.emplace(
             trace_pipeline(*ctx_, spec_, {FIRD_SPEC_DIAGNOSTICS}, "fird.trace.diagnostics"));
     }
-    const passes::TracePass& p = record_walk               ? *trace_walk_pipeline_
-                                 : diagnostics             ? *trace_diagnostics_pipeline_
-                                 : trace_profile_pipeline_ ? *trace_profile_pipeline_
-                                                           : trace_pipeline_;
+    const passes::TracePass& p = record_walk   ? *trace_walk_pipeline_
+                                 : diagnostics ? *trace_diagnostics_pipeline_
+                                 : trace_profile_pipeline_
+                                     ? *trace_profile_pipeline_
+                                     : trace_pipelines_[push.bounce == 0 ? 0 : 1];
     if (groups)
         p.dispatch(cb, b, push, *groups);
     else

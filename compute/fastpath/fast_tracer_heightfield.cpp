@@ -32,7 +32,15 @@ double FastTracer::rasterize_mesh() {
     return ms_since(t0);
 }
 
-void FastTracer::record_heightfield(VkCommandBuffer cb, FastRun& run) {
+bool FastTracer::trace_reads_paper_tree() const {
+    // A mesh's gradients are its faces' (the raster's), read in both hit modes.
+    return params_.hit_mode == gpu::kHitModePaper || mesh_;
+}
+
+void FastTracer::record_heightfield(VkCommandBuffer cb, FastRun& run, bool with_paper) {
+    // A search's candidates (the refined mode, an analytic family) skip the paper's
+    // products: half the stores and the family evaluated at the corners alone.
+    const bool paper = with_paper || trace_reads_paper_tree();
     timed(cb, &run.timings.heightfield_ms, nullptr, [&] {
         constexpr std::uint32_t g = FIRD_HEIGHTFIELD_WORKGROUP_SIZE;
         if (!mesh_) {
@@ -41,8 +49,8 @@ void FastTracer::record_heightfield(VkCommandBuffer cb, FastRun& run) {
                                                  .gradients = vk::storage(state().gradients),
                                                  .control = vk::storage(state().control),
                                                  .corners = vk::storage(state().corners)};
-            heightfield_pipeline_.dispatch(cb, hf, {}, groups(params_.hf_w + 1, g),
-                                           groups(params_.hf_h + 1, g));
+            (paper ? heightfield_pipeline_ : heightfield_refined_pipeline_)
+                .dispatch(cb, hf, {}, groups(params_.hf_w + 1, g), groups(params_.hf_h + 1, g));
             vk::barrier_all(cb);
         }
         const passes::MaxMipBindings mm{.params = vk::storage(state().params_buffer),
@@ -53,7 +61,9 @@ void FastTracer::record_heightfield(VkCommandBuffer cb, FastRun& run) {
                                         .refined_in = vk::texel(state().refined_view)};
         for (std::uint32_t level = 0; level < params_.levels; ++level) {
             const gpu::MaxMipPush push{.level = level};
-            (level == 0 ? maxmip_level0_pipeline_ : maxmip_pipeline_)
+            (level == 0 ? maxmip_level0_pipeline_
+             : paper    ? maxmip_pipeline_
+                        : maxmip_refined_pipeline_)
                 .dispatch(cb, mm, push, groups(params_.level_w[level], g),
                           groups(params_.level_h[level], g));
             vk::barrier_all(cb);
@@ -66,21 +76,21 @@ void FastTracer::record_heightfield(VkCommandBuffer cb, FastRun& run) {
         walk_start_pipeline_.dispatch(cb, ws, {}, 1);
     });
     vk::barrier_all(cb);
+    state().paper_tree_stale = !paper;
 }
 
-void FastTracer::build_heightfield(FastRun& run) {
-    if (!state().heightfield_dirty) {
-        run.heightfield_reused = true;
-        return;
-    }
-    run.timings.heightfield_ms += rasterize_mesh();
-    submit(&run.timings.heightfield_ms, [&](VkCommandBuffer cb) { record_heightfield(cb, run); });
-    state().heightfield_dirty = false;
+void FastTracer::build_paper_heightfield() {
+    if (!current_.reflector) throw std::logic_error("FastTracer: no reflector set");
+    if (!current_.heightfield_dirty && !current_.paper_tree_stale) return;
+    FastRun unused;
+    unused.timings.heightfield_ms += rasterize_mesh();
+    submit(&unused.timings.heightfield_ms,
+           [&](VkCommandBuffer cb) { record_heightfield(cb, unused, true); });
+    current_.heightfield_dirty = false;
 }
 
 std::vector<float> FastTracer::read_quadtree() {
-    FastRun unused;
-    build_heightfield(unused);
+    build_paper_heightfield();
     const QuadtreeLayout q = quadtree_layout(params_.hf_w, params_.hf_h);
     std::vector<float> tree = state().paper_tree.download_as<float>(*ctx_, q.total_floats);
     for (float& h : tree)
@@ -89,8 +99,7 @@ std::vector<float> FastTracer::read_quadtree() {
 }
 
 std::vector<glm::vec2> FastTracer::read_gradients() {
-    FastRun unused;
-    build_heightfield(unused);
+    build_paper_heightfield();
     return state().gradients.download_as<glm::vec2>(*ctx_,
                                                     std::size_t(params_.hf_w) * params_.hf_h);
 }

@@ -38,9 +38,11 @@ inline std::uint64_t wide(const std::uint32_t* pair) {
 
 // trace.comp's pass (fast_tracer_bounces.cpp; its bindings in pass_bindings.hpp).
 // `variant` lists the specialization constants (FIRD_SPEC_RECORD_WALK, _PROFILE,
-// _DIAGNOSTICS) switched on over the scene's.
+// _DIAGNOSTICS) switched on over the scene's; `bounce_kind` the rays it takes
+// (gpu::kBounceEither: any bounce's, by its number).
 passes::TracePass trace_pipeline(const vk::Context& ctx,
                                  std::array<std::uint32_t, FIRD_SPEC_COUNT> spec,
-                                 std::initializer_list<int> variant, const char* name);
+                                 std::initializer_list<int> variant, const char* name,
+                                 std::uint32_t bounce_kind = gpu::kBounceEither);
 
 } // namespace fird::fast_tracer_detail

@@ -21,6 +21,9 @@ struct ReflectorState {
     gpu::SceneParams params{}; // the scene's, with this reflector's family and parameters
     std::optional<ReflectorDesc> reflector;
     bool heightfield_dirty = true; // the reflector changed since its height field was built
+    // Its height field was built without the paper's products (the texel-centre heights and
+    // gradients, the paper quadtree): a refined trace of an analytic family reads neither.
+    bool paper_tree_stale = true;
     vk::Buffer params_buffer;
     vk::Buffer control;    // B-spline control heights (a placeholder for other families)
     vk::Buffer walk_start; // uint: the level the source's rays start their walk at

@@ -21,6 +21,7 @@ layout(constant_id = FIRD_SPEC_STRICT_POLICY) const uint kStrictPolicy = 0u;
 layout(constant_id = FIRD_SPEC_PROFILE) const uint kProfile = 0u;
 layout(constant_id = FIRD_SPEC_DIAGNOSTICS) const uint kDiagnostics = 0u;
 layout(constant_id = FIRD_SPEC_SPREAD) const uint kSpread = 0u;
+layout(constant_id = FIRD_SPEC_BOUNCE_KIND) const uint kBounceKind = kBounceEither;
 
 const float kPi = 3.14159265358979;
 

@@ -114,6 +114,13 @@ FIRD_FUNCTION bool rayset_ordered_at_birth(uint sampler_kind, uint source_kind) 
 
 FIRD_CONSTANT(uint, kHitModePaper, 0u);
 FIRD_CONSTANT(uint, kHitModeRefined, 1u);
+// The rays of the bounces a trace pipeline runs (FIRD_SPEC_BOUNCE_KIND): the source's
+// (bounce 0) or reflected ones (the bounces after) in the two pipelines of a plain run,
+// which fold away the other's tests (the source inside the reflector, the walk's start
+// below the source); either, by the bounce's number, in the diagnostics' variants.
+FIRD_CONSTANT(uint, kBounceEither, 0u);
+FIRD_CONSTANT(uint, kBounceFromSource, 1u);
+FIRD_CONSTANT(uint, kBounceReflected, 2u);
 
 // Specialization constant ids: what a scene fixes for the life of its pipelines. The
 // shaders branch on these, not on SceneParams' copies, so the driver folds the branches
@@ -127,7 +134,8 @@ FIRD_CONSTANT(uint, kHitModeRefined, 1u);
 #define FIRD_SPEC_PROFILE 6     // count walk steps and leaf tests (a pipeline of its own)
 #define FIRD_SPEC_DIAGNOSTICS 7 // record hits and count texel hits (a pipeline of its own)
 #define FIRD_SPEC_SPREAD 8      // the finish spreads the reflection (a mirror draws nothing)
-#define FIRD_SPEC_COUNT 9
+#define FIRD_SPEC_BOUNCE_KIND 9 // the rays a trace pipeline takes (kBounceEither and so on)
+#define FIRD_SPEC_COUNT 10
 
 // Bindings of the fast-path passes.
 FIRD_CONSTANT(uint, kBindParams, 0u);
@@ -153,6 +161,12 @@ FIRD_CONSTANT(uint, kMaxMipBindRefinedIn, 5u);
 // each: CPU drivers would run both bodies for every texel, masked).
 // (An id past the scene's constants of common.glsl, which maxmip.comp includes.)
 #define FIRD_SPEC_MAXMIP_LEVEL_ZERO FIRD_SPEC_COUNT
+// heightfield.comp's and maxmip.comp's: 1 in the pipelines that build only what the refined
+// hit mode traces (the corner heights, the refined pyramid), 0 in those that also build the
+// paper's (the texel-centre heights and gradients, the paper pyramid), which a refined
+// trace of an analytic family never reads: a search's candidates skip them, and the views
+// and exports that read them have them built then (FastTracer::read_quadtree).
+#define FIRD_SPEC_REFINED_ONLY (FIRD_SPEC_COUNT + 1)
 FIRD_CONSTANT(uint, kWalkStartBindPyramid, 1u); // walk_start.comp: the traversal quadtree
 FIRD_CONSTANT(uint, kWalkStartBindLevel, 2u);   // uint: the level the source's rays start at
 FIRD_CONSTANT(uint, kWalkStartMaxNodes, 4096u); // nodes over the source checked per level

@@ -14,18 +14,21 @@ layout(std430, binding = kHeightfieldBindGradients) writeonly buffer Gradients {
 layout(std430, binding = kHeightfieldBindControl) readonly buffer Control { float control[]; };
 layout(std430, binding = kHeightfieldBindCorners) writeonly buffer Corners { float corners[]; };
 
+layout(constant_id = FIRD_SPEC_REFINED_ONLY) const uint kRefinedOnly = 0u;
+
 float control_height(int k) { return control[k]; }
 
 vec3 surface(vec2 xy) { return reflector_height_gradient(xy); }
 
-// Invocation p evaluates texel p's centre (where there is one) and its low corner.
+// Invocation p evaluates texel p's low corner and (unless kRefinedOnly) its centre, where
+// there is one.
 void main() {
     const uvec2 p = gl_GlobalInvocationID.xy;
     if (p.x > P.hf_w || p.y > P.hf_h) return;
     const vec3 lo = holder_min(), hi = holder_max();
     const vec2 texel = (hi.xy - lo.xy) / vec2(P.hf_w, P.hf_h);
     corners[p.y * (P.hf_w + 1u) + p.x] = clamp(surface(lo.xy + vec2(p) * texel).x, lo.z, hi.z);
-    if (p.x == P.hf_w || p.y == P.hf_h) return;
+    if (kRefinedOnly != 0u || p.x == P.hf_w || p.y == P.hf_h) return;
     const uint index = p.y * P.hf_w + p.x;
     const vec3 zg = surface(lo.xy + (vec2(p) + 0.5) * texel);
     const bool plateau = zg.x <= lo.z || zg.x >= hi.z; // clamped: flat

@@ -18,6 +18,7 @@ layout(binding = kMaxMipBindPaperIn) uniform samplerBuffer paper_in;
 layout(binding = kMaxMipBindRefinedIn) uniform samplerBuffer refined_in;
 layout(push_constant) uniform Push { MaxMipPush pc; };
 layout(constant_id = FIRD_SPEC_MAXMIP_LEVEL_ZERO) const uint kLevelZero = 0u;
+layout(constant_id = FIRD_SPEC_REFINED_ONLY) const uint kRefinedOnly = 0u;
 
 void main() {
     const uint level = pc.level;
@@ -40,10 +41,11 @@ void main() {
     const uvec2 c0 = 2u * p, c1 = min(c0 + 1u, uvec2(cw, ch) - 1u);
     const int i00 = int(base + c0.y * cw + c0.x), i10 = int(base + c0.y * cw + c1.x);
     const int i01 = int(base + c1.y * cw + c0.x), i11 = int(base + c1.y * cw + c1.x);
-    const float mp = max(max(texelFetch(paper_in, i00).r, texelFetch(paper_in, i10).r),
-                         max(texelFetch(paper_in, i01).r, texelFetch(paper_in, i11).r));
     const float mr = max(max(texelFetch(refined_in, i00).r, texelFetch(refined_in, i10).r),
                          max(texelFetch(refined_in, i01).r, texelFetch(refined_in, i11).r));
-    paper[out_index] = mp;
     refined[out_index] = mr;
+    if (kRefinedOnly != 0u) return;
+    const float mp = max(max(texelFetch(paper_in, i00).r, texelFetch(paper_in, i10).r),
+                         max(texelFetch(paper_in, i01).r, texelFetch(paper_in, i11).r));
+    paper[out_index] = mp;
 }

@@ -3,6 +3,7 @@
 // kReduceItemsPerThread inputs into one partial sum. The host repeats the pass on the
 // partials until one value is left (the paper's "reduction shader", §4.4).
 #extension GL_GOOGLE_include_directive : require
+#extension GL_KHR_shader_subgroup_arithmetic : require
 #include "fird_shared.h"
 
 layout(local_size_x = FIRD_REDUCE_WORKGROUP_SIZE) in;
@@ -13,6 +14,10 @@ layout(std430, binding = kReduceBindingRowWeight) readonly buffer RowWeight { fl
 layout(push_constant) uniform Push { ReducePush pc; };
 layout(constant_id = FIRD_SPEC_REDUCE_MODE) const uint kMode = kReduceSum;
 
+// One partial sum per subgroup: a subgroup reduction in place of a shared-memory tree
+// (CPU drivers suspend every subgroup of the workgroup at each barrier: one barrier here,
+// where the tree had nine). The first invocation adds the subgroups' sums in order, which
+// holds for subgroups of any size, full or not (tests/reduction_bound.hpp: the roundings).
 shared float sums[kReduceWorkgroupSize];
 
 void main() {
@@ -35,12 +40,12 @@ void main() {
             }
         }
     }
-    sums[gl_LocalInvocationID.x] = s;
+    s = subgroupAdd(s);
+    if (subgroupElect()) sums[gl_SubgroupID] = s;
     barrier();
-    for (uint stride = kReduceWorkgroupSize / 2u; stride > 0u; stride >>= 1u) {
-        if (gl_LocalInvocationID.x < stride)
-            sums[gl_LocalInvocationID.x] += sums[gl_LocalInvocationID.x + stride];
-        barrier();
+    if (gl_LocalInvocationID.x == 0u) {
+        float t = sums[0];
+        for (uint k = 1u; k < gl_NumSubgroups; ++k) t += sums[k];
+        partial[gl_WorkGroupID.x] = t;
     }
-    if (gl_LocalInvocationID.x == 0u) partial[gl_WorkGroupID.x] = sums[0];
 }

@@ -166,11 +166,13 @@ vec2 texel_pos(Walk w, float t) { return w.O + t * w.D; }
 // travel: beyond 2048 texels a float's ulp (2.4e-4 texel) exceeds any small bias, and a
 // position re-derived at a face just crossed could otherwise put the ray back across it
 // (and cycle between a cell and its parent).
-// `heading` is +1 or -1 per axis (+1 where the ray does not move along it: there the
-// texel under q is the current one, as the position never changes on that axis), so one
-// max of signed values serves both directions (no per-step branch on the direction).
-ivec2 texel_ahead(vec2 q, ivec2 current, ivec2 heading) {
-    return heading * max(heading * ivec2(floor(q)), heading * current);
+// `forward` is per axis whether the ray moves towards higher texels (true where it does
+// not move along the axis: there the texel under q is the current one, as the position
+// never changes on that axis), so a step picks the larger or smaller texel with no branch
+// (and no multiplication) on the direction.
+ivec2 texel_ahead(vec2 q, ivec2 current, bvec2 forward) {
+    const ivec2 under = ivec2(floor(q));
+    return mix(min(under, current), max(under, current), forward);
 }
 
 // The first root of the ray against the bilinear patch over texel `cell` within
@@ -256,7 +258,8 @@ int rqrm(Walk w, float t_start, ivec2 skip_texel, bool picked, out float t_hit,
     // so a walk from the root would only descend to that texel: start there instead.
     // A ray from the source that starts inside the source's bounding box lies under
     // every node down to walk_start.comp's level: its walk starts there.
-    const bool from_surface = skip_texel.x >= 0;
+    const bool from_surface = kBounceKind == kBounceReflected ||
+                              (kBounceKind == kBounceEither && skip_texel.x >= 0);
     const vec3 start = w.o + t * w.d;
     const bool at_source = !from_surface && pc.walk_from_root == 0u &&
                            all(greaterThanEqual(start, vec3(P.source_box_min[0], P.source_box_min[1], P.source_box_min[2]))) &&
@@ -281,7 +284,7 @@ int rqrm(Walk w, float t_start, ivec2 skip_texel, bool picked, out float t_hit,
     const vec2 far_side = vec2(greaterThan(w.D, vec2(0.0)));
     const vec2 inv_D = vec2(moves.x ? 1.0 / w.D.x : 1.0, moves.y ? 1.0 / w.D.y : 1.0);
     const vec2 face_origin = vec2(moves.x ? w.O.x : -1e30, moves.y ? w.O.y : -1e30);
-    const ivec2 heading = ivec2(w.D.x < 0.0 ? -1 : 1, w.D.y < 0.0 ? -1 : 1);
+    const bvec2 forward = not(lessThan(w.D, vec2(0.0)));
     const float inv_dz = w.d.z != 0.0 ? 1.0 / w.d.z : 0.0;
     bool across = false; // the candidate was not a hit: leave the texel
     uint step = 0u;
@@ -323,7 +326,7 @@ int rqrm(Walk w, float t_start, ivec2 skip_texel, bool picked, out float t_hit,
             const float t_descend = (w.d.z < 0.0 && z_in > h) ? max(t, (h - w.o.z) * inv_dz) : t;
             t = below ? t_descend : t_exit;
             record_decision(picked, below ? kWalkDescend : kWalkAdvance, t);
-            const ivec2 ahead = texel_ahead(texel_pos(w, t) + bias, texel, heading);
+            const ivec2 ahead = texel_ahead(texel_pos(w, t) + bias, texel, forward);
             if (below) {
                 --level;
                 const uint round_up = (1u << level) - 1u;
@@ -441,7 +444,10 @@ void main() {
 
     ivec2 skip = ivec2(-1);
     float t_start = 0.0;
-    if (pc.bounce > 0u) {
+    // The source's rays and reflected ones are traced by pipelines of their own
+    // (kBounceKind): CPU drivers would run this test of the source's, masked, in every bounce.
+    const bool reflected = kBounceKind == kBounceReflected || (kBounceKind == kBounceEither && pc.bounce > 0u);
+    if (reflected) {
         const uint texel_bits = floatBitsToUint(ray.direction.w); // the texel it reflected from
         skip = ivec2(texel_bits & 0xFFFFu, texel_bits >> 16u);
         t_start = P.offset_mm; // Algorithm 2 line 7: a small initial offset after a reflection
@@ -459,7 +465,7 @@ void main() {
         aborted = result == kAborted;
         blocked = result == kBlocked;
         if (result == kMiss) {
-            direct = pc.bounce == 0u;
+            direct = !reflected;
             far_miss = !direct;
         } else if (result == kHit) {
             if (pc.final_check != 0u) {

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <numbers>
 #include <numeric>
 #include <tuple>
@@ -13,8 +14,10 @@
 
 #include "farfield/farfield.hpp"
 #include "fastpath/fast_tracer.hpp"
+#include "fastpath/scene_params.hpp"
 #include "io/scene_file.hpp"
 #include "model/energy_balance.hpp"
+#include "model/surface.hpp"
 #include "reference/reference_tracer.hpp"
 #include "reference/surface_hit.hpp"
 #include "vulkan_fixture.hpp"
@@ -284,6 +287,74 @@ TEST_F(VulkanTest, RaysetIsReusedAndHeightFieldRebuiltOnlyWhenTheReflectorChange
     t.set_reflector(s.reflector);
     (void)t.run();
     EXPECT_EQ(batched.read_farfield(), t.read_farfield());
+}
+
+// A refined trace of an analytic family builds the corner heights and the refined pyramid
+// alone (a search's candidates); the paper quadtree and the gradients are built when they
+// are read. Read after runs of two reflectors, they are the second's: each texel's height
+// and gradient the surface's at its centre (model/surface.cpp, in double), every node
+// above the largest of its children; a run after the read reuses the height field.
+TEST_F(VulkanTest, ThePaperQuadtreeReadAfterRefinedRunsIsTheCurrentReflectors) {
+    Scene s = scene("model_b.toml");
+    ASSERT_EQ(s.trace.hit_mode, HitMode::Refined);
+    s.trace.rays = 20000;
+    s.trace.heightfield_w = 120;
+    s.trace.heightfield_h = 80;
+    FastTracer t(ctx(), s, 1);
+    t.set_reflector(s.reflector);
+    (void)t.run();
+    const std::vector<float> first = t.read_quadtree(); // the first reflector's, built
+    ReflectorDesc other = s.reflector;
+    other.parameters["h"] = 8.0;
+    other.parameters["a"] = 4.5;
+    t.set_reflector(other);
+    const FastRun run = t.run();
+    const std::vector<float> tree = t.read_quadtree();
+    const std::vector<glm::vec2> gradients = t.read_gradients();
+    const Surface surface = Surface::make(other, s.holder);
+    const QuadtreeLayout q = quadtree_layout(s.trace.heightfield_w, s.trace.heightfield_h);
+    const double tw = (s.holder.max_mm.x - s.holder.min_mm.x) / q.w[0];
+    const double th = (s.holder.max_mm.y - s.holder.min_mm.y) / q.h[0];
+    std::size_t sloped = 0;
+    for (std::uint32_t j = 0; j < q.h[0]; ++j)
+        for (std::uint32_t i = 0; i < q.w[0]; ++i) {
+            const double x = s.holder.min_mm.x + (i + 0.5) * tw;
+            const double y = s.holder.min_mm.y + (j + 0.5) * th;
+            const std::size_t k = std::size_t(j) * q.w[0] + i;
+            SCOPED_TRACE(testing::Message() << "texel " << i << ", " << j);
+            // Float evaluation of a ~6 mm height in the device's frame: 1e-4 mm.
+            ASSERT_NEAR(tree[k], surface.height(x, y), 1e-4);
+            // Float slopes up to ~10: 1e-4 of (1 + |slope|). Not within 1e-4 mm of the
+            // holder's z range, where float and double may clamp on either side.
+            const double z = surface.height(x, y);
+            if (z < s.holder.min_mm.z + 1e-4 || z > s.holder.max_mm.z - 1e-4) continue;
+            const glm::dvec2 g = surface.gradient(x, y);
+            ASSERT_NEAR(gradients[k].x, g.x, 1e-4 * (1.0 + std::abs(g.x)));
+            ASSERT_NEAR(gradients[k].y, g.y, 1e-4 * (1.0 + std::abs(g.y)));
+            if (glm::length(g) > 0.1) ++sloped;
+        }
+    EXPECT_GT(sloped, std::size_t(q.w[0]) * q.h[0] / 4); // the cup's wall, not a plateau
+    EXPECT_NE(first, tree);
+    for (std::uint32_t level = 1; level < q.levels; ++level)
+        for (std::uint32_t j = 0; j < q.h[level]; ++j)
+            for (std::uint32_t i = 0; i < q.w[level]; ++i) {
+                float m = -std::numeric_limits<float>::infinity();
+                for (std::uint32_t cj = 2 * j; cj < std::min(2 * j + 2, q.h[level - 1]); ++cj)
+                    for (std::uint32_t ci = 2 * i; ci < std::min(2 * i + 2, q.w[level - 1]); ++ci)
+                        m = std::max(
+                            m, tree[q.offset[level - 1] + std::size_t(cj) * q.w[level - 1] + ci]);
+                ASSERT_EQ(tree[q.offset[level] + std::size_t(j) * q.w[level] + i], m)
+                    << "level " << level << ", node " << i << ", " << j;
+            }
+    const FastRun again = t.run();
+    EXPECT_TRUE(again.heightfield_reused);
+    EXPECT_EQ(again.tally.farfield, run.tally.farfield);
+    EXPECT_EQ(t.read_farfield(), [&] {
+        FastTracer fresh(ctx(), s, 1);
+        fresh.set_reflector(other);
+        (void)fresh.run();
+        return fresh.read_farfield();
+    }());
 }
 
 // A rayset not kept (one evaluation, fird trace) is generated into the ping-pong buffers
