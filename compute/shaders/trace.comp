@@ -153,6 +153,12 @@ vec2 hit_gradient(vec3 p, ivec2 cell) {
     return (zg.x <= lo.z || zg.x >= hi.z) ? vec2(0.0) : zg.yz;
 }
 
+// The walk's minimum and maximum of two finite values (t, z, a root's parameter): CPU
+// drivers lower GLSL's min and max to a NaN-aware sequence, in two halves at 512 bits,
+// where a compare and a select is an instruction each. (A NaN operand gives the second.)
+float min_walk(float a, float b) { return a < b ? a : b; }
+float max_walk(float a, float b) { return a > b ? a : b; }
+
 struct Walk {
     vec3 o;     // origin (mm)
     vec3 d;     // direction
@@ -166,10 +172,11 @@ vec2 texel_pos(Walk w, float t) { return w.O + t * w.D; }
 // travel: beyond 2048 texels a float's ulp (2.4e-4 texel) exceeds any small bias, and a
 // position re-derived at a face just crossed could otherwise put the ray back across it
 // (and cycle between a cell and its parent).
-// `forward` is per axis whether the ray moves towards higher texels (true where it does
-// not move along the axis: there the texel under q is the current one, as the position
-// never changes on that axis), so a step picks the larger or smaller texel with no branch
-// (and no multiplication) on the direction.
+// `forward` is per axis whether the ray moves towards higher texels (either value serves
+// where it does not move along the axis: the position never changes there, so the texel
+// under q is the current one, or one past the texture's last, which the walk clamps back),
+// so a step picks the larger or smaller texel with no branch (and no multiplication) on
+// the direction.
 ivec2 texel_ahead(vec2 q, ivec2 current, bvec2 forward) {
     const ivec2 under = ivec2(floor(q));
     return mix(min(under, current), max(under, current), forward);
@@ -190,7 +197,7 @@ float refine_in_texel(Walk w, ivec2 cell, float a, float b, float t_ignore) {
     // The holder's floor is solid (the surface is clamped to it, never below): a ray
     // that reaches it in this texel has met the surface, whatever rounding says of the
     // gap there (a plateau on the floor, such as the fluted cup's apex).
-    if (w.o.z + b * w.d.z <= P.holder_min[2] + P.offset_mm) g1 = min(g1, 0.0);
+    if (w.o.z + b * w.d.z <= P.holder_min[2] + P.offset_mm) g1 = min_walk(g1, 0.0);
     // Entering the texel below its patch: the crossing from above lay on the face just
     // crossed (the patches share their edges, so only rounding hides it in the texel
     // before); the hit is there. Not within the ignore window of a reflected ray's start.
@@ -221,9 +228,9 @@ float refine_in_texel(Walk w, ivec2 cell, float a, float b, float t_ignore) {
         // even where rounding put the quadratic's root past b (or found none): a ray
         // meeting a plateau that lies on the holder's floor ends its segment on it.
         if (!(g0 > 0.0 && g1 <= 0.0 && smin <= 0.0)) return -1.0;
-        s = s <= 1.0 ? max(s, 0.0) : 1.0;
+        s = s <= 1.0 ? max_walk(s, 0.0) : 1.0;
     }
-    return a + clamp(s, 0.0, 1.0) * (b - a);
+    return a + min_walk(max_walk(s, 0.0), 1.0) * (b - a);
 }
 
 // RQRM: returns kHit with t_hit and the hit texel, kMiss, kAborted or kBlocked.
@@ -280,12 +287,15 @@ int rqrm(Walk w, float t_start, ivec2 skip_texel, bool picked, out float t_hit,
     // (far_side 1: the high face), at t = (face - O) / D with a reciprocal (a division
     // per lane is slow on CPUs); an axis it does not move along never ends a node (its
     // origin is put 1e30 texels behind, so that face's t is ~1e30, past any t_end).
-    const bvec2 moves = notEqual(w.D, vec2(0.0));
-    const vec2 far_side = vec2(greaterThan(w.D, vec2(0.0)));
+    // (A subnormal heading counts as none: its reciprocal would be infinite, and 0 * inf a
+    // NaN t at a face through the origin.)
+    const bvec2 moves = greaterThanEqual(abs(w.D), vec2(1.17549435e-38));
+    const bvec2 toward_high = greaterThan(w.D, vec2(0.0));
+    const ivec2 far_side = ivec2(toward_high);
     const vec2 inv_D = vec2(moves.x ? 1.0 / w.D.x : 1.0, moves.y ? 1.0 / w.D.y : 1.0);
     const vec2 face_origin = vec2(moves.x ? w.O.x : -1e30, moves.y ? w.O.y : -1e30);
-    const bvec2 forward = not(lessThan(w.D, vec2(0.0)));
     const float inv_dz = w.d.z != 0.0 ? 1.0 / w.d.z : 0.0;
+    const bool descending = w.d.z < 0.0;
     bool across = false; // the candidate was not a hit: leave the texel
     uint step = 0u;
     while (step < P.max_steps) {
@@ -293,24 +303,24 @@ int rqrm(Walk w, float t_start, ivec2 skip_texel, bool picked, out float t_hit,
         float cand_t_exit = t;
         for (; step < P.max_steps; ++step) {
             const ivec2 cell = texel >> level;
-            const float cell_size = float(1 << level);
-            const vec2 face = min((vec2(cell) + far_side) * cell_size, vec2(size));
+            const vec2 face = vec2(min((cell + far_side) << level, size));
             const vec2 t_faces = (face - face_origin) * inv_D;
             const float tx = t_faces.x, ty = t_faces.y;
-            const float t_exit = min(min(tx, ty), t_end);
+            const float t_exit = min_walk(min_walk(tx, ty), t_end);
             const float h = texelFetch(pyramid, int(level_offset + uint(cell.y) * level_w + uint(cell.x))).r;
             const float z_in = w.o.z + t * w.d.z;
-            const float z_out = w.o.z + max(t_exit, t) * w.d.z;
+            const float z_out = w.o.z + max_walk(t_exit, t) * w.d.z;
             record_step(picked, level, cell, h, t, t_exit, z_in, z_out);
             if (kProfile != 0u) {
                 ++g_steps;
                 if (subgroupElect()) ++g_group_steps;
             }
-            const bool below = !across && min(z_in, z_out) <= h;
+            // The ray's lowest point in the node: z is monotonic in t (rounding included).
+            const bool below = !across && (descending ? z_out : z_in) <= h;
             across = false;
             if (below && level == 0) {
                 candidate = true;
-                cand_t_exit = max(t_exit, t);
+                cand_t_exit = max_walk(t_exit, t);
                 ++step;
                 break;
             }
@@ -323,10 +333,10 @@ int rqrm(Walk w, float t_start, ivec2 skip_texel, bool picked, out float t_hit,
                 record_decision(picked, kWalkLeave, t_exit);
                 return kMiss;
             }
-            const float t_descend = (w.d.z < 0.0 && z_in > h) ? max(t, (h - w.o.z) * inv_dz) : t;
+            const float t_descend = (descending && z_in > h) ? max_walk(t, (h - w.o.z) * inv_dz) : t;
             t = below ? t_descend : t_exit;
             record_decision(picked, below ? kWalkDescend : kWalkAdvance, t);
-            const ivec2 ahead = texel_ahead(texel_pos(w, t) + bias, texel, forward);
+            const ivec2 ahead = texel_ahead(texel_pos(w, t) + bias, texel, toward_high);
             if (below) {
                 --level;
                 const uint round_up = (1u << level) - 1u;
@@ -342,7 +352,7 @@ int rqrm(Walk w, float t_start, ivec2 skip_texel, bool picked, out float t_hit,
                 const ivec2 cell_hi = min((cell + 1) << level, size) - 1;
                 ivec2 next = clamp(ahead, cell_lo, cell_hi);
                 // Across the face(s) it leaves through (a corner: both).
-                const ivec2 across_face = mix(cell_lo - 1, cell_hi + 1, greaterThan(far_side, vec2(0.0)));
+                const ivec2 across_face = mix(cell_lo - 1, cell_hi + 1, toward_high);
                 next = mix(next, across_face, bvec2(tx <= ty, ty <= tx));
                 if (any(lessThan(next, ivec2(0))) || any(greaterThanEqual(next, size))) {
                     record_decision(picked, kWalkLeave, t);
