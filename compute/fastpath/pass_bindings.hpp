@@ -12,6 +12,7 @@ namespace fird::passes {
 
 inline constexpr VkDescriptorType kStorage = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
 inline constexpr VkDescriptorType kTexel = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
+inline constexpr VkDescriptorType kStorageTexel = VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER;
 
 // rayset.comp: the source's rays into `rays`, the effective ones counted.
 struct RaysetBindings {
@@ -87,7 +88,7 @@ struct TraceBindings {
             {gpu::kTraceBindRaysIn, kStorage, &B::rays_in},
             {gpu::kTraceBindRaysOut, kStorage, &B::rays_out},
             {gpu::kTraceBindCounters, kStorage, &B::counters},
-            {gpu::kTraceBindPyramid, kTexel, &B::pyramid},
+            {gpu::kTraceBindPyramid, kStorageTexel, &B::pyramid},
             {gpu::kTraceBindHeights, kTexel, &B::heights},
             {gpu::kTraceBindGradients, kTexel, &B::gradients},
             {gpu::kTraceBindFarField, kStorage, &B::farfield},

@@ -35,9 +35,11 @@ ReflectorState make_reflector_state(const vk::Context& ctx, const gpu::ScenePara
                                     const std::string& prefix) {
     const auto storage = vk::kStorageUsage;
     const auto name = [&](const char* what) { return fmt::format("{}.{}", prefix, what); };
-    // Also vertex buffers: the viewport draws the height field straight from them.
-    const auto tree_usage =
-        storage | VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT | VK_BUFFER_USAGE_VERTEX_BUFFER_BIT;
+    // Also vertex buffers: the viewport draws the height field straight from them; and
+    // image buffers: the trace reads the quadtree with imageLoad.
+    const auto tree_usage = storage | VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT |
+                            VK_BUFFER_USAGE_STORAGE_TEXEL_BUFFER_BIT |
+                            VK_BUFFER_USAGE_VERTEX_BUFFER_BIT;
     ReflectorState s;
     s.name = prefix;
     s.params = params;

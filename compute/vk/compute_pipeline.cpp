@@ -98,7 +98,8 @@ void ComputePipeline::bind(VkCommandBuffer cb, std::span<const Binding> bindings
             throw std::logic_error("ComputePipeline::dispatch: binding type mismatch");
         const bool is_buffer = types_[i] == VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
         const bool is_image = types_[i] == VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
-        const bool is_texel = types_[i] == VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
+        const bool is_texel = types_[i] == VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER ||
+                              types_[i] == VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER;
         writes.push_back({.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET,
                           .dstBinding = i,
                           .descriptorCount = 1,

@@ -32,6 +32,11 @@ inline Binding storage(const Image& i) {
             .image = {.imageView = i.view(), .imageLayout = VK_IMAGE_LAYOUT_GENERAL}};
 }
 
+// A texel view read (or written) as an image buffer: the buffer needs
+// VK_BUFFER_USAGE_STORAGE_TEXEL_BUFFER_BIT.
+inline Binding storage_texel(const TexelView& v) {
+    return {.type = VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER, .texel_view = v.get()};
+}
 inline Binding texel(const TexelView& v) {
     return {.type = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, .texel_view = v.get()};
 }
