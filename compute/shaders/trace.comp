@@ -235,6 +235,9 @@ float refine_in_texel(Walk w, ivec2 cell, float a, float b, float t_ignore) {
     return a + min_walk(max_walk(s, 0.0), 1.0) * (b - a);
 }
 
+// Steps per round of a reflected ray's walk (see rqrm's loop).
+const uint kWalkRoundSteps = 8u;
+
 // RQRM: returns kHit with t_hit and the hit texel, kMiss, kAborted or kBlocked.
 int rqrm(Walk w, float t_start, ivec2 skip_texel, bool picked, out float t_hit,
          out ivec2 hit_texel) {
@@ -300,10 +303,23 @@ int rqrm(Walk w, float t_start, ivec2 skip_texel, bool picked, out float t_hit,
     const bool descending = w.d.z < 0.0;
     bool across = false; // the candidate was not a hit: leave the texel
     uint step = 0u;
-    while (step < P.max_steps) {
+    // Read once: CPU drivers load a buffer's value inside a loop lane by lane, masked.
+    const uint max_steps = P.max_steps;
+    while (step < max_steps) {
         bool candidate = false;
         float cand_t_exit = t;
-        for (; step < P.max_steps; ++step) {
+        // A subgroup runs the leaf test when every lane has stopped at a candidate or
+        // ended its walk, so a lane at a candidate waits for the others' walks. Reflected
+        // rays stop at many candidates without a root (without rounds, lane utilization
+        // 0.39-0.46 in Model C's bounces 1-2, where each lane's walk alone would fill
+        // 0.71-0.81): their walk runs in rounds of kWalkRoundSteps steps, after each of
+        // which the leaf test runs for the lanes at a candidate and the others walk on
+        // (docs/architecture.md, "Walk rounds"). A source's rays, with ~1 leaf test each,
+        // walk in one round: a round's end costs a leaf test run by every lane, masked.
+        // Every lane's walk is the same step for step; only the leaf tests' timing among
+        // lanes moves.
+        const uint round_end = from_surface ? step + min(kWalkRoundSteps, max_steps - step) : max_steps;
+        for (; step < round_end; ++step) {
             const ivec2 cell = texel >> level;
             const vec2 face = vec2(min((cell + far_side) << level, size));
             const vec2 t_faces = (face - face_origin) * inv_D;
@@ -372,7 +388,7 @@ int rqrm(Walk w, float t_start, ivec2 skip_texel, bool picked, out float t_hit,
                 }
             }
         }
-        if (!candidate) break;
+        if (!candidate) continue; // the round ended: walk on (past the step limit: aborted)
         if (kProfile != 0u) {
             ++g_leaf_tests;
             if (subgroupElect()) ++g_group_leaf_tests;
