@@ -2,11 +2,12 @@
 // rounding alone allows, for a sum of `count` nonnegative terms each carrying at most
 // `term_roundings` roundings, on a device whose subgroups have `subgroup_size` lanes: at
 // each level of the tree every partial sum passes through at most kReduceItemsPerThread
-// serial additions per thread, subgroup_size - 1 in the subgroup's reduction (a driver may
-// add the lanes in order, as CPU drivers do; a tree adds fewer) and one per further
-// subgroup of the workgroup (added in order); for nonnegative terms the relative error of
-// the sum is at most (term roundings + additions along a path) u, u = 2^-24 (first
-// order). `root`: the bound of the square root of that sum (half).
+// serial additions per thread (reduce_sum.comp adds kReduceItemsPerThread / 4 vec4s, then
+// the vec4's four lanes pairwise: fewer), subgroup_size - 1 in the subgroup's reduction (a driver
+// may add the lanes in order, as CPU drivers do; a tree adds fewer) and one per further subgroup of
+// the workgroup (added in order); for nonnegative terms the relative error of the sum is at most
+// (term roundings + additions along a path) u, u = 2^-24 (first order). `root`: the bound of the
+// square root of that sum (half).
 #pragma once
 
 #include <algorithm>

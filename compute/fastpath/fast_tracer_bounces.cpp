@@ -30,7 +30,7 @@ void FastTracer::dispatch_trace(VkCommandBuffer cb, const vk::Buffer& in, const 
                                 std::optional<std::uint32_t> groups) {
     const bool paper = params_.hit_mode == gpu::kHitModePaper;
     const passes::TraceBindings b{
-        .params = vk::storage(state().params_buffer),
+        .params = vk::uniform(state().params_buffer),
         .rays_in = vk::storage(in),
         .rays_out = vk::storage(out),
         .counters = vk::storage(counters),

@@ -44,7 +44,7 @@ void FastTracer::record_heightfield(VkCommandBuffer cb, FastRun& run, bool with_
     timed(cb, &run.timings.heightfield_ms, nullptr, [&] {
         constexpr std::uint32_t g = FIRD_HEIGHTFIELD_WORKGROUP_SIZE;
         if (!mesh_) {
-            const passes::HeightfieldBindings hf{.params = vk::storage(state().params_buffer),
+            const passes::HeightfieldBindings hf{.params = vk::uniform(state().params_buffer),
                                                  .heights = vk::storage(state().paper_tree),
                                                  .gradients = vk::storage(state().gradients),
                                                  .control = vk::storage(state().control),
@@ -53,12 +53,12 @@ void FastTracer::record_heightfield(VkCommandBuffer cb, FastRun& run, bool with_
                 .dispatch(cb, hf, {}, groups(params_.hf_w + 1, g), groups(params_.hf_h + 1, g));
             vk::barrier_all(cb);
         }
-        const passes::MaxMipBindings mm{.params = vk::storage(state().params_buffer),
+        const passes::MaxMipBindings mm{.params = vk::uniform(state().params_buffer),
                                         .paper = vk::storage(state().paper_tree),
                                         .refined = vk::storage(state().refined_tree),
-                                        .corners = vk::texel(state().corners_view),
-                                        .paper_in = vk::texel(state().paper_view),
-                                        .refined_in = vk::texel(state().refined_view)};
+                                        .corners = vk::storage_texel(state().corners_view),
+                                        .paper_in = vk::storage_texel(state().paper_view),
+                                        .refined_in = vk::storage_texel(state().refined_view)};
         for (std::uint32_t level = 0; level < params_.levels; ++level) {
             const gpu::MaxMipPush push{.level = level};
             (level == 0 ? maxmip_level0_pipeline_
@@ -69,7 +69,7 @@ void FastTracer::record_heightfield(VkCommandBuffer cb, FastRun& run, bool with_
             vk::barrier_all(cb);
         }
         const passes::WalkStartBindings ws{
-            .params = vk::storage(state().params_buffer),
+            .params = vk::uniform(state().params_buffer),
             .pyramid = vk::storage(params_.hit_mode == gpu::kHitModePaper ? state().paper_tree
                                                                           : state().refined_tree),
             .level = vk::storage(state().walk_start)};

@@ -26,7 +26,7 @@ void FastTracer::record_rayset(VkCommandBuffer cb, std::uint64_t first, std::uin
         vk::barrier_all(cb);
     }
     timed(cb, &run.timings.rayset_ms, nullptr, [&] {
-        const passes::RaysetBindings b{.params = vk::storage(state().params_buffer),
+        const passes::RaysetBindings b{.params = vk::uniform(state().params_buffer),
                                        .rays = vk::storage(rays),
                                        .counters = vk::storage(counters_),
                                        .buckets = vk::storage(order_buckets_),
@@ -110,7 +110,7 @@ void FastTracer::record_order(VkCommandBuffer cb, const vk::Buffer& from, const 
     bucket_scan_pipeline_.dispatch_indirect(cb, {.buckets = vk::storage(order_buckets_)}, {}, loop_,
                                             gpu::kLoopScanArgs * 4);
     vk::barrier_all(cb);
-    const passes::OrderBindings b{.params = vk::storage(state().params_buffer),
+    const passes::OrderBindings b{.params = vk::uniform(state().params_buffer),
                                   .rays_in = vk::storage(from),
                                   .rays_out = vk::storage(to),
                                   .buckets = vk::storage(order_buckets_),

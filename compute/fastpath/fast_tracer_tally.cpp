@@ -47,7 +47,8 @@ void FastTracer::record_to_lm(VkCommandBuffer cb, FastRun& run) {
                                  .lm_per_ray = float(run.energy_per_ray_lm),
                                  .layers = params_.farfield_layers,
                                  .reflectance = params_.reflectance};
-        to_lm_pipeline_.dispatch(cb, b, push, groups(cells, FIRD_REDUCE_WORKGROUP_SIZE));
+        // Four cells an invocation (counts_to_lm.comp).
+        to_lm_pipeline_.dispatch(cb, b, push, groups((cells + 3) / 4, FIRD_REDUCE_WORKGROUP_SIZE));
     });
     vk::barrier_all(cb);
 }

@@ -11,6 +11,7 @@
 namespace fird::passes {
 
 inline constexpr VkDescriptorType kStorage = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+inline constexpr VkDescriptorType kUniform = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
 inline constexpr VkDescriptorType kTexel = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
 inline constexpr VkDescriptorType kStorageTexel = VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER;
 
@@ -20,7 +21,7 @@ struct RaysetBindings {
     static constexpr auto fields() {
         using B = RaysetBindings;
         return std::array<vk::BindingField<B>, 5>{{
-            {gpu::kBindParams, kStorage, &B::params},
+            {gpu::kBindParams, kUniform, &B::params},
             {gpu::kRaysetBindRays, kStorage, &B::rays},
             {gpu::kRaysetBindCounters, kStorage, &B::counters},
             {gpu::kRaysetBindBuckets, kStorage, &B::buckets},
@@ -36,7 +37,7 @@ struct HeightfieldBindings {
     static constexpr auto fields() {
         using B = HeightfieldBindings;
         return std::array<vk::BindingField<B>, 5>{{
-            {gpu::kBindParams, kStorage, &B::params},
+            {gpu::kBindParams, kUniform, &B::params},
             {gpu::kHeightfieldBindHeights, kStorage, &B::heights},
             {gpu::kHeightfieldBindGradients, kStorage, &B::gradients},
             {gpu::kHeightfieldBindControl, kStorage, &B::control},
@@ -52,12 +53,12 @@ struct MaxMipBindings {
     static constexpr auto fields() {
         using B = MaxMipBindings;
         return std::array<vk::BindingField<B>, 6>{{
-            {gpu::kBindParams, kStorage, &B::params},
+            {gpu::kBindParams, kUniform, &B::params},
             {gpu::kMaxMipBindPaper, kStorage, &B::paper},
             {gpu::kMaxMipBindRefined, kStorage, &B::refined},
-            {gpu::kMaxMipBindCorners, kTexel, &B::corners},
-            {gpu::kMaxMipBindPaperIn, kTexel, &B::paper_in},
-            {gpu::kMaxMipBindRefinedIn, kTexel, &B::refined_in},
+            {gpu::kMaxMipBindCorners, kStorageTexel, &B::corners},
+            {gpu::kMaxMipBindPaperIn, kStorageTexel, &B::paper_in},
+            {gpu::kMaxMipBindRefinedIn, kStorageTexel, &B::refined_in},
         }};
     }
 };
@@ -69,7 +70,7 @@ struct WalkStartBindings {
     static constexpr auto fields() {
         using B = WalkStartBindings;
         return std::array<vk::BindingField<B>, 3>{{
-            {gpu::kBindParams, kStorage, &B::params},
+            {gpu::kBindParams, kUniform, &B::params},
             {gpu::kWalkStartBindPyramid, kStorage, &B::pyramid},
             {gpu::kWalkStartBindLevel, kStorage, &B::level},
         }};
@@ -84,7 +85,7 @@ struct TraceBindings {
     static constexpr auto fields() {
         using B = TraceBindings;
         return std::array<vk::BindingField<B>, 16>{{
-            {gpu::kBindParams, kStorage, &B::params},
+            {gpu::kBindParams, kUniform, &B::params},
             {gpu::kTraceBindRaysIn, kStorage, &B::rays_in},
             {gpu::kTraceBindRaysOut, kStorage, &B::rays_out},
             {gpu::kTraceBindCounters, kStorage, &B::counters},
@@ -124,7 +125,7 @@ struct OrderBindings {
     static constexpr auto fields() {
         using B = OrderBindings;
         return std::array<vk::BindingField<B>, 5>{{
-            {gpu::kBindParams, kStorage, &B::params},
+            {gpu::kBindParams, kUniform, &B::params},
             {gpu::kOrderBindRaysIn, kStorage, &B::rays_in},
             {gpu::kOrderBindRaysOut, kStorage, &B::rays_out},
             {gpu::kOrderBindBuckets, kStorage, &B::buckets},

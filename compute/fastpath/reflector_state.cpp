@@ -9,6 +9,9 @@
 
 namespace fird {
 
+// A uniform buffer (common.glsl): Vulkan guarantees 16 KiB of one.
+static_assert(sizeof(gpu::SceneParams) <= 16384);
+
 namespace {
 
 std::uint64_t quadtree_bytes(const gpu::SceneParams& p) {
@@ -44,7 +47,8 @@ ReflectorState make_reflector_state(const vk::Context& ctx, const gpu::ScenePara
     s.name = prefix;
     s.params = params;
     s.params_buffer =
-        vk::Buffer(ctx, sizeof(gpu::SceneParams), storage, vk::MemoryUse::Upload, name("params"));
+        vk::Buffer(ctx, sizeof(gpu::SceneParams), storage | VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
+                   vk::MemoryUse::Upload, name("params"));
     s.control = vk::Buffer(ctx, 4, storage, vk::MemoryUse::Device, name("bspline.control"));
     s.walk_start = vk::Buffer(ctx, 4, storage, vk::MemoryUse::Device, name("walk_start"));
     s.paper_tree = vk::Buffer(ctx, quadtree_bytes(params), tree_usage, vk::MemoryUse::Device,

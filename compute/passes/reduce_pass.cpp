@@ -10,6 +10,8 @@ namespace fird {
 
 namespace {
 constexpr std::uint32_t kSpan = gpu::kReduceWorkgroupSize * gpu::kReduceItemsPerThread;
+// reduce_sum.comp reads a thread's items as vec4s.
+static_assert(gpu::kReduceItemsPerThread % 4 == 0);
 std::uint32_t groups_for(std::uint32_t count) {
     return (count + kSpan - 1) / kSpan;
 }

@@ -7,9 +7,15 @@
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_basic : require
 #extension GL_KHR_shader_subgroup_ballot : require
+#extension GL_EXT_scalar_block_layout : require
 #include "fird_shared.h"
 
-layout(std430, binding = kBindParams) readonly buffer Params { SceneParams P; };
+// A uniform buffer, not a storage buffer: every invocation reads it at the same address,
+// and CPU drivers (llvmpipe) load a storage buffer inside divergent control flow (after
+// any early return) in a loop over the lanes, each with a bounds check, even at a uniform
+// address, where a uniform buffer's load is one scalar load. The scalar layout is the C
+// struct's (SceneParams holds 4-byte scalars and arrays of them: std430's offsets).
+layout(scalar, binding = kBindParams) uniform Params { SceneParams P; };
 
 // The scene's fixed choices (SceneParams holds the same values for the host).
 layout(constant_id = FIRD_SPEC_SOURCE_KIND) const uint kSourceKind = 0u;

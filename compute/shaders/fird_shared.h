@@ -152,8 +152,9 @@ FIRD_CONSTANT(uint, kHeightfieldBindCorners, 4u);
 FIRD_CONSTANT(uint, kMaxMipBindPaper, 1u);
 FIRD_CONSTANT(uint, kMaxMipBindRefined, 2u);
 FIRD_CONSTANT(uint, kMaxMipBindCorners, 3u);
-// The levels below, read through texel views of the same buffers (CPU drivers gather a
-// texel fetch; a storage-buffer load at per-lane indices is a scalar loop per lane).
+// The levels below, read through R32F image-buffer views of the same buffers (CPU drivers
+// gather an image load inline; a storage-buffer load at per-lane indices is a scalar loop
+// per lane).
 FIRD_CONSTANT(uint, kMaxMipBindPaperIn, 4u);
 FIRD_CONSTANT(uint, kMaxMipBindRefinedIn, 5u);
 // maxmip.comp's specialization constant: 1 in the pipeline that builds level 0 (the
@@ -236,8 +237,9 @@ FIRD_CONSTANT(uint, kCounterCount, kCounterLostByReflections + FIRD_MAX_REFLECTI
 // slot allocators (kCounterEffective, kCounterActiveOut) live in copy 0 alone.
 FIRD_CONSTANT(uint, kTallyCopies, 64u);
 
-// Everything a pass needs to know about the scene, in one storage buffer (std430;
-// only 4-byte scalars and arrays of them, so C++ and GLSL agree on the layout).
+// Everything a pass needs to know about the scene, in one uniform buffer (the scalar
+// layout, common.glsl; only 4-byte scalars and arrays of them, so C++ and GLSL agree on
+// the layout, as std430's would).
 // Positions are relative to the holder box's centre (fastpath/scene_params.hpp).
 struct SceneParams {
     float holder_min[4];

@@ -22,9 +22,13 @@ layout(push_constant) uniform Push { RaysetOrderPush pc; };
 
 void main() {
     const uint i = gl_GlobalInvocationID.x;
-    if (i >= loop_state[kLoopOrderCount]) return;
+    // Read before the first branch: CPU drivers load a storage buffer in divergent control
+    // flow lane by lane, even at an address common to all.
+    const uint count = loop_state[kLoopOrderCount];
+    const bool sort = loop_state[kLoopSort] != 0u;
+    if (i >= count) return;
     const Ray r = rays_in[i];
-    if (loop_state[kLoopSort] == 0u) {
+    if (!sort) {
         rays_out[i] = r;
         return;
     }

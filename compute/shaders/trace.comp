@@ -239,7 +239,8 @@ float refine_in_texel(Walk w, ivec2 cell, float a, float b, float t_ignore) {
 const uint kWalkRoundSteps = 8u;
 
 // RQRM: returns kHit with t_hit and the hit texel, kMiss, kAborted or kBlocked.
-int rqrm(Walk w, float t_start, ivec2 skip_texel, bool picked, out float t_hit,
+// `start_level`: walk_start.comp's level (read by main where every lane is active).
+int rqrm(Walk w, float t_start, ivec2 skip_texel, bool picked, uint start_level, out float t_hit,
          out ivec2 hit_texel) {
     t_hit = 0.0;
     hit_texel = ivec2(0);
@@ -276,7 +277,7 @@ int rqrm(Walk w, float t_start, ivec2 skip_texel, bool picked, out float t_hit,
     const bool at_source = !from_surface && pc.walk_from_root == 0u &&
                            all(greaterThanEqual(start, vec3(P.source_box_min[0], P.source_box_min[1], P.source_box_min[2]))) &&
                            all(lessThanEqual(start, vec3(P.source_box_max[0], P.source_box_max[1], P.source_box_max[2])));
-    const uint s = walk_start_level;
+    const uint s = start_level;
     int level = from_surface ? 0 : (at_source ? int(s) : top);
     // The node's row in the quadtree buffer follows the level by integer arithmetic
     // (level l is ceil(W / 2^l) x ceil(H / 2^l) nodes, stored after the finer levels):
@@ -303,7 +304,8 @@ int rqrm(Walk w, float t_start, ivec2 skip_texel, bool picked, out float t_hit,
     const bool descending = w.d.z < 0.0;
     bool across = false; // the candidate was not a hit: leave the texel
     uint step = 0u;
-    // Read once: CPU drivers load a buffer's value inside a loop lane by lane, masked.
+    // Read once, before the loops (a storage buffer's value was loaded lane by lane, masked,
+    // at every round; the scene's parameters are a uniform buffer now: common.glsl).
     const uint max_steps = P.max_steps;
     while (step < max_steps) {
         bool candidate = false;
@@ -440,7 +442,10 @@ uint far_field_cell(vec3 d) {
 // atomics even when a push constant turns it off for every lane.
 void main() {
     const uint i = gl_GlobalInvocationID.x;
+    // Buffer values the same for every invocation are read before the first branch: CPU
+    // drivers load a storage buffer in divergent control flow lane by lane.
     const uint active_rays = loop_state[kLoopActive];
+    const uint start_level = walk_start_level;
     if (i >= active_rays) return;
     const bool order_output = pc.order_output != 0u && active_rays >= kOrderMinRays;
     const Ray ray = rays_in[i];
@@ -489,7 +494,7 @@ void main() {
     if (!below) {
         float t_hit;
         ivec2 hit_texel;
-        const int result = rqrm(w, t_start, skip, picked, t_hit, hit_texel);
+        const int result = rqrm(w, t_start, skip, picked, start_level, t_hit, hit_texel);
         aborted = result == kAborted;
         blocked = result == kBlocked;
         if (result == kMiss) {

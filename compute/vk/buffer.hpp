@@ -59,9 +59,10 @@ class Buffer {
     VkDeviceSize size_ = 0;
 };
 
-// A typed view of a whole buffer for uniform texel buffer bindings: on CPU drivers its
-// reads go through the texture unit's vectorized gather instead of one bounds-checked
-// scalar load per lane (the buffer needs VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT).
+// A typed view of a whole buffer for uniform or storage texel buffer bindings: on CPU
+// drivers its reads are a vectorized gather instead of one bounds-checked scalar load per
+// lane (the buffer needs VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT or
+// VK_BUFFER_USAGE_STORAGE_TEXEL_BUFFER_BIT, as it is bound).
 class TexelView {
   public:
     TexelView() = default;

@@ -96,7 +96,8 @@ void ComputePipeline::bind(VkCommandBuffer cb, std::span<const Binding> bindings
     for (std::uint32_t i = 0; i < bindings.size(); ++i) {
         if (bindings[i].type != types_[i])
             throw std::logic_error("ComputePipeline::dispatch: binding type mismatch");
-        const bool is_buffer = types_[i] == VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+        const bool is_buffer = types_[i] == VK_DESCRIPTOR_TYPE_STORAGE_BUFFER ||
+                               types_[i] == VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
         const bool is_image = types_[i] == VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
         const bool is_texel = types_[i] == VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER ||
                               types_[i] == VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER;

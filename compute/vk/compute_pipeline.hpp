@@ -15,8 +15,9 @@
 
 namespace fird::vk {
 
-// One binding's resource: a storage buffer (whole), a storage image (GENERAL layout) or
-// a uniform texel buffer (a typed view of a buffer, read through the texture path).
+// One binding's resource: a storage or uniform buffer (whole), a storage image (GENERAL
+// layout), or a uniform or storage texel buffer (a typed view of a buffer, read through
+// the texture path or as an image buffer).
 struct Binding {
     VkDescriptorType type;
     VkDescriptorBufferInfo buffer{};
@@ -30,6 +31,15 @@ inline Binding storage(const Buffer& b) {
 inline Binding storage(const Image& i) {
     return {.type = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,
             .image = {.imageView = i.view(), .imageLayout = VK_IMAGE_LAYOUT_GENERAL}};
+}
+
+// A uniform buffer (whole): what every invocation reads at the same address. CPU drivers
+// load a storage buffer inside divergent control flow lane by lane, even at a uniform
+// address; a uniform buffer's load stays one scalar load (SceneParams: docs/architecture.md,
+// "The scene's parameters as a uniform buffer").
+inline Binding uniform(const Buffer& b) {
+    return {.type = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER,
+            .buffer = {.buffer = b.get(), .offset = 0, .range = VK_WHOLE_SIZE}};
 }
 
 // A texel view read (or written) as an image buffer: the buffer needs

@@ -139,6 +139,16 @@ DeviceSummary summarize(VkPhysicalDevice pd, const std::vector<std::string>& ext
                 break;
             }
     }
+    if (s.unusable_reason.empty()) {
+        // Optional in Vulkan 1.3, and every driver FIRD runs on has it: the scene's
+        // parameters are a uniform buffer in the C struct's (scalar) layout (common.glsl).
+        VkPhysicalDeviceVulkan12Features f12{
+            .sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
+        VkPhysicalDeviceFeatures2 features{.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2,
+                                           .pNext = &f12};
+        vkGetPhysicalDeviceFeatures2(pd, &features);
+        if (!f12.scalarBlockLayout) s.unusable_reason = "missing device feature scalarBlockLayout";
+    }
     s.usable = s.unusable_reason.empty();
     return s;
 }
@@ -396,6 +406,7 @@ Context Context::create(const ContextOptions& options) {
     VkPhysicalDeviceVulkan12Features f12{.sType =
                                              VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES,
                                          .pNext = &f13,
+                                         .scalarBlockLayout = VK_TRUE,
                                          .hostQueryReset = VK_TRUE,
                                          .timelineSemaphore = VK_TRUE};
     VkPhysicalDeviceFeatures2 features{.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2,

@@ -41,18 +41,19 @@ double sum(const std::vector<double>& v) {
 }
 
 // Model C (up to 6 reflections) traced with a perfect mirror and with R = 0.8, the same
-// rays: the finish takes no ray elsewhere (no spread), so the tallies are the same, and the
-// far field with R holds sum_k n_k R^k rays' flux, n_k from the perfect mirror's tally. The
-// energy terms then add up to the emitted flux (to double rounding: 1e-9 relative), and the
-// far field's cells to its term (float cells: 1e-5 relative).
-TEST_F(VulkanTest, AReflectanceWeighsTheRaysOfEachReflectionOrderByItsPower) {
+// rays, on a far field of w x h cells: the finish takes no ray elsewhere (no spread), so
+// the tallies are the same, and the far field with R holds sum_k n_k R^k rays' flux, n_k
+// from the perfect mirror's tally. The energy terms then add up to the emitted flux (to
+// double rounding: 1e-9 relative), and the far field's cells to its term (float cells:
+// 1e-5 relative).
+void expect_reflection_orders_weighed(const vk::Context& ctx, std::uint32_t w, std::uint32_t h) {
     Scene mirror = model("model_c.toml");
     mirror.trace.rays = 200000;
-    mirror.trace.farfield_w = 360;
-    mirror.trace.farfield_h = 180;
+    mirror.trace.farfield_w = w;
+    mirror.trace.farfield_h = h;
     Scene finished = mirror;
     finished.reflector.material.reflectance = 0.8;
-    FastTracer a(ctx(), mirror, 3), b(ctx(), finished, 3);
+    FastTracer a(ctx, mirror, 3), b(ctx, finished, 3);
     a.set_reflector(mirror.reflector);
     b.set_reflector(finished.reflector);
     const FastRun one = a.run(), r = b.run();
@@ -72,8 +73,14 @@ TEST_F(VulkanTest, AReflectanceWeighsTheRaysOfEachReflectionOrderByItsPower) {
                 e.discarded_lm + e.direct_lm + e.farfield_lm + e.lost_lm + e.absorbed_lm,
                 1e-9 * e.emitted_lm);
     EXPECT_NEAR(sum(b.read_farfield()), e.farfield_lm, 1e-5 * e.farfield_lm);
+}
+
+TEST_F(VulkanTest, AReflectanceWeighsTheRaysOfEachReflectionOrderByItsPower) {
+    expect_reflection_orders_weighed(ctx(), 360, 180);
 
     // The CPU reference, weighing in double, on its own rays: the same law.
+    Scene finished = model("model_c.toml");
+    finished.reflector.material.reflectance = 0.8;
     const auto ref =
         trace_reference(finished.source, Surface::make(finished.reflector, finished.holder),
                         {.rays = 100000,
@@ -90,6 +97,13 @@ TEST_F(VulkanTest, AReflectanceWeighsTheRaysOfEachReflectionOrderByItsPower) {
     EXPECT_NEAR(re.emitted_lm,
                 re.discarded_lm + re.direct_lm + re.farfield_lm + re.lost_lm + re.absorbed_lm,
                 1e-9 * re.emitted_lm);
+}
+
+// The same on a far field whose cell count is no multiple of 4 (91 x 45), where the counts
+// of each reflection order become lumens cell by cell (counts_to_lm.comp converts four
+// cells at a time only where every order's layer starts on a vec4).
+TEST_F(VulkanTest, AReflectanceWeighsTheOrdersOnAFarFieldOfAnyCellCount) {
+    expect_reflection_orders_weighed(ctx(), 91, 45);
 }
 
 // On a flat mirror every reflected ray has one reflection: the far field with R is R times
