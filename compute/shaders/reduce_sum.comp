@@ -46,17 +46,8 @@ void main() {
         const uint i = 4u * q;
         if (i + 3u < pc.count) {
             const vec4 av = a4[q];
-            const vec4 bv = kMode == kReduceSum ? av : b4[q];
-            if (kMode == kReduceSum) {
-                s4 += av;
-            } else {
-                const vec4 d = av - bv;
-                vec4 w = vec4(1.0);
-                if (kMode == kReduceCandelaSquaredDifference)
-                    w = vec4(row_weight[i / pc.width], row_weight[(i + 1u) / pc.width],
-                             row_weight[(i + 2u) / pc.width], row_weight[(i + 3u) / pc.width]);
-                s4 += d * d * w;
-            }
+            const vec4 bv = kMode == kReduceSum ? vec4(0.0) : b4[q];
+            for (uint c = 0u; c < 4u; ++c) s4[c] += term(i + c, av[c], bv[c]);
         } else {
             for (uint c = 0u; c < 3u; ++c) // the last inputs, fewer than four
                 if (i + c < pc.count) s4[c] += term(i + c, a[i + c], kMode == kReduceSum ? 0.0 : b[i + c]);
