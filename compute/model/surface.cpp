@@ -36,6 +36,15 @@ HeightRange scaled(double k, double g0, double g1) {
     return {std::min(k * g0, k * g1), std::max(k * g0, k * g1)};
 }
 
+// floor(s) within [lo, hi], compared as doubles first: converting a double beyond int's
+// range is undefined (a far box or a tiny spacing from a scene file gives such an s), and a
+// NaN s gives hi.
+int clamped_floor(double s, int lo, int hi) {
+    if (!(s < double(hi))) return hi;
+    if (!(s > double(lo))) return lo;
+    return int(std::floor(s));
+}
+
 // Uniform cubic B-spline basis functions and their derivatives at t in [0, 1).
 void basis(double t, double b[4], double db[4]) {
     const double t2 = t * t;
@@ -55,11 +64,11 @@ void basis(double t, double b[4], double db[4]) {
 // slope).
 std::pair<double, double> profile_value_slope(const ProfileFn& f, double r) {
     const double s = r / f.spacing;
-    if (s >= double(f.spans)) {
+    if (!(s < double(f.spans))) {
         const std::size_t n = std::size_t(f.spans);
         return {(f.control[n] + 4.0 * f.control[n + 1] + f.control[n + 2]) / 6.0, 0.0};
     }
-    const int i = std::min(int(s), f.spans - 1);
+    const int i = clamped_floor(s, 0, f.spans - 1);
     double b[4], db[4];
     basis(s - i, b, db);
     double v = 0.0, d = 0.0;
@@ -234,7 +243,7 @@ struct RawBounds {
     }
     HeightRange operator()(const BSplineFn& f) const {
         // Convex hull property: the surface lies within its influencing control heights.
-        const auto index = [](double s, int n) { return std::clamp(int(std::floor(s)), 0, n - 1); };
+        const auto index = [](double s, int n) { return clamped_floor(s, 0, n - 1); };
         const int i0 = std::max(index((x0 - f.x0) / f.dx, f.nx) - 1, 0);
         const int i1 = std::min(index((x1 - f.x0) / f.dx, f.nx) + 2, f.nx - 1);
         const int j0 = std::max(index((y0 - f.y0) / f.dy, f.ny) - 1, 0);
@@ -265,8 +274,8 @@ struct RawBounds {
         include(r_lo);
         include(r_hi);
         const double end = f.spacing * f.spans;
-        for (int i = std::min(int(r_lo / f.spacing), f.spans); i < f.spans && i * f.spacing < r_hi;
-             ++i) {
+        for (int i = clamped_floor(r_lo / f.spacing, 0, f.spans);
+             i < f.spans && i * f.spacing < r_hi; ++i) {
             const double* c = &f.control[std::size_t(i)];
             // f'(t) spacing = A t^2 + B t + C (the basis derivatives of basis()).
             const double A = -0.5 * c[0] + 1.5 * c[1] - 1.5 * c[2] + 0.5 * c[3];

@@ -100,5 +100,30 @@ TEST(Surface, AProfilePassesThroughItsHeightsLevelOnItsAxis) {
     EXPECT_NEAR(curvature, 0.0, 0.02); // f'' linear in a span: within ~2e-3 of the knot
 }
 
+// A box or spacing far outside the spans (a fuzzed scene found a profile's bounds converting
+// r / spacing beyond int's range, which is undefined): the bounds still hold the surface,
+// which is level beyond the last knot (the profile) or at the border's control heights (the
+// spline), so their values are known without the bounds code.
+TEST(Surface, BoundsFarBeyondTheSplineStayExactAndDefined) {
+    ReflectorDesc profile{
+        .family = Family::Profile,
+        .parameters = {{"z0", -6.0}, {"cx", 0.0}, {"cy", 0.0}, {"radius_mm", 1e-200}}};
+    profile.bspline = {.nx = 3, .ny = 1, .heights_mm = {-2.0, -1.0, 0.5}};
+    const Holder holder{{-20, -20, -30}, {20, 20, 30}};
+    const Surface p = Surface::make(profile, holder);
+    const HeightRange level = p.bounds(1.0, 2.0, 1.0, 2.0); // r / spacing ~ 1e200
+    EXPECT_NEAR(level.lo, -6.0 + 0.5, 1e-8); // the bounds' rounding margin, 2e-9 here
+    EXPECT_NEAR(level.hi, -6.0 + 0.5, 1e-8);
+    EXPECT_NEAR(p.height(1.5, 1.5), -6.0 + 0.5, 1e-12);
+
+    ReflectorDesc spline{.family = Family::BSpline};
+    spline.bspline = {.nx = 3, .ny = 2, .heights_mm = {-3.0, -2.0, -1.0, 4.0, 5.0, 6.0}};
+    const Surface b = Surface::make(spline, holder);
+    // (x - x0) / dx ~ 1e298: the convex hull of the last column's heights.
+    const HeightRange far = b.bounds(1e300, 1.5e300, -1e300, -0.5e300);
+    EXPECT_EQ(far.lo, -2.0);
+    EXPECT_EQ(far.hi, 6.0);
+}
+
 } // namespace
 } // namespace fird
