@@ -35,7 +35,7 @@ void FastTracer::dispatch_trace(VkCommandBuffer cb, const vk::Buffer& in, const 
         .rays_out = vk::storage(out),
         .counters = vk::storage(counters),
         .pyramid = vk::storage_texel(paper ? state().paper_view : state().refined_view),
-        .heights = vk::texel(paper ? state().paper_view : state().corners_view),
+        .heights = vk::storage_texel(paper ? state().paper_view : state().corners_view),
         .gradients = vk::texel(state().gradients_view),
         .farfield = vk::storage(farfield),
         .hits = vk::storage(hits_),

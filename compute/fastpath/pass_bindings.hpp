@@ -90,7 +90,7 @@ struct TraceBindings {
             {gpu::kTraceBindRaysOut, kStorage, &B::rays_out},
             {gpu::kTraceBindCounters, kStorage, &B::counters},
             {gpu::kTraceBindPyramid, kStorageTexel, &B::pyramid},
-            {gpu::kTraceBindHeights, kTexel, &B::heights},
+            {gpu::kTraceBindHeights, kStorageTexel, &B::heights},
             {gpu::kTraceBindGradients, kTexel, &B::gradients},
             {gpu::kTraceBindFarField, kStorage, &B::farfield},
             {gpu::kTraceBindHits, kStorage, &B::hits},

@@ -39,7 +39,7 @@ ReflectorState make_reflector_state(const vk::Context& ctx, const gpu::ScenePara
     const auto storage = vk::kStorageUsage;
     const auto name = [&](const char* what) { return fmt::format("{}.{}", prefix, what); };
     // Also vertex buffers: the viewport draws the height field straight from them; and
-    // image buffers: the trace reads the quadtree with imageLoad.
+    // image buffers: the trace reads the quadtree and the heights with imageLoad.
     const auto tree_usage = storage | VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT |
                             VK_BUFFER_USAGE_STORAGE_TEXEL_BUFFER_BIT |
                             VK_BUFFER_USAGE_VERTEX_BUFFER_BIT;

@@ -174,7 +174,7 @@ FIRD_CONSTANT(uint, kWalkStartMaxNodes, 4096u); // nodes over the source checked
 FIRD_CONSTANT(uint, kTraceBindRaysIn, 1u);
 FIRD_CONSTANT(uint, kTraceBindRaysOut, 2u);
 FIRD_CONSTANT(uint, kTraceBindCounters, 3u);
-// Binding 4 is a storage texel buffer (R32F), 5-6 uniform texel buffers (R32F, RG32F); the
+// Bindings 4-5 are storage texel buffers (R32F), 6 a uniform texel buffer (RG32F); the
 // others storage buffers.
 FIRD_CONSTANT(uint, kTraceBindPyramid, 4u); // the traversal quadtree of the hit mode
 // The hit mode's surface: the paper quadtree (level 0 = texel heights) or the refined

@@ -22,10 +22,13 @@ layout(std430, binding = kTraceBindRaysOut) writeonly buffer RaysOut { Ray rays_
 layout(std430, binding = kTraceBindCounters) buffer Counters { uint counters[]; };
 // Texel buffers: CPU drivers read these through a vectorized gather (storage-buffer
 // loads at per-lane indices become a bounds-checked scalar loop per lane).
-// The quadtree, the walk's one read per step, through an image buffer: llvmpipe inlines an
-// image load where it calls a function for a texel fetch (~3 % of Model C's candidate).
+// The quadtree (the walk's one read per step) and the heights (the leaf test's four
+// corners) through image buffers: llvmpipe inlines an image load where it calls a function
+// around the gather for a texel fetch, and the caller spills its live vectors at each call
+// (the quadtree ~3 % of Model C's candidate; the heights ~3 % on an AVX2 CPU,
+// docs/architecture.md "On an AVX2 CPU").
 layout(binding = kTraceBindPyramid, r32f) uniform readonly imageBuffer pyramid;
-layout(binding = kTraceBindHeights) uniform samplerBuffer heights;
+layout(binding = kTraceBindHeights, r32f) uniform readonly imageBuffer heights;
 layout(binding = kTraceBindGradients) uniform samplerBuffer gradients;
 layout(std430, binding = kTraceBindFarField) buffer FarField { uint farfield[]; };
 // A ray's record (diagnostics): where it met the surface and the parameter t there (t = -1:
@@ -106,7 +109,7 @@ const int kBlocked = 3; // entered the box through a side face below the surface
 // The paper mode's texel height (its quadtree's level 0).
 float height_at(ivec2 t) {
     t = clamp(t, ivec2(0), ivec2(P.hf_w - 1u, P.hf_h - 1u));
-    return texelFetch(heights, int(uint(t.y) * P.hf_w + uint(t.x))).r;
+    return imageLoad(heights, int(uint(t.y) * P.hf_w + uint(t.x))).r;
 }
 vec2 gradient_at(ivec2 t) {
     t = clamp(t, ivec2(0), ivec2(P.hf_w - 1u, P.hf_h - 1u));
@@ -118,8 +121,8 @@ vec2 gradient_at(ivec2 t) {
 vec4 patch_corners(ivec2 cell) {
     const uint row = P.hf_w + 1u;
     const int c = int(uint(cell.y) * row + uint(cell.x));
-    return vec4(texelFetch(heights, c).r, texelFetch(heights, c + 1).r,
-                texelFetch(heights, c + int(row)).r, texelFetch(heights, c + int(row) + 1).r);
+    return vec4(imageLoad(heights, c).r, imageLoad(heights, c + 1).r,
+                imageLoad(heights, c + int(row)).r, imageLoad(heights, c + int(row) + 1).r);
 }
 
 // Bilinear interpolation at texel-space q over the patch of texel `cell` with corners c.
@@ -398,7 +401,7 @@ int rqrm(Walk w, float t_start, ivec2 skip_texel, bool picked, uint start_level,
         // Algorithm 1 lines 13-15 (paper) or the refined surface.
         if (kHitMode == kHitModePaper) {
             if (texel != skip_texel) { // not the texel the ray reflected from
-                const float h = texelFetch(heights, int(uint(texel.y) * P.hf_w + uint(texel.x))).r;
+                const float h = imageLoad(heights, int(uint(texel.y) * P.hf_w + uint(texel.x))).r;
                 const float z_in = w.o.z + t * w.d.z;
                 t_hit = (w.d.z < 0.0 && z_in > h) ? max(t, (h - w.o.z) / w.d.z) : t;
                 hit_texel = texel;
