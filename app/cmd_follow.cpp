@@ -21,7 +21,7 @@ namespace fird::app {
 
 namespace {
 
-struct Args {
+struct FollowArgs {
     std::string dir, out;
     double interval_s = 2.0, idle_timeout_s = 3600.0;
     bool once = false, json = false;
@@ -82,7 +82,7 @@ void print_end(const FollowedSearch& f) {
                         .c_str());
 }
 
-int run_follow(const Args& a) {
+int run_follow(const FollowArgs& a) {
     using clock = std::chrono::steady_clock;
     namespace fs = std::filesystem;
     std::error_code ec;
@@ -173,7 +173,7 @@ void register_follow(CLI::App& app, const GlobalOptions&, std::function<int()>& 
     auto* cmd = app.add_subcommand(
         "follow", "Follow a search's progress from its --out folder (a cluster job's, or any "
                   "fird optimize's) until it ends");
-    auto a = std::make_shared<Args>();
+    auto a = std::make_shared<FollowArgs>();
     cmd->add_option("DIR", a->dir, "The search's --out folder (a job folder before it begins)")
         ->required();
     cmd->add_flag("--once", a->once, "Read the folder once, print where the search is, and end");

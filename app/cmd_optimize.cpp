@@ -38,7 +38,7 @@ namespace fird::app {
 
 namespace {
 
-struct Args {
+struct OptimizeArgs {
     std::string scene, method, rays, out, resume, backend, start = "scene";
     std::uint64_t max_evals = 0, seed = 0;
     double threshold = -1.0, rank_timeout = 0.0;
@@ -116,7 +116,7 @@ void write_best_part(const std::string& out, const Scene& scene, const SearchRes
 #if FIRD_HAVE_MPI
 // A rank other than 0 of an MPI job: traces the shares of the search's batches that rank 0
 // sends it (the same scene, read from the same path), until rank 0 says the search is over.
-int serve_search(const GlobalOptions& global, const Args& a) {
+int serve_search(const GlobalOptions& global, const OptimizeArgs& a) {
     const Scene scene = load_scene(a.scene);
     const auto ctx = vk::Context::create(context_options(global));
     PointTracer tracer(ctx, scene);
@@ -129,7 +129,7 @@ int serve_search(const GlobalOptions& global, const Args& a) {
 
 // The scene's search settings with the command line's options over them; a usage error for
 // options that do not go together.
-SearchSettings requested_settings(const Scene& scene, const Args& a, const CLI::App& cmd) {
+SearchSettings requested_settings(const Scene& scene, const OptimizeArgs& a, const CLI::App& cmd) {
     SearchSettings settings = search_settings(scene);
     if (!a.method.empty()) settings.method = *method_from_name(a.method);
     if (!a.rays.empty()) settings.rays = parse_counts("--rays", a.rays, 4e9);
@@ -154,7 +154,7 @@ SearchSettings requested_settings(const Scene& scene, const Args& a, const CLI::
 
 // fird optimize ... --job-script: the search's folder gets the scene and the scripts that
 // run the search elsewhere (optimize/cluster_job.hpp), with the options given here.
-int write_job(const GlobalOptions& global, const Args& a, const CLI::App& cmd) {
+int write_job(const GlobalOptions& global, const OptimizeArgs& a, const CLI::App& cmd) {
 #if FIRD_HAVE_MPI
     if (global.job && global.job->distributed())
         throw UsageError("--job-script writes a job: run it in one process, not under mpirun");
@@ -222,7 +222,7 @@ int write_job(const GlobalOptions& global, const Args& a, const CLI::App& cmd) {
     return 0;
 }
 
-int run_optimize(const GlobalOptions& global, const Args& a, const CLI::App& cmd) {
+int run_optimize(const GlobalOptions& global, const OptimizeArgs& a, const CLI::App& cmd) {
     if (cmd.count("--rank-timeout") && !(a.rank_timeout > 0.0))
         throw UsageError("--rank-timeout must be more than 0 s");
     for (const char* o : {"--ranks", "--nodes", "--gpus-per-node", "--time-limit", "--partition"})
@@ -424,7 +424,7 @@ int run_optimize(const GlobalOptions& global, const Args& a, const CLI::App& cmd
 void register_optimize(CLI::App& app, const GlobalOptions& global, std::function<int()>& run) {
     auto* cmd = app.add_subcommand("optimize",
                                    "Search the reflector's parameters for the desired far field");
-    auto a = std::make_shared<Args>();
+    auto a = std::make_shared<OptimizeArgs>();
     cmd->add_option("SCENE", a->scene, "Scene file (TOML) with [reflector.optimize] and [target]")
         ->required();
     cmd->add_option(

@@ -20,7 +20,7 @@ namespace fird::app {
 
 namespace {
 
-struct Args {
+struct ScreenshotArgs {
     std::string scene, out, size = "1280x800", view = "all", camera, parameters, rays;
     std::int64_t pick = -1, quadtree_level = -1;
     std::uint32_t paths = 300;
@@ -50,7 +50,7 @@ render::OrbitCamera parse_camera(const std::string& text, render::OrbitCamera c)
     return c;
 }
 
-int run_screenshot(const GlobalOptions& global, const Args& a) {
+int run_screenshot(const GlobalOptions& global, const ScreenshotArgs& a) {
     const auto [w, h] = parse_size("--size", a.size, 64, 8192);
     static const std::vector<std::string> views{
         "viewport", "farfield", "plots", "all", "workbench", "polar", "isocandela", "illuminance"};
@@ -150,7 +150,7 @@ int run_screenshot(const GlobalOptions& global, const Args& a) {
 void register_screenshot(CLI::App& app, const GlobalOptions& global, std::function<int()>& run) {
     auto* cmd = app.add_subcommand("screenshot", "Trace the scene and write its views as PNG "
                                                  "(no window, no display)");
-    auto a = std::make_shared<Args>();
+    auto a = std::make_shared<ScreenshotArgs>();
     cmd->add_option("SCENE", a->scene, "Scene file (TOML)")->required();
     cmd->add_option("--out", a->out, "Output directory")->required();
     cmd->add_option("--size", a->size, "Image size WxH (default 1280x800)");
