@@ -11,7 +11,14 @@ trace, histogram and compare against the target, median of 5) against the yardst
 Prints the median of the pairwise ratios per model (the machine's speed drifts: only
 pairs taken side by side are compared).
 
-Usage: scripts/yardstick_ratio.py [--yardstick PATH] [--runs N] [--models abc]
+With --before PATH (another build's fird, e.g. one built in a git worktree of an older
+commit), each round also runs that build's two commands beside this build's (which of the
+two goes first alternates from round to round), and the table gains its figures and this
+build's ratio to it (issue 24 item 6: side by side with the build before and with the
+yardstick, in one run).
+
+Usage: scripts/yardstick_ratio.py [--yardstick PATH] [--fird PATH] [--before PATH]
+                                  [--runs N] [--models abc]
 Build the yardstick first as its README says (Embree 3, TBB; not part of FIRD).
 """
 import argparse
@@ -50,38 +57,54 @@ def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--yardstick", default="/tmp/yardstick/embree_trace")
     ap.add_argument("--fird", default="build/release/app/fird")
+    ap.add_argument("--before", help="a second fird build, run alternately with this one")
     ap.add_argument("--runs", type=int, default=5)
     ap.add_argument("--models", default="abc")
     a = ap.parse_args()
+    if a.before and os.path.realpath(a.before) == os.path.realpath(a.fird):
+        ap.error("--before: the same program as --fird")
     cpu = cpu_model()
     print(f"Side by side, {datetime.datetime.utcnow():%Y-%m-%d %H:%M} UTC, {os.cpu_count()} cores ({cpu}); "
           f"{a.runs} alternating pairs per figure, medians.\n")
-    print("| model | fird trace s | embree_trace s | whole evaluation ratio | FIRD per candidate ms "
-          "(1e6 rays) | yardstick trace ms (1e6 rays) | per-candidate ratio |")
-    print("|---|---|---|---|---|---|---|")
+    builds = [a.fird] + ([a.before] if a.before else [])
+    head = ("| model | fird trace s | embree_trace s | whole evaluation ratio | FIRD per candidate ms "
+            "(1e6 rays) | yardstick trace ms (1e6 rays) | per-candidate ratio |")
+    if a.before:
+        head += (" before: trace s | before: whole evaluation ratio | before: candidate ms | "
+                 "before: per-candidate ratio | this / before, whole | this / before, candidate |")
+    print(head)
+    print("|---" * (head.count("|") - 1) + "|")
+    med = statistics.median
     for m in a.models:
         scene = f"scenes/bench/model_{m}_target.toml"
-        fird_s, ys_s, ratios = [], [], []
-        cand, ys_trace, cand_ratios = [], [], []
-        for _ in range(a.runs):
-            tf, _ = run([a.fird, "trace", scene])
-            ty, _ = run([a.yardstick, "--model", m.upper(), "--rays", str(RAYS[m]), "--seed", "1"])
-            fird_s.append(tf)
-            ys_s.append(ty)
-            ratios.append(tf / ty)
-            with tempfile.TemporaryDirectory() as d:
-                run([a.fird, "bench", "--candidates", f"scenes/model_{m}.toml", "--rays", "1000000",
-                     "--reps", "5", "--out", d])
-                with open(os.path.join(d, "candidates.csv")) as f:
-                    c = float(next(csv.DictReader(f))["candidate_ms"])
+        whole = {b: [] for b in builds}
+        cand = {b: [] for b in builds}
+        ys_s, ys_trace = [], []
+        for r in range(a.runs):
+            order = builds if r % 2 == 0 else builds[::-1]  # neither build always first
+            for b in order:
+                whole[b].append(run([b, "trace", scene])[0])
+            ys_s.append(run([a.yardstick, "--model", m.upper(), "--rays", str(RAYS[m]), "--seed", "1"])[0])
+            for b in order:
+                with tempfile.TemporaryDirectory() as d:
+                    run([b, "bench", "--candidates", f"scenes/model_{m}.toml", "--rays", "1000000",
+                         "--reps", "5", "--out", d])
+                    with open(os.path.join(d, "candidates.csv")) as f:
+                        cand[b].append(float(next(csv.DictReader(f))["candidate_ms"]))
             _, out = run([a.yardstick, "--model", m.upper(), "--rays", "1000000", "--seed", "1"])
-            y = json.loads(out)["timings_ms"]["trace_bin"]
-            cand.append(c)
-            ys_trace.append(y)
-            cand_ratios.append(c / y)
-        med = statistics.median
-        print(f"| {m.upper()} | {med(fird_s):.2f} | {med(ys_s):.2f} | {med(ratios):.2f} | {med(cand):.0f} | "
-              f"{med(ys_trace):.0f} | {med(cand_ratios):.2f} |", flush=True)
+            ys_trace.append(json.loads(out)["timings_ms"]["trace_bin"])
+
+        def ratio(xs, ys):  # the median of the pairwise ratios (pairs from one round)
+            return med(x / y for x, y in zip(xs, ys))
+
+        row = (f"| {m.upper()} | {med(whole[a.fird]):.2f} | {med(ys_s):.2f} | {ratio(whole[a.fird], ys_s):.2f} | "
+               f"{med(cand[a.fird]):.0f} | {med(ys_trace):.0f} | {ratio(cand[a.fird], ys_trace):.2f} |")
+        if a.before:
+            b = a.before
+            row += (f" {med(whole[b]):.2f} | {ratio(whole[b], ys_s):.2f} | {med(cand[b]):.0f} | "
+                    f"{ratio(cand[b], ys_trace):.2f} | **{ratio(whole[a.fird], whole[b]):.3f}** | "
+                    f"**{ratio(cand[a.fird], cand[b]):.3f}** |")
+        print(row, flush=True)
 
 
 if __name__ == "__main__":

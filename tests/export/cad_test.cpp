@@ -17,8 +17,6 @@
 #include <type_traits>
 #include <vector>
 
-#include <unistd.h>
-
 #include <BRepGProp.hxx>
 #include <BRepTools.hxx>
 #include <BRep_Tool.hxx>
@@ -41,17 +39,17 @@
 #include "io/scene_file.hpp"
 #include "model/press_measures.hpp"
 #include "model/surface.hpp"
+#include "scratch_dir.hpp"
 
 namespace fird::test {
 namespace {
 
 namespace fs = std::filesystem;
 
+const ScratchDir& kScratch = add_scratch_dir("fird_cad");
+
 std::string dir(const std::string& name) {
-    const fs::path p =
-        fs::path(::testing::TempDir()) / ("fird_cad_" + name + "." + std::to_string(::getpid()));
-    fs::remove_all(p);
-    return p.string();
+    return kScratch.fresh(name);
 }
 
 std::string source(const char* relative) {

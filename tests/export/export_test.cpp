@@ -10,8 +10,6 @@
 #include <regex>
 #include <sstream>
 
-#include <unistd.h>
-
 #include <glm/geometric.hpp>
 #include <vtkCell.h>
 #include <vtkCellData.h>
@@ -29,6 +27,7 @@
 #include "export/scene_export.hpp"
 #include "io/scene_file.hpp"
 #include "reference/reference_tracer.hpp"
+#include "scratch_dir.hpp"
 #include "vulkan_fixture.hpp"
 
 namespace fird::test {
@@ -57,14 +56,13 @@ Scene model_b() {
 // hits within a tenth of a texel (98.3 % over 3000 paths, independent or stratified rays).
 constexpr std::uint32_t kPaths = 1000;
 
+const ScratchDir& kScratch = add_scratch_dir("fird_export");
+
 class Export : public VulkanTest {
   protected:
     static void SetUpTestSuite() {
         VulkanTest::SetUpTestSuite();
-        // One directory per process: CTest runs each test case as a process of its own.
-        dir_ = (fs::path(::testing::TempDir()) / ("fird_export_b." + std::to_string(::getpid())))
-                   .string();
-        fs::remove_all(dir_);
+        dir_ = kScratch.fresh("model_b");
         report_ = export_scene(ctx(), model_b(), {.paths = kPaths}, dir_);
     }
     static std::string file(const char* name) { return (fs::path(dir_) / name).string(); }
@@ -233,9 +231,7 @@ TEST_F(ExportLimits, AQuadtreeRequestPastTheLimitIsClampedWithANote) {
     Scene s = model_b();
     s.trace.heightfield_w = s.trace.heightfield_h = 2400;
     s.trace.rays = 2000;
-    const auto dir =
-        (fs::path(::testing::TempDir()) / ("fird_export_big." + std::to_string(::getpid())))
-            .string();
+    const auto dir = kScratch.fresh("big");
     const ExportReport r = export_scene(ctx(), s, {.paths = 10, .levels = 13}, dir);
     ASSERT_EQ(r.notes.size(), 1u);
     EXPECT_NE(r.notes[0].find("--levels 13"), std::string::npos) << r.notes[0];
