@@ -19,6 +19,7 @@ packages=(
   libocct-foundation-dev gmsh
   libgtest-dev libgmock-dev libbenchmark-dev libeigen3-dev
   xvfb xauth xdotool
+  xz-utils  # scripts/gpu_bundle.sh packs the build for a GPU machine as .tar.xz
   clang libclang-rt-14-dev
 )
 missing=()

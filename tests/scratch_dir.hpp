@@ -20,13 +20,18 @@ class ScratchDir : public ::testing::Environment {
         : path_(std::filesystem::path(::testing::TempDir()) /
                 (prefix + "." + std::to_string(::getpid()))) {}
     // Made when the tests start, not when the binary starts (CTest's discovery runs it to
-    // list the tests, and no TearDown follows a listing).
+    // list the tests, and no TearDown follows a listing). One that cannot be made fails the
+    // run (GoogleTest then runs no test) rather than throwing where nothing would catch it.
     void SetUp() override {
-        std::filesystem::remove_all(path_);
-        std::filesystem::create_directories(path_);
+        std::error_code ec;
+        std::filesystem::remove_all(path_, ec);
+        if (!ec) std::filesystem::create_directories(path_, ec);
+        if (ec) GTEST_FAIL() << "scratch directory " << path_ << ": " << ec.message();
     }
+    // (Under --gtest_repeat, Passed() is the last repetition's.)
     void TearDown() override {
-        if (::testing::UnitTest::GetInstance()->Passed()) std::filesystem::remove_all(path_);
+        std::error_code ec;
+        if (::testing::UnitTest::GetInstance()->Passed()) std::filesystem::remove_all(path_, ec);
     }
     // `name` inside the directory, with nothing there yet.
     std::string fresh(const std::string& name) const {
