@@ -29,6 +29,8 @@ for f in "$layer_so" "$layer_json" "$loader" "$fonts"; do
   [ -e "$f" ] || { echo "gpu_bundle.sh: no $f (install vulkan-validationlayers, libvulkan1, fonts-dejavu-core)" >&2; exit 1; }
 done
 
+# The C library's own files: the machine's must match its kernel and loader, so these stay.
+glibc='/(libc|libm|libdl|libpthread|librt|libresolv|ld-linux-x86-64)\.so'
 stage="$(mktemp -d)"
 trap 'rm -rf "$stage"' EXIT
 mkdir -p "$stage/bin" "$stage/lib" "$stage/layers" "$stage/fonts"
@@ -36,7 +38,7 @@ cp "${bins[@]}" "$stage/bin/"
 # Every library the binaries and the layer load, but the C library's own (the machine's
 # must match its kernel and loader; every other one travels, libstdc++ included).
 ldd "${bins[@]}" "$layer_so" | awk '/=> \//{print $3}' | sort -u |
-  grep -Ev '/(libc|libm|libdl|libpthread|librt|libresolv|ld-linux-x86-64)\.so' |
+  grep -Ev "$glibc" |
   while read -r lib; do cp -L "$lib" "$stage/lib/"; done
 cp -L "$loader" "$stage/lib/"
 cp -L "$layer_so" "$stage/layers/"
@@ -62,7 +64,7 @@ EOF
 # packages has none of them to fall back on.
 outside="$(LD_LIBRARY_PATH="$stage/lib" ldd "$stage"/bin/* "$stage/layers/libVkLayer_khronos_validation.so" |
   awk '/=> \//{print $3} /not found/{print $1 " (not found)"}' | grep -v "^$stage/lib/" |
-  grep -Ev '/(libc|libm|libdl|libpthread|librt|libresolv|ld-linux-x86-64)\.so' | sort -u || true)"
+  grep -Ev "$glibc" | sort -u || true)"
 [ -z "$outside" ] || { echo "gpu_bundle.sh: libraries resolved outside the bundle: $outside" >&2; exit 1; }
 # The tree the build is of, as it is now (a build older than the tree's last change is not
 # rebuilt here: build first).
