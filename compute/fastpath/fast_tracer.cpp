@@ -96,7 +96,9 @@ FastTracer::FastTracer(const vk::Context& ctx, const Scene& scene, std::uint64_t
         throw std::invalid_argument(
             "the fast path counts far-field rays in 32 bits: use fewer than 2^32 rays");
     // Constant memory whatever the ray count: batches no larger than one storage
-    // buffer binding allows (lavapipe: 128 MiB = 4M rays), and at most 8M rays, or 32M
+    // buffer binding allows (lavapipe: 128 MiB = 4M rays; the rays themselves are read
+    // through texel views now, whose limit is below, but the batch sizes every
+    // measurement in docs/benchmarks.md used are kept), and at most 8M rays, or 32M
     // (two ray tables of 1 GiB) on a discrete GPU with 16 GiB or more of its own memory,
     // where the paper's 1e7 rays are then one submission (an H200 traces them in ~1-9 ms,
     // 32M in ~25 ms: far from any driver's timeout). An integrated GPU's "own" memory is
@@ -110,8 +112,10 @@ FastTracer::FastTracer(const vk::Context& ctx, const Scene& scene, std::uint64_t
     const std::uint64_t dispatch_rays =
         std::uint64_t(limits.max_workgroup_count[0]) *
         std::min(FIRD_TRACE_WORKGROUP_SIZE, FIRD_RAYSET_WORKGROUP_SIZE);
+    // A batch's rays are read as texels (ray_table.hpp): no more than one view holds.
     submission_rays_ =
-        std::min<std::uint64_t>({limits.max_storage_buffer_range / kRayBytes, most_rays,
+        std::min<std::uint64_t>({limits.max_storage_buffer_range / kRayBytes,
+                                 limits.max_texel_buffer_elements / gpu::kRayTexels, most_rays,
                                  dispatch_rays, max_batch_rays ? max_batch_rays : ~0ull,
                                  ctx.max_batch_rays() ? ctx.max_batch_rays() : ~0ull});
     // A ray file's batch is read on the host into a buffer of its own: batches of at most
@@ -147,8 +151,8 @@ FastTracer::FastTracer(const vk::Context& ctx, const Scene& scene, std::uint64_t
     rayset_fits_ = batches * ray_bytes <=
                    std::min<std::uint64_t>(kRaysetCacheBytes, limits.device_local_heap_bytes / 4);
     cache_rayset_ = rayset_fits_;
-    rays_ping_ = vk::Buffer(ctx, ray_bytes, storage, vk::MemoryUse::Device, "fird.rays.ping");
-    rays_pong_ = vk::Buffer(ctx, ray_bytes, storage, vk::MemoryUse::Device, "fird.rays.pong");
+    rays_ping_ = make_ray_table(ctx, batch_capacity_, vk::MemoryUse::Device, "fird.rays.ping");
+    rays_pong_ = make_ray_table(ctx, batch_capacity_, vk::MemoryUse::Device, "fird.rays.pong");
     hits_ = vk::Buffer(ctx, 32, storage, vk::MemoryUse::Device, "fird.hits.unused");
     texel_hits_ = vk::Buffer(ctx, 16, storage, vk::MemoryUse::Device, "fird.texel_hits.unused");
     walk_ = vk::Buffer(ctx, 16, storage, vk::MemoryUse::Device, "fird.walk.unused");
@@ -339,16 +343,14 @@ FastRun FastTracer::run(const std::function<void(VkCommandBuffer)>& then) {
         const bool sort = !reuse && !rayset_ordered_at_birth();
         // Kept for the next run (a buffer per batch), or generated again each run into the
         // ping-pong buffer the first bounce does not write (its input is consumed by then).
-        const auto keep = [&](std::uint64_t ray_count) -> const vk::Buffer* {
+        const auto keep = [&](std::uint64_t ray_count) -> const RayTable* {
             if (!cache_rayset_) return &rays_pong_;
-            rayset_chunks_.push_back(
-                {vk::Buffer(*ctx_, std::max<std::uint64_t>(ray_count, 1) * kRayBytes,
-                            vk::kStorageUsage, vk::MemoryUse::Device,
-                            fmt::format("fird.rayset.{}", batch)),
-                 0});
+            rayset_chunks_.push_back({make_ray_table(*ctx_, ray_count, vk::MemoryUse::Device,
+                                                     fmt::format("fird.rayset.{}", batch)),
+                                      0});
             return &rayset_chunks_.back().rays;
         };
-        const vk::Buffer* rays = nullptr;
+        const RayTable* rays = nullptr;
         bool generated = false; // the rayset pass ran in a submission of its own
         if (read_rays && !reuse) {
             const auto t_read = std::chrono::steady_clock::now();

@@ -15,6 +15,7 @@
 
 #include "fastpath/mesh_raster.hpp"
 #include "fastpath/pass_bindings.hpp"
+#include "fastpath/ray_table.hpp"
 #include "fastpath/reflector_state.hpp"
 #include "fastpath/walk_step.hpp"
 #include "fird_shared.h"
@@ -181,7 +182,7 @@ class FastTracer {
   private:
     // A trace pass over the rays in `in`: `groups` workgroups for the count in loop_, or
     // (none) as many as the bounce loop's state asks for (an indirect dispatch).
-    void dispatch_trace(VkCommandBuffer cb, const vk::Buffer& in, const vk::Buffer& out,
+    void dispatch_trace(VkCommandBuffer cb, const RayTable& in, const RayTable& out,
                         const vk::Buffer& counters, const vk::Buffer& farfield,
                         const gpu::TracePush& push, bool record_walk,
                         std::optional<std::uint32_t> groups);
@@ -210,7 +211,7 @@ class FastTracer {
     // The rayset pass over rays [first, first + n): appends the effective ones to `rays`
     // (and counts them per direction bucket unless they come ordered).
     void record_rayset(VkCommandBuffer cb, std::uint64_t first, std::uint64_t n,
-                       const vk::Buffer& rays, FastRun& run);
+                       const RayTable& rays, FastRun& run);
     // A ray file source: reads emissions [first, first + n) into the batch's table
     // (ray_file_table), placed in the fast path's frame. Touches no other state, so the next
     // batch is read on a host thread while the device traces this one.
@@ -219,19 +220,18 @@ class FastTracer {
     // the ray file table of that batch (two, used in turn: double-buffered).
     const vk::Buffer& emitter_table_for(std::uint64_t first) const;
     // Moves the rayset's effective rays from `from` to `to` ordered by direction.
-    void record_rayset_order(VkCommandBuffer cb, const vk::Buffer& from, const vk::Buffer& to,
+    void record_rayset_order(VkCommandBuffer cb, const RayTable& from, const RayTable& to,
                              FastRun& run);
     void record_bounce_args(VkCommandBuffer cb, std::uint32_t stage, std::uint32_t bounce);
     // bucket_scan.comp and rayset_order.comp, their counts and mode from loop_.
-    void record_order(VkCommandBuffer cb, const vk::Buffer& from, const vk::Buffer& to,
-                      bool reflected);
+    void record_order(VkCommandBuffer cb, const RayTable& from, const RayTable& to, bool reflected);
     // Every bounce of a batch whose rays are in `rays` (their count in the counters'
     // kCounterEffective): the trace, and between bounces the ordering of the rays it
     // reflected, sized on the device.
     // `first`: the emission index of the batch's first ray (the rays carry their index's
     // low word: TracePush).
-    void record_bounces(VkCommandBuffer cb, const vk::Buffer& rays, std::uint64_t first,
-                        FastRun& run, const BounceRecording& recording = {});
+    void record_bounces(VkCommandBuffer cb, const RayTable& rays, std::uint64_t first, FastRun& run,
+                        const BounceRecording& recording = {});
     void record_to_lm(VkCommandBuffer cb, FastRun& run);
     // The batch's readback, one small copy each: the counters and the loop's per-bounce
     // counts, for the host, into readback slot `slot` (a candidate's place in a run_batch
@@ -274,7 +274,7 @@ class FastTracer {
     std::uint64_t submission_rays_ = 0; // the most rays one submission traces (a batch's cap)
     // One batch's effective rays, ordered by direction, kept for the next run.
     struct RaysetChunk {
-        vk::Buffer rays;
+        RayTable rays;
         std::uint64_t effective = 0;
     };
     bool rayset_fits_ = false;               // the whole rayset fits the cache budget
@@ -297,7 +297,8 @@ class FastTracer {
     passes::BucketScanPass bucket_scan_pipeline_;
     passes::WalkStartPass walk_start_pipeline_;
     passes::BounceArgsPass bounce_args_pipeline_;
-    vk::Buffer counters_, rays_ping_, rays_pong_, hits_, texel_hits_, walk_;
+    vk::Buffer counters_, hits_, texel_hits_, walk_;
+    RayTable rays_ping_, rays_pong_;
     std::optional<passes::TracePass> trace_walk_pipeline_;    // built when a walk is asked for
     std::optional<passes::TracePass> trace_profile_pipeline_; // built when profiling
     // Built when hits are recorded or texel hits counted.

@@ -24,15 +24,15 @@ passes::TracePass fast_tracer_detail::trace_pipeline(
     return passes::TracePass(ctx, fird_spv_trace_comp, name, spec);
 }
 
-void FastTracer::dispatch_trace(VkCommandBuffer cb, const vk::Buffer& in, const vk::Buffer& out,
+void FastTracer::dispatch_trace(VkCommandBuffer cb, const RayTable& in, const RayTable& out,
                                 const vk::Buffer& counters, const vk::Buffer& farfield,
                                 const gpu::TracePush& push, bool record_walk,
                                 std::optional<std::uint32_t> groups) {
     const bool paper = params_.hit_mode == gpu::kHitModePaper;
     const passes::TraceBindings b{
         .params = vk::uniform(state().params_buffer),
-        .rays_in = vk::storage(in),
-        .rays_out = vk::storage(out),
+        .rays_in = vk::storage_texel(in.texels),
+        .rays_out = vk::storage_texel(out.texels),
         .counters = vk::storage(counters),
         .pyramid = vk::storage_texel(paper ? state().paper_view : state().refined_view),
         .heights = vk::storage_texel(paper ? state().paper_view : state().corners_view),
@@ -64,7 +64,7 @@ void FastTracer::dispatch_trace(VkCommandBuffer cb, const vk::Buffer& in, const 
         p.dispatch_indirect(cb, b, push, loop_, gpu::kLoopTraceArgs * 4);
 }
 
-void FastTracer::record_bounces(VkCommandBuffer cb, const vk::Buffer& rays, std::uint64_t first,
+void FastTracer::record_bounces(VkCommandBuffer cb, const RayTable& rays, std::uint64_t first,
                                 FastRun& run, const BounceRecording& recording) {
     using Hits = BounceRecording::Hits;
     // Every bounce is recorded, each sized on the device by the one before (bounce_args.comp):
@@ -72,8 +72,8 @@ void FastTracer::record_bounces(VkCommandBuffer cb, const vk::Buffer& rays, std:
     // to nothing (the skip of empty bounces; with the skip off it runs one workgroup).
     // Bounded by the scene's bounces, like the loop on the device it replaces.
     record_bounce_args(cb, gpu::kArgsFirstBounce, 0);
-    const vk::Buffer* in = &rays;
-    const vk::Buffer* out = &rays_ping_;
+    const RayTable* in = &rays;
+    const RayTable* out = &rays_ping_;
     const std::uint32_t n = passes();
     for (std::uint32_t bounce = 0; bounce < n; ++bounce) {
         // The rays reflected here are ordered by direction for the next bounce, as the
@@ -111,7 +111,7 @@ void FastTracer::record_bounces(VkCommandBuffer cb, const vk::Buffer& rays, std:
         if (last) break;
         if (order) {
             // Into the other ping-pong buffer (this bounce's input is consumed).
-            const vk::Buffer* spare = (out == &rays_ping_) ? &rays_pong_ : &rays_ping_;
+            const RayTable* spare = (out == &rays_ping_) ? &rays_pong_ : &rays_ping_;
             timed(cb, &run.timings.trace_ms, &profile.order_ms, [&] {
                 record_bounce_args(cb, gpu::kArgsNextBounce, bounce + 1);
                 record_order(cb, *out, *spare, true);

@@ -54,9 +54,9 @@ FastRun FastTracer::run_rays(const std::vector<Ray>& rays, std::vector<glm::dvec
         const auto index = std::uint32_t(i);
         std::memcpy(&packed[i * 8 + 3], &index, 4);
     }
-    vk::Buffer uploaded(*ctx_, std::max<std::size_t>(rays.size(), 1) * kRayBytes, vk::kStorageUsage,
-                        vk::MemoryUse::Device, "fird.rays.uploaded");
-    uploaded.upload(*ctx_, std::span<const float>(packed));
+    RayTable uploaded =
+        make_ray_table(*ctx_, rays.size(), vk::MemoryUse::Device, "fird.rays.uploaded");
+    uploaded.rays.upload(*ctx_, std::span<const float>(packed));
     if (hits)
         hits_ = vk::Buffer(*ctx_, std::max<std::size_t>(rays.size(), 1) * kHitRecordBytes,
                            vk::kStorageUsage, vk::MemoryUse::Readback, "fird.hits");
@@ -170,9 +170,8 @@ std::vector<RayPath> FastTracer::trace_paths(const std::vector<Ray>& rays, std::
         const std::uint32_t index = carried(i);
         std::memcpy(&packed[i * 8 + 3], &index, 4);
     }
-    vk::Buffer uploaded(*ctx_, packed.size() * 4, vk::kStorageUsage, vk::MemoryUse::Upload,
-                        "fird.paths.rays");
-    uploaded.upload(*ctx_, std::span<const float>(packed));
+    RayTable uploaded = make_ray_table(*ctx_, n, vk::MemoryUse::Upload, "fird.paths.rays");
+    uploaded.rays.upload(*ctx_, std::span<const float>(packed));
     // A record per ray and bounce (the strict policy's final check included), and a walk
     // region per bounce, in scratch that stands in for the run's own buffers until the
     // paths are read (put back however this ends).

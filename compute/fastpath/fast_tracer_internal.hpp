@@ -12,7 +12,7 @@
 
 namespace fird::fast_tracer_detail {
 
-inline constexpr std::uint64_t kRayBytes = 32;
+inline constexpr std::uint64_t kRayBytes = gpu::kRayTexels * 16; // fastpath/ray_table.hpp
 // trace.comp's HitRecord: (hit point, t), (reflected direction, texel bits), (next slot + 1).
 inline constexpr std::uint64_t kHitRecordVec4s = 3;
 inline constexpr std::uint64_t kHitRecordBytes = kHitRecordVec4s * 16;

@@ -20,14 +20,14 @@ namespace fird {
 using namespace fast_tracer_detail;
 
 void FastTracer::record_rayset(VkCommandBuffer cb, std::uint64_t first, std::uint64_t n,
-                               const vk::Buffer& rays, FastRun& run) {
+                               const RayTable& rays, FastRun& run) {
     if (!rayset_ordered_at_birth()) {
         vkCmdFillBuffer(cb, order_buckets_.get(), 0, VK_WHOLE_SIZE, 0);
         vk::barrier_all(cb);
     }
     timed(cb, &run.timings.rayset_ms, nullptr, [&] {
         const passes::RaysetBindings b{.params = vk::uniform(state().params_buffer),
-                                       .rays = vk::storage(rays),
+                                       .rays = vk::storage_texel(rays.texels),
                                        .counters = vk::storage(counters_),
                                        .buckets = vk::storage(order_buckets_),
                                        .emitter_table = vk::storage(emitter_table_for(first))};
@@ -105,14 +105,14 @@ void FastTracer::record_bounce_args(VkCommandBuffer cb, std::uint32_t stage, std
     vk::barrier_all(cb);
 }
 
-void FastTracer::record_order(VkCommandBuffer cb, const vk::Buffer& from, const vk::Buffer& to,
+void FastTracer::record_order(VkCommandBuffer cb, const RayTable& from, const RayTable& to,
                               bool reflected) {
     bucket_scan_pipeline_.dispatch_indirect(cb, {.buckets = vk::storage(order_buckets_)}, {}, loop_,
                                             gpu::kLoopScanArgs * 4);
     vk::barrier_all(cb);
     const passes::OrderBindings b{.params = vk::uniform(state().params_buffer),
-                                  .rays_in = vk::storage(from),
-                                  .rays_out = vk::storage(to),
+                                  .rays_in = vk::storage_texel(from.texels),
+                                  .rays_out = vk::storage_texel(to.texels),
                                   .buckets = vk::storage(order_buckets_),
                                   .loop = vk::storage(loop_)};
     const gpu::RaysetOrderPush push{.reflected = reflected ? 1u : 0u};
@@ -120,8 +120,8 @@ void FastTracer::record_order(VkCommandBuffer cb, const vk::Buffer& from, const 
     vk::barrier_all(cb);
 }
 
-void FastTracer::record_rayset_order(VkCommandBuffer cb, const vk::Buffer& from,
-                                     const vk::Buffer& to, FastRun& run) {
+void FastTracer::record_rayset_order(VkCommandBuffer cb, const RayTable& from, const RayTable& to,
+                                     FastRun& run) {
     timed(cb, &run.timings.rayset_ms, nullptr, [&] {
         record_bounce_args(cb, gpu::kArgsOrderRayset, 0);
         record_order(cb, from, to, false);
@@ -133,7 +133,7 @@ std::vector<Ray> FastTracer::rayset() const {
         throw std::logic_error("FastTracer::rayset: no rayset kept");
     std::vector<Ray> rays;
     for (const RaysetChunk& chunk : rayset_chunks_) {
-        const auto packed = chunk.rays.download_as<float>(*ctx_, chunk.effective * 8);
+        const auto packed = chunk.rays.rays.download_as<float>(*ctx_, chunk.effective * 8);
         for (std::size_t i = 0; i < chunk.effective; ++i) {
             const float* r = &packed[i * 8];
             rays.push_back(Ray{glm::dvec3(r[0], r[1], r[2]) + origin_, {r[4], r[5], r[6]}});

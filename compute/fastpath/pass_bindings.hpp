@@ -22,7 +22,7 @@ struct RaysetBindings {
         using B = RaysetBindings;
         return std::array<vk::BindingField<B>, 5>{{
             {gpu::kBindParams, kUniform, &B::params},
-            {gpu::kRaysetBindRays, kStorage, &B::rays},
+            {gpu::kRaysetBindRays, kStorageTexel, &B::rays},
             {gpu::kRaysetBindCounters, kStorage, &B::counters},
             {gpu::kRaysetBindBuckets, kStorage, &B::buckets},
             {gpu::kRaysetBindEmitterTable, kStorage, &B::emitter_table},
@@ -86,8 +86,8 @@ struct TraceBindings {
         using B = TraceBindings;
         return std::array<vk::BindingField<B>, 16>{{
             {gpu::kBindParams, kUniform, &B::params},
-            {gpu::kTraceBindRaysIn, kStorage, &B::rays_in},
-            {gpu::kTraceBindRaysOut, kStorage, &B::rays_out},
+            {gpu::kTraceBindRaysIn, kStorageTexel, &B::rays_in},
+            {gpu::kTraceBindRaysOut, kStorageTexel, &B::rays_out},
             {gpu::kTraceBindCounters, kStorage, &B::counters},
             {gpu::kTraceBindPyramid, kStorageTexel, &B::pyramid},
             {gpu::kTraceBindHeights, kStorageTexel, &B::heights},
@@ -126,8 +126,8 @@ struct OrderBindings {
         using B = OrderBindings;
         return std::array<vk::BindingField<B>, 5>{{
             {gpu::kBindParams, kUniform, &B::params},
-            {gpu::kOrderBindRaysIn, kStorage, &B::rays_in},
-            {gpu::kOrderBindRaysOut, kStorage, &B::rays_out},
+            {gpu::kOrderBindRaysIn, kStorageTexel, &B::rays_in},
+            {gpu::kOrderBindRaysOut, kStorageTexel, &B::rays_out},
             {gpu::kOrderBindBuckets, kStorage, &B::buckets},
             {gpu::kOrderBindLoop, kStorage, &B::loop},
         }};

@@ -154,6 +154,17 @@ bool clip_to_box(vec3 o, vec3 d, vec3 lo, vec3 hi, out vec2 t01) {
         if (fird_n_ > 0u && subgroupElect()) atomicAdd(counter_array[fird_copy_ + (slot)], fird_n_); \
     }
 
+// Ray i of a ray table (an rgba32f imageBuffer: fastpath/ray_table.hpp), read and written
+// as two texels. (A storage buffer's Ray at a per-lane index is, on CPU drivers, a loop
+// over the lanes with every component bounds-checked apart.)
+#define FIRD_LOAD_RAY(table, i) \
+    Ray(imageLoad(table, int(kRayTexels * (i))), imageLoad(table, int(kRayTexels * (i) + 1u)))
+#define FIRD_STORE_RAY(table, i, ray)                            \
+    {                                                            \
+        imageStore(table, int(kRayTexels * (i)), (ray).origin);        \
+        imageStore(table, int(kRayTexels * (i) + 1u), (ray).direction); \
+    }
+
 // Appends where `condition` holds: returns each such lane's slot in the output array.
 #define FIRD_APPEND_INDEX(counter_array, slot, condition, out_index)                        \
     {                                                                                      \

@@ -171,6 +171,9 @@ FIRD_CONSTANT(uint, kMaxMipBindRefinedIn, 5u);
 FIRD_CONSTANT(uint, kWalkStartBindPyramid, 1u); // walk_start.comp: the traversal quadtree
 FIRD_CONSTANT(uint, kWalkStartBindLevel, 2u);   // uint: the level the source's rays start at
 FIRD_CONSTANT(uint, kWalkStartMaxNodes, 4096u); // nodes over the source checked per level
+// A ray table holds ray i as RGBA32F texels kRayTexels * i (origin) and the next
+// (direction): fastpath/ray_table.hpp, FIRD_LOAD_RAY in common.glsl.
+FIRD_CONSTANT(uint, kRayTexels, 2u);
 FIRD_CONSTANT(uint, kTraceBindRaysIn, 1u);
 FIRD_CONSTANT(uint, kTraceBindRaysOut, 2u);
 FIRD_CONSTANT(uint, kTraceBindCounters, 3u);

@@ -10,7 +10,7 @@
 #include "direction_bucket.glsl"
 
 layout(local_size_x = FIRD_RAYSET_WORKGROUP_SIZE) in;
-layout(std430, binding = kRaysetBindRays) writeonly buffer Rays { Ray rays[]; };
+layout(binding = kRaysetBindRays, rgba32f) uniform writeonly imageBuffer rays;
 layout(std430, binding = kRaysetBindCounters) buffer Counters { uint counters[]; };
 layout(std430, binding = kRaysetBindBuckets) buffer Buckets { uint buckets[]; };
 layout(push_constant) uniform Push { RaysetPush pc; };
@@ -52,8 +52,8 @@ void main() {
     }
     barrier();
     if (effective) {
-        rays[group_first + subgroup_first[gl_SubgroupID] +
-             subgroupBallotExclusiveBitCount(ballot)] = r;
+        FIRD_STORE_RAY(rays, group_first + subgroup_first[gl_SubgroupID] +
+                                 subgroupBallotExclusiveBitCount(ballot), r);
         if (!rayset_ordered_at_birth(kSamplerKind, kSourceKind))
             atomicAdd(buckets[direction_bucket(r.direction.xyz)], 1u); // for rayset_order.comp
     }

@@ -12,8 +12,8 @@
 #include "common.glsl"
 
 layout(local_size_x = FIRD_RAYSET_WORKGROUP_SIZE) in;
-layout(std430, binding = kOrderBindRaysIn) readonly buffer RaysIn { Ray rays_in[]; };
-layout(std430, binding = kOrderBindRaysOut) writeonly buffer RaysOut { Ray rays_out[]; };
+layout(binding = kOrderBindRaysIn, rgba32f) uniform readonly imageBuffer rays_in;
+layout(binding = kOrderBindRaysOut, rgba32f) uniform writeonly imageBuffer rays_out;
 layout(std430, binding = kOrderBindBuckets) buffer Buckets { uint buckets[]; };
 layout(std430, binding = kOrderBindLoop) readonly buffer Loop { uint loop_state[]; };
 layout(push_constant) uniform Push { RaysetOrderPush pc; };
@@ -27,11 +27,11 @@ void main() {
     const uint count = loop_state[kLoopOrderCount];
     const bool sort = loop_state[kLoopSort] != 0u;
     if (i >= count) return;
-    const Ray r = rays_in[i];
-    if (!sort) {
-        rays_out[i] = r;
-        return;
+    const Ray r = FIRD_LOAD_RAY(rays_in, i);
+    uint slot = i;
+    if (sort) {
+        const uint bucket = pc.reflected != 0u ? reflected_bucket(r.origin.xyz, r.direction.xyz) : direction_bucket(r.direction.xyz);
+        slot = atomicAdd(buckets[bucket], 1u);
     }
-    const uint bucket = pc.reflected != 0u ? reflected_bucket(r.origin.xyz, r.direction.xyz) : direction_bucket(r.direction.xyz);
-    rays_out[atomicAdd(buckets[bucket], 1u)] = r;
+    FIRD_STORE_RAY(rays_out, slot, r);
 }

@@ -17,8 +17,9 @@
 #include "material.h"
 
 layout(local_size_x = FIRD_TRACE_WORKGROUP_SIZE) in;
-layout(std430, binding = kTraceBindRaysIn) readonly buffer RaysIn { Ray rays_in[]; };
-layout(std430, binding = kTraceBindRaysOut) writeonly buffer RaysOut { Ray rays_out[]; };
+// The rays as texels (FIRD_LOAD_RAY).
+layout(binding = kTraceBindRaysIn, rgba32f) uniform readonly imageBuffer rays_in;
+layout(binding = kTraceBindRaysOut, rgba32f) uniform writeonly imageBuffer rays_out;
 layout(std430, binding = kTraceBindCounters) buffer Counters { uint counters[]; };
 // Texel buffers: CPU drivers read these through a vectorized gather (storage-buffer
 // loads at per-lane indices become a bounds-checked scalar loop per lane).
@@ -451,7 +452,7 @@ void main() {
     const uint start_level = walk_start_level;
     if (i >= active_rays) return;
     const bool order_output = pc.order_output != 0u && active_rays >= kOrderMinRays;
-    const Ray ray = rays_in[i];
+    const Ray ray = FIRD_LOAD_RAY(rays_in, i);
     // The picked ray: by the emission index it carries (its slot changes from bounce to bounce).
     const bool picked = kRecordWalk != 0u && floatBitsToUint(ray.origin.w) == pc.walk_ray;
     const uint record = pc.hits_base + i;
@@ -589,7 +590,7 @@ void main() {
     uint slot;
     FIRD_APPEND_INDEX(counters, kCounterActiveOut, append, slot);
     if (append) {
-        rays_out[slot] = next;
+        FIRD_STORE_RAY(rays_out, slot, next);
         if (kDiagnostics != 0u && pc.record_hits != 0u) hits[record].next.x = slot + 1u;
         // Counted for ordering the next bounce's rays by direction (rayset_order.comp).
         if (order_output) atomicAdd(buckets[reflected_bucket(next.origin.xyz, next.direction.xyz)], 1u);
