@@ -107,6 +107,42 @@ TEST(Cli, LavapipeCompilesForTheWidestVectorsTheCpuHasUnlessTheUserChoseAWidth) 
     EXPECT_EQ(bits_and_lanes(chosen), std::pair(std::string("128"), 4)) << chosen.out;
 }
 
+// The fast path's results may not depend on the subgroup size (a real GPU's is 32 or 64,
+// lavapipe's the lanes of its vectors: 4, 8 or 16 here): the tally's packed counters, the
+// appends' ballots, the order pass and the walk's rounds all work per subgroup. Model C at
+// 2e5 rays reflects up to five times, and its first bounces are ordered (more than
+// kOrderMinRays rays each). The far field is integer counts, so it must agree byte for
+// byte; so must every count of rays. (The l2 is a float reduction whose order follows
+// the subgroup size: not compared here, tests/reduction_bound.hpp bounds it.)
+TEST(Cli, TheFastPathGivesTheSameFarFieldAtEverySubgroupSize) {
+    const auto read_bytes = [](const std::string& path) {
+        std::ifstream in(path, std::ios::binary);
+        return std::string(std::istreambuf_iterator<char>(in), {});
+    };
+    std::map<int, std::pair<nlohmann::json, std::string>> by_lanes;
+    for (const int bits : {128, 256, 512}) {
+        const std::string dir = ::testing::TempDir() + "/fird_lanes_" + std::to_string(bits);
+        const auto r = run_env("LP_NATIVE_VECTOR_WIDTH=" + std::to_string(bits),
+                               "--device llvmpipe trace " + std::string(FIRD_SOURCE_DIR) +
+                                   "/scenes/model_c.toml --rays 2e5 --json --out " + dir);
+        ASSERT_EQ(r.code, 0) << r.out;
+        const auto j = nlohmann::json::parse(r.out);
+        ASSERT_NE(j["device"].get<std::string>().find(std::to_string(bits) + " bits"),
+                  std::string::npos)
+            << j["device"];
+        by_lanes[bits / 32] = {j, read_bytes(dir + "/farfield.npy")};
+    }
+    const auto& [first_json, first_farfield] = by_lanes.begin()->second;
+    ASSERT_GT(first_farfield.size(), 1000u);
+    EXPECT_GT(first_json["rays_reflected"].get<int>(), 0);
+    for (const auto& [lanes, result] : by_lanes) {
+        EXPECT_TRUE(result.second == first_farfield) << lanes << " lanes";
+        for (const char* key : {"rays_effective", "rays_discarded", "rays_direct", "rays_reflected",
+                                "rays_aborted", "rays_lost"})
+            EXPECT_EQ(result.first[key], first_json[key]) << key << " at " << lanes << " lanes";
+    }
+}
+
 TEST(Cli, UnknownDeviceNameExitsOneWithOneLine) {
     const auto r = run("--device no-such-gpu info");
     EXPECT_EQ(r.code, 1) << r.out;
