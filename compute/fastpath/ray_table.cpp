@@ -23,7 +23,7 @@ RayTable make_ray_table(const vk::Context& ctx, std::uint64_t ray_count, vk::Mem
     t.rays = vk::Buffer(ctx, rays * gpu::kRayTexels * 16,
                         vk::kStorageUsage | VK_BUFFER_USAGE_STORAGE_TEXEL_BUFFER_BIT, use, name);
     t.texels =
-        vk::TexelView(ctx, t.rays, VK_FORMAT_R32G32B32A32_SFLOAT, std::string(name) + ".texels");
+        vk::TexelView(ctx, t.rays, VK_FORMAT_R32G32B32A32_UINT, std::string(name) + ".texels");
     return t;
 }
 

@@ -1,6 +1,7 @@
 // A table of rays on the device: the buffer (common.glsl's Ray, two vec4s per ray, as the
-// host packs and reads them) and the RGBA32F storage texel view through which every pass
-// reads and writes it, ray i being texels 2i and 2i + 1.
+// host packs and reads them) and the RGBA32UI storage texel view through which every pass
+// reads and writes it, ray i being texels 2i and 2i + 1 (integer texels: the bits go
+// through as they are, FIRD_LOAD_RAY in common.glsl).
 #pragma once
 
 #include <cstdint>

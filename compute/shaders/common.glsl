@@ -154,15 +154,19 @@ bool clip_to_box(vec3 o, vec3 d, vec3 lo, vec3 hi, out vec2 t01) {
         if (fird_n_ > 0u && subgroupElect()) atomicAdd(counter_array[fird_copy_ + (slot)], fird_n_); \
     }
 
-// Ray i of a ray table (an rgba32f imageBuffer: fastpath/ray_table.hpp), read and written
-// as two texels. (A storage buffer's Ray at a per-lane index is, on CPU drivers, a loop
-// over the lanes with every component bounds-checked apart.)
-#define FIRD_LOAD_RAY(table, i) \
-    Ray(imageLoad(table, int(kRayTexels * (i))), imageLoad(table, int(kRayTexels * (i) + 1u)))
-#define FIRD_STORE_RAY(table, i, ray)                            \
-    {                                                            \
-        imageStore(table, int(kRayTexels * (i)), (ray).origin);        \
-        imageStore(table, int(kRayTexels * (i) + 1u), (ray).direction); \
+// Ray i of a ray table (an rgba32ui uimageBuffer: fastpath/ray_table.hpp), read and
+// written as two texels. (A storage buffer's Ray at a per-lane index is, on CPU drivers, a
+// loop over the lanes with every component bounds-checked apart.) The texels are integers
+// so that the bits go through as they are: origin.w and direction.w carry integers (the
+// emission index, the texel), which as floats are denormals or NaN payloads that a float
+// format's load or store would be free to flush.
+#define FIRD_LOAD_RAY(table, i)                                     \
+    Ray(uintBitsToFloat(imageLoad(table, int(kRayTexels * (i)))), \
+        uintBitsToFloat(imageLoad(table, int(kRayTexels * (i) + 1u))))
+#define FIRD_STORE_RAY(table, i, ray)                                                 \
+    {                                                                                 \
+        imageStore(table, int(kRayTexels * (i)), floatBitsToUint((ray).origin));        \
+        imageStore(table, int(kRayTexels * (i) + 1u), floatBitsToUint((ray).direction)); \
     }
 
 // Appends where `condition` holds: returns each such lane's slot in the output array.

@@ -10,7 +10,7 @@
 #include "direction_bucket.glsl"
 
 layout(local_size_x = FIRD_RAYSET_WORKGROUP_SIZE) in;
-layout(binding = kRaysetBindRays, rgba32f) uniform writeonly imageBuffer rays;
+layout(binding = kRaysetBindRays, rgba32ui) uniform writeonly uimageBuffer rays;
 layout(std430, binding = kRaysetBindCounters) buffer Counters { uint counters[]; };
 layout(std430, binding = kRaysetBindBuckets) buffer Buckets { uint buckets[]; };
 layout(push_constant) uniform Push { RaysetPush pc; };

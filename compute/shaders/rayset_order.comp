@@ -12,8 +12,8 @@
 #include "common.glsl"
 
 layout(local_size_x = FIRD_RAYSET_WORKGROUP_SIZE) in;
-layout(binding = kOrderBindRaysIn, rgba32f) uniform readonly imageBuffer rays_in;
-layout(binding = kOrderBindRaysOut, rgba32f) uniform writeonly imageBuffer rays_out;
+layout(binding = kOrderBindRaysIn, rgba32ui) uniform readonly uimageBuffer rays_in;
+layout(binding = kOrderBindRaysOut, rgba32ui) uniform writeonly uimageBuffer rays_out;
 layout(std430, binding = kOrderBindBuckets) buffer Buckets { uint buckets[]; };
 layout(std430, binding = kOrderBindLoop) readonly buffer Loop { uint loop_state[]; };
 layout(push_constant) uniform Push { RaysetOrderPush pc; };

@@ -18,8 +18,8 @@
 
 layout(local_size_x = FIRD_TRACE_WORKGROUP_SIZE) in;
 // The rays as texels (FIRD_LOAD_RAY).
-layout(binding = kTraceBindRaysIn, rgba32f) uniform readonly imageBuffer rays_in;
-layout(binding = kTraceBindRaysOut, rgba32f) uniform writeonly imageBuffer rays_out;
+layout(binding = kTraceBindRaysIn, rgba32ui) uniform readonly uimageBuffer rays_in;
+layout(binding = kTraceBindRaysOut, rgba32ui) uniform writeonly uimageBuffer rays_out;
 layout(std430, binding = kTraceBindCounters) buffer Counters { uint counters[]; };
 // Texel buffers: CPU drivers read these through a vectorized gather (storage-buffer
 // loads at per-lane indices become a bounds-checked scalar loop per lane).

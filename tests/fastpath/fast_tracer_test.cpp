@@ -6,6 +6,8 @@
 #include <limits>
 #include <numbers>
 #include <numeric>
+#include <stdexcept>
+#include <string>
 #include <tuple>
 
 #include <fmt/format.h>
@@ -14,6 +16,7 @@
 
 #include "farfield/farfield.hpp"
 #include "fastpath/fast_tracer.hpp"
+#include "fastpath/ray_table.hpp"
 #include "fastpath/scene_params.hpp"
 #include "io/scene_file.hpp"
 #include "model/energy_balance.hpp"
@@ -118,6 +121,28 @@ TEST_F(VulkanTest, RefinedModeTracesATiltedPlaneExactly) {
     EXPECT_EQ(refined.disagree, 0u);
     std::printf("tilted plane: largest hit error %.2e texels\n", refined.error_texels.back());
     EXPECT_LT(refined.error_texels.back(), 2e-3);
+}
+
+// A ray table is two RGBA32UI texels a ray, read through one view: a table the device's
+// texel-buffer limit cannot view is refused with one line naming the limit, before any
+// allocation (the fast path's batches stay below it: FastTracer caps them at half the
+// limit); the largest table it can view is made, its view named.
+TEST_F(VulkanTest, ARayTablePastTheTexelBufferLimitIsRefusedNamingIt) {
+    const std::uint64_t limit = ctx().limits().max_texel_buffer_elements;
+    ASSERT_GT(limit, 0u);
+    const std::uint64_t most = limit / gpu::kRayTexels;
+    try {
+        (void)make_ray_table(ctx(), most + 1, vk::MemoryUse::Device, "fird.test.rays");
+        FAIL() << "a table of " << most + 1 << " rays was made";
+    } catch (const std::invalid_argument& e) {
+        const std::string what = e.what();
+        EXPECT_NE(what.find(std::to_string(limit)), std::string::npos) << what;
+        EXPECT_NE(what.find("texel buffer limit"), std::string::npos) << what;
+        EXPECT_EQ(what.find('\n'), std::string::npos) << what;
+    }
+    const RayTable small = make_ray_table(ctx(), 1000, vk::MemoryUse::Device, "fird.test.rays");
+    EXPECT_NE(small.texels.get(), VK_NULL_HANDLE);
+    EXPECT_GE(small.rays.size(), 1000u * gpu::kRayTexels * 16);
 }
 
 // l2(fast, reference) for independent runs of N and M independent rays (both tracers on
