@@ -40,11 +40,11 @@ export VK_LAYER_PATH="$b/layers"
 export FONTCONFIG_FILE="$b/fonts/fonts.conf"
 # NVIDIA's driver manifest where the loader's search paths have none (the lent machines).
 nvidia_icd=/usr/local/nvidia/share/vulkan/icd.d/nvidia_icd.json
-if [ -z "${VK_DRIVER_FILES:-}${VK_ICD_FILENAMES:-}" ] && [ -f "$nvidia_icd" ] &&
-  ! compgen -G '/usr/share/vulkan/icd.d/*.json' >/dev/null &&
-  ! compgen -G '/usr/local/share/vulkan/icd.d/*.json' >/dev/null &&
-  ! compgen -G '/etc/vulkan/icd.d/*.json' >/dev/null &&
-  ! compgen -G '/usr/local/etc/vulkan/icd.d/*.json' >/dev/null; then
+icd_found=0
+for d in /usr/share /usr/local/share /etc /usr/local/etc; do
+  compgen -G "$d/vulkan/icd.d/*.json" >/dev/null && icd_found=1
+done
+if [ -z "${VK_DRIVER_FILES:-}${VK_ICD_FILENAMES:-}" ] && [ -f "$nvidia_icd" ] && ((!icd_found)); then
   export VK_DRIVER_FILES="$nvidia_icd"
 fi
 # The test binaries read the scenes and goldens at the source path they were built in:

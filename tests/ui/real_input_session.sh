@@ -95,21 +95,21 @@ quit
 
 start search
 press o
+# Waits, bounded, for FILE to appear: wait_for FILE SECONDS WHAT.
+wait_for() {
+    for _ in $(seq 1 $(($2 * 10))); do
+        [ -f "$1" ] && return 0
+        sleep 0.1
+    done
+    echo "the search wrote no $1 within $2 s$3" >&2
+    exit 1
+}
 result="data_search/fird/runs/$(basename "$scene" .toml)-optimize-1/search.json"
-for _ in $(seq 1 2400); do # the scene's search takes seconds; 240 s bounds it
-    [ -f "$result" ] && break
-    sleep 0.1
-done
-[ -f "$result" ] || { echo "the search wrote no $result within 240 s" >&2; exit 1; }
+wait_for "$result" 240 "" # the scene's search takes seconds
 # search.json is the run folder's first file: the worker then writes the pictures (~0.6 s
 # here alone, over 3 s beside another session under ctest -j2) and the reflectors,
 # reflectors.pvd last, traces the best and hands it to the panel. Waiting a fixed time after
 # search.json lost that race under load (the sliders still at the start).
-last="$(dirname "$result")/reflectors.pvd"
-for _ in $(seq 1 600); do
-    [ -f "$last" ] && break
-    sleep 0.1
-done
-[ -f "$last" ] || { echo "the search wrote no $last within 60 s of its search.json" >&2; exit 1; }
+wait_for "$(dirname "$result")/reflectors.pvd" 60 " of its search.json"
 sleep "$settle_s" # the best's trace, and the panel takes it on the next frames
 quit
