@@ -92,13 +92,13 @@ void Evaluator::set_desired(const FarField& desired) {
         return;
     }
     const std::vector<float> values(f->lm.begin(), f->lm.end());
-    desired_ = vk::Buffer(*ctx_, values.size() * 4, vk::kStorageUsage, vk::MemoryUse::Device,
-                          "fird.evaluator.desired");
-    desired_.upload(*ctx_, std::span<const float>(values));
+    desired_ =
+        make_float_table(*ctx_, values.size(), vk::MemoryUse::Device, "fird.evaluator.desired");
+    desired_.values.upload(*ctx_, std::span<const float>(values));
     if (metric() != FarFieldMetric::L2)
         row_weights_ = metric_row_weights(*ctx_, metric(), f->width, f->height);
-    l2_scratch_ = vk::Buffer(*ctx_, ReducePass::scratch_bytes(values.size()), vk::kStorageUsage,
-                             vk::MemoryUse::Device, "fird.evaluator.l2.scratch");
+    l2_scratch_ = make_float_table(*ctx_, ReducePass::scratch_floats(values.size()),
+                                   vk::MemoryUse::Device, "fird.evaluator.l2.scratch");
     l2_sums_ = vk::Buffer(*ctx_, kL2SumStride, vk::kStorageUsage, vk::MemoryUse::Readback,
                           "fird.evaluator.l2.sums");
 }
@@ -149,13 +149,13 @@ std::vector<CandidateResult> Evaluator::evaluate_batch(std::span<const Reflector
         l2_sums_ = vk::Buffer(*ctx_, reflectors.size() * kL2SumStride, vk::kStorageUsage,
                               vk::MemoryUse::Readback, "fird.evaluator.l2.sums");
     if (has_desired() || read_farfields)
-        record_compare = [&](VkCommandBuffer cb, std::size_t k, const vk::Buffer& farfield) {
+        record_compare = [&](VkCommandBuffer cb, std::size_t k, const FloatTable& farfield) {
             if (has_desired())
                 reduce_.record(cb, farfield, &desired_, cells(), l2_scratch_, l2_sums_,
                                k * kL2SumStride, difference());
             if (read_farfields) {
                 const VkBufferCopy copy{.dstOffset = k * farfield_bytes, .size = farfield_bytes};
-                vkCmdCopyBuffer(cb, farfield.get(), farfields_readback_.get(), 1, &copy);
+                vkCmdCopyBuffer(cb, farfield.values.get(), farfields_readback_.get(), 1, &copy);
                 vk::barrier_to_host(cb);
             }
         };

@@ -90,7 +90,7 @@ class Evaluator {
     // The last traced far field, read back (for pictures and files, not per candidate).
     FarField farfield() const;
     // The fast path's far field on the device (the fast backend only).
-    const vk::Buffer& farfield_buffer() const { return fast().farfield_lm(); }
+    const vk::Buffer& farfield_buffer() const { return fast().farfield_lm().values; }
     std::uint32_t cells() const { return fidelity_.farfield_w * fidelity_.farfield_h; }
     // What compare(), l2_to() and every CandidateResult::l2_lm measure: the scene's
     // [optimize] metric (l2 in lm, or candela_l2 in cd).
@@ -133,7 +133,8 @@ class Evaluator {
 
   private:
     ReduceDifference difference() const {
-        return {metric(), fidelity_.farfield_w, row_weights_.get() ? &row_weights_ : nullptr};
+        return {metric(), fidelity_.farfield_w,
+                row_weights_.values.get() ? &row_weights_ : nullptr};
     }
     FastTracer& fast();
     const FastTracer& fast() const;
@@ -147,12 +148,13 @@ class Evaluator {
     std::optional<FastTracer> tracer_;                   // the fast backend
     std::optional<FarField> cpu_farfield_, cpu_desired_; // the reference backend's last and desired
     ReducePass reduce_;
-    vk::Buffer desired_;
+    FloatTable desired_;
     // evaluate()'s reduction: its levels, and the sums read back (one per candidate of a
     // batch, kL2SumStride bytes apart: storage-buffer offsets are aligned).
-    vk::Buffer l2_scratch_, l2_sums_;
+    FloatTable l2_scratch_;
+    vk::Buffer l2_sums_;
     vk::Buffer farfields_readback_; // evaluate_batch's far fields, when read back
-    vk::Buffer row_weights_;        // the metric's weight per far-field row (weighted metrics)
+    FloatTable row_weights_;        // the metric's weight per far-field row (weighted metrics)
     static constexpr VkDeviceSize kL2SumStride = 256;
     std::optional<double> desired_norm_lm_;
     bool traced_ = false;

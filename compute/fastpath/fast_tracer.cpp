@@ -139,6 +139,12 @@ FastTracer::FastTracer(const vk::Context& ctx, const Scene& scene, std::uint64_t
             "storage-buffer range ({} MB); use fewer bounces or a coarser far field",
             params_.ff_w, params_.ff_h, params_.farfield_layers, counts_bytes >> 20,
             limits.max_storage_buffer_range >> 20));
+    // counts_to_lm.comp reads the counts, and the compare the lumens, through texel views.
+    vk::require_texel_count(
+        ctx, std::uint64_t(params_.ff_w) * params_.ff_h * params_.farfield_layers,
+        fmt::format("farfield {} x {} ({} layers: one per reflection order where the "
+                    "reflectance is below 1); use a coarser far field",
+                    params_.ff_w, params_.ff_h, params_.farfield_layers));
     const std::uint64_t ray_bytes = batch_capacity_ * kRayBytes;
     const auto storage = vk::kStorageUsage;
     counters_ = vk::Buffer(ctx, kCountersBytes, storage, vk::MemoryUse::Device, "fird.counters");
@@ -417,12 +423,12 @@ FastRun FastTracer::run(const std::function<void(VkCommandBuffer)>& then) {
 }
 
 std::vector<double> FastTracer::read_farfield() const {
-    const auto f = state().farfield_lm.download_as<float>(*ctx_, farfield_cells());
+    const auto f = state().farfield_lm.values.download_as<float>(*ctx_, farfield_cells());
     return {f.begin(), f.end()};
 }
 
-double device_l2(const vk::Context& ctx, const ReducePass& reduce, const vk::Buffer& a,
-                 const vk::Buffer& b, std::uint32_t cells, double* compare_ms,
+double device_l2(const vk::Context& ctx, const ReducePass& reduce, const FloatTable& a,
+                 const FloatTable& b, std::uint32_t cells, double* compare_ms,
                  ReduceDifference difference) {
     const auto t0 = std::chrono::steady_clock::now();
     const double sum = reduce.sum_squared_difference(ctx, a, b, cells, difference);

@@ -113,7 +113,7 @@ class FastTracer {
     static constexpr std::size_t kMaxBatchCandidates = 16;
     // Records `then` for candidate k of a batch, on its far field (farfield_lm).
     using BatchCompare =
-        std::function<void(VkCommandBuffer, std::size_t k, const vk::Buffer& farfield_lm)>;
+        std::function<void(VkCommandBuffer, std::size_t k, const FloatTable& farfield_lm)>;
     // Traces several reflectors against the same rays, each into its own height field and
     // far field, in as few submissions as memory, kMaxBatchCandidates and one batch's rays
     // (candidates x rays per submission) allow: where the kept rayset is one batch, the
@@ -161,7 +161,7 @@ class FastTracer {
     // (it fits the cache budget); for tests and views of the rays.
     std::vector<Ray> rayset() const;
 
-    const vk::Buffer& farfield_lm() const { return current_.farfield_lm; }
+    const FloatTable& farfield_lm() const { return current_.farfield_lm; }
     // Builds the current reflector's paper quadtree and gradients where they are not (a
     // refined trace of an analytic family reads neither, and builds neither: ReflectorState).
     void build_paper_heightfield();
@@ -328,8 +328,8 @@ class FastTracer {
 
 // l2 between two far fields on the device (reduction; only the number is read back).
 // With a weighted difference (ReduceDifference), that metric's distance.
-double device_l2(const vk::Context& ctx, const ReducePass& reduce, const vk::Buffer& a,
-                 const vk::Buffer& b, std::uint32_t cells, double* compare_ms = nullptr,
+double device_l2(const vk::Context& ctx, const ReducePass& reduce, const FloatTable& a,
+                 const FloatTable& b, std::uint32_t cells, double* compare_ms = nullptr,
                  ReduceDifference difference = {});
 
 } // namespace fird

@@ -44,7 +44,7 @@ void FastTracer::dispatch_trace(VkCommandBuffer cb, const RayTable& in, const Ra
         .walk = vk::storage(walk_),
         .profile = vk::storage(profile_),
         .walk_start = vk::storage(state().walk_start),
-        .control = vk::storage(state().control),
+        .control = vk::storage_texel(state().control.texels),
         .loop = vk::storage(loop_)};
     // The variant that does what the push constants ask and no more (the walk-recording
     // one also records hits; profile counts come from plain runs only).

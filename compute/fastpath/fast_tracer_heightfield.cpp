@@ -47,7 +47,8 @@ void FastTracer::record_heightfield(VkCommandBuffer cb, FastRun& run, bool with_
             const passes::HeightfieldBindings hf{.params = vk::uniform(state().params_buffer),
                                                  .heights = vk::storage(state().paper_tree),
                                                  .gradients = vk::storage(state().gradients),
-                                                 .control = vk::storage(state().control),
+                                                 .control =
+                                                     vk::storage_texel(state().control.texels),
                                                  .corners = vk::storage(state().corners)};
             (paper ? heightfield_pipeline_ : heightfield_refined_pipeline_)
                 .dispatch(cb, hf, {}, groups(params_.hf_w + 1, g), groups(params_.hf_h + 1, g));

@@ -41,8 +41,8 @@ void FastTracer::record_batch_start(VkCommandBuffer cb, std::optional<std::uint6
 void FastTracer::record_to_lm(VkCommandBuffer cb, FastRun& run) {
     const std::uint32_t cells = farfield_cells();
     timed(cb, &run.timings.histogram_ms, nullptr, [&] {
-        const passes::ToLmBindings b{.counts = vk::storage(state().farfield_counts),
-                                     .lumens = vk::storage(state().farfield_lm)};
+        const passes::ToLmBindings b{.counts = vk::storage_texel(state().farfield_counts_view),
+                                     .lumens = vk::storage(state().farfield_lm.values)};
         const gpu::ToLmPush push{.count = cells,
                                  .lm_per_ray = float(run.energy_per_ray_lm),
                                  .layers = params_.farfield_layers,

@@ -40,7 +40,7 @@ struct HeightfieldBindings {
             {gpu::kBindParams, kUniform, &B::params},
             {gpu::kHeightfieldBindHeights, kStorage, &B::heights},
             {gpu::kHeightfieldBindGradients, kStorage, &B::gradients},
-            {gpu::kHeightfieldBindControl, kStorage, &B::control},
+            {gpu::kHeightfieldBindControl, kStorageTexel, &B::control},
             {gpu::kHeightfieldBindCorners, kStorage, &B::corners},
         }};
     }
@@ -99,7 +99,7 @@ struct TraceBindings {
             {gpu::kTraceBindWalk, kStorage, &B::walk},
             {gpu::kTraceBindProfile, kStorage, &B::profile},
             {gpu::kTraceBindWalkStart, kStorage, &B::walk_start},
-            {gpu::kTraceBindControl, kStorage, &B::control},
+            {gpu::kTraceBindControl, kStorageTexel, &B::control},
             {gpu::kTraceBindLoop, kStorage, &B::loop},
         }};
     }
@@ -112,7 +112,7 @@ struct ToLmBindings {
     static constexpr auto fields() {
         using B = ToLmBindings;
         return std::array<vk::BindingField<B>, 2>{{
-            {gpu::kToLmBindCounts, kStorage, &B::counts},
+            {gpu::kToLmBindCounts, kStorageTexel, &B::counts},
             {gpu::kToLmBindLumens, kStorage, &B::lumens},
         }};
     }

@@ -13,12 +13,9 @@ namespace fird {
 RayTable make_ray_table(const vk::Context& ctx, std::uint64_t ray_count, vk::MemoryUse use,
                         std::string_view name) {
     const std::uint64_t rays = std::max<std::uint64_t>(ray_count, 1);
-    const std::uint64_t limit = ctx.limits().max_texel_buffer_elements;
-    if (rays * gpu::kRayTexels > limit)
-        throw std::invalid_argument(
-            fmt::format("{} rays in one table pass this device's texel buffer limit ({} texels, "
-                        "{} per ray); trace fewer at once",
-                        rays, limit, gpu::kRayTexels));
+    vk::require_texel_count(ctx, rays * gpu::kRayTexels,
+                            fmt::format("a table of {} rays ({} texels a ray: trace fewer at once)",
+                                        rays, gpu::kRayTexels));
     RayTable t;
     t.rays = vk::Buffer(ctx, rays * gpu::kRayTexels * 16,
                         vk::kStorageUsage | VK_BUFFER_USAGE_STORAGE_TEXEL_BUFFER_BIT, use, name);

@@ -49,7 +49,7 @@ ReflectorState make_reflector_state(const vk::Context& ctx, const gpu::ScenePara
     s.params_buffer =
         vk::Buffer(ctx, sizeof(gpu::SceneParams), storage | VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
                    vk::MemoryUse::Upload, name("params"));
-    s.control = vk::Buffer(ctx, 4, storage, vk::MemoryUse::Device, name("bspline.control"));
+    s.control = make_float_table(ctx, 1, vk::MemoryUse::Device, name("bspline.control"));
     s.walk_start = vk::Buffer(ctx, 4, storage, vk::MemoryUse::Device, name("walk_start"));
     s.paper_tree = vk::Buffer(ctx, quadtree_bytes(params), tree_usage, vk::MemoryUse::Device,
                               name("quadtree.paper"));
@@ -67,10 +67,13 @@ ReflectorState make_reflector_state(const vk::Context& ctx, const gpu::ScenePara
         vk::TexelView(ctx, s.gradients, VK_FORMAT_R32G32_SFLOAT, name("normals.view"));
     s.corners_view =
         vk::TexelView(ctx, s.corners, VK_FORMAT_R32_SFLOAT, name("heights.corners.view"));
-    s.farfield_counts = vk::Buffer(ctx, farfield_counts_bytes(params), storage,
+    s.farfield_counts = vk::Buffer(ctx, farfield_counts_bytes(params),
+                                   storage | VK_BUFFER_USAGE_STORAGE_TEXEL_BUFFER_BIT,
                                    vk::MemoryUse::Device, name("farfield.counts"));
-    s.farfield_lm = vk::Buffer(ctx, farfield_bytes(params), storage, vk::MemoryUse::Device,
-                               name("farfield.lm"));
+    s.farfield_counts_view =
+        vk::TexelView(ctx, s.farfield_counts, VK_FORMAT_R32_UINT, name("farfield.counts.view"));
+    s.farfield_lm = make_float_table(ctx, std::uint64_t(params.ff_w) * params.ff_h,
+                                     vk::MemoryUse::Device, name("farfield.lm"));
     return s;
 }
 
@@ -86,10 +89,10 @@ bool set_state_reflector(const vk::Context& ctx, ReflectorState& state,
     state.params = scene_params;
     const std::vector<float> control = set_reflector_params(state.params, reflector, origin);
     if (!control.empty()) {
-        if (state.control.size() != control.size() * 4)
-            state.control = vk::Buffer(ctx, control.size() * 4, vk::kStorageUsage,
-                                       vk::MemoryUse::Device, state.name + ".bspline.control");
-        state.control.upload(ctx, std::span<const float>(control));
+        if (state.control.values.size() != control.size() * 4)
+            state.control = make_float_table(ctx, control.size(), vk::MemoryUse::Device,
+                                             state.name + ".bspline.control");
+        state.control.values.upload(ctx, std::span<const float>(control));
     }
     state.params_buffer.upload(ctx, std::as_bytes(std::span(&state.params, 1)));
     state.reflector = reflector;

@@ -12,6 +12,7 @@
 
 #include "fird_shared.h"
 #include "model/scene.hpp"
+#include "passes/float_table.hpp"
 #include "vk/buffer.hpp"
 
 namespace fird {
@@ -25,12 +26,14 @@ struct ReflectorState {
     // gradients, the paper quadtree): a refined trace of an analytic family reads neither.
     bool paper_tree_stale = true;
     vk::Buffer params_buffer;
-    vk::Buffer control;    // B-spline control heights (a placeholder for other families)
+    FloatTable control;    // B-spline control heights (a placeholder for other families)
     vk::Buffer walk_start; // uint: the level the source's rays start their walk at
     vk::Buffer paper_tree, refined_tree, gradients;
     vk::Buffer corners; // the refined surface's heights at the (W + 1) x (H + 1) texel corners
     vk::TexelView paper_view, refined_view, gradients_view, corners_view; // as the trace reads
-    vk::Buffer farfield_counts, farfield_lm;
+    vk::Buffer farfield_counts;
+    vk::TexelView farfield_counts_view; // as counts_to_lm.comp reads the counts
+    FloatTable farfield_lm;
 };
 
 // The buffers of one reflector on the height field and far field of `params`, named

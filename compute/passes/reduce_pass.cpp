@@ -35,28 +35,29 @@ static VkDeviceSize align_offset(VkDeviceSize bytes) {
     return (bytes + 255) / 256 * 256;
 }
 
-VkDeviceSize ReducePass::scratch_bytes(std::uint64_t count) {
+std::uint64_t ReducePass::scratch_floats(std::uint64_t count) {
     // Partial sums of every level but the last, laid end to end at aligned offsets.
     VkDeviceSize total = 0;
     for (std::uint64_t n = count; n > 1;) {
         n = (n + kSpan - 1) / kSpan;
         if (n > 1) total = align_offset(total + n * sizeof(float));
     }
-    return total + sizeof(float);
+    return total / sizeof(float) + 1;
 }
 
-void ReducePass::record(VkCommandBuffer cb, const vk::Buffer& a, const vk::Buffer* b,
-                        std::uint32_t count, const vk::Buffer& scratch, const vk::Buffer& result,
+void ReducePass::record(VkCommandBuffer cb, const FloatTable& a, const FloatTable* b,
+                        std::uint32_t count, const FloatTable& scratch, const vk::Buffer& result,
                         VkDeviceSize result_offset, ReduceDifference difference) const {
     bool weighted = b && difference.metric == FarFieldMetric::CandelaL2;
     if (weighted && (difference.width == 0 || count % difference.width != 0))
         throw std::invalid_argument("ReducePass: a weighted difference needs the grid's width");
-    if (weighted && (!difference.row_weights ||
-                     difference.row_weights->size() < (count / difference.width) * sizeof(float)))
+    if (weighted && (!difference.row_weights || difference.row_weights->values.size() <
+                                                    (count / difference.width) * sizeof(float)))
         throw std::invalid_argument("ReducePass: a weighted difference needs a weight per row");
     // Level 0 reads a (and b); later levels read the previous level's partials, placed
-    // one after another in scratch (offsets keep every level's binding distinct).
-    const vk::Buffer* input = &a;
+    // one after another in scratch (offsets keep every level's binding distinct), through
+    // the scratch's view from the level's first float (ReducePush::a_offset).
+    const FloatTable* input = &a;
     VkDeviceSize input_offset = 0;
     VkDeviceSize scratch_offset = 0;
     std::uint32_t n = count;
@@ -66,20 +67,18 @@ void ReducePass::record(VkCommandBuffer cb, const vk::Buffer& a, const vk::Buffe
     do {
         const std::uint32_t groups = groups_for(n);
         const bool last = groups <= 1;
-        vk::Binding in = vk::storage(*input);
-        in.buffer.offset = input_offset;
-        vk::Binding other = vk::storage(b ? *b : *input);
-        other.buffer.offset = b ? 0 : input_offset;
-        vk::Binding out = vk::storage(last ? result : scratch);
+        vk::Binding out = vk::storage(last ? result : scratch.values);
         out.buffer.offset = last ? result_offset : scratch_offset;
-        const ReduceBindings bindings{.a = in,
-                                      .b = other,
-                                      .partial = out,
-                                      .row_weight =
-                                          vk::storage(weighted ? *difference.row_weights : *input)};
+        const ReduceBindings bindings{
+            .a = vk::storage_texel(input->texels),
+            .b = vk::storage_texel(b ? b->texels : input->texels),
+            .partial = out,
+            .row_weight =
+                vk::storage_texel(weighted ? difference.row_weights->texels : input->texels)};
         const gpu::ReducePush push{.count = n,
                                    .width = weighted ? difference.width : 1u,
-                                   .height = weighted ? count / difference.width : 1u};
+                                   .height = weighted ? count / difference.width : 1u,
+                                   .a_offset = std::uint32_t(input_offset / sizeof(float))};
         pipelines_.at(mode).dispatch(cb, bindings, push, groups > 0 ? groups : 1);
         vk::barrier_all(cb);
         input = &scratch;
@@ -93,28 +92,28 @@ void ReducePass::record(VkCommandBuffer cb, const vk::Buffer& a, const vk::Buffe
     } while (true);
 }
 
-vk::Buffer metric_row_weights(const vk::Context& ctx, FarFieldMetric metric, std::uint32_t width,
+FloatTable metric_row_weights(const vk::Context& ctx, FarFieldMetric metric, std::uint32_t width,
                               std::uint32_t height) {
     std::vector<float> w(height);
     for (std::uint32_t row = 0; row < height; ++row)
         w[row] = float(metric_cell_weight(metric, row, width, height));
-    vk::Buffer out(ctx, w.size() * sizeof(float), vk::kStorageUsage, vk::MemoryUse::Device,
-                   "fird.reduce.row_weights");
-    out.upload(ctx, std::span<const float>(w));
+    FloatTable out =
+        make_float_table(ctx, w.size(), vk::MemoryUse::Device, "fird.reduce.row_weights");
+    out.values.upload(ctx, std::span<const float>(w));
     return out;
 }
 
-double ReducePass::run(const vk::Context& ctx, const vk::Buffer& a, const vk::Buffer* b,
+double ReducePass::run(const vk::Context& ctx, const FloatTable& a, const FloatTable* b,
                        std::uint32_t count, ReduceDifference difference) const {
-    vk::Buffer row_weights;
+    FloatTable row_weights;
     if (b && difference.metric != FarFieldMetric::L2 && !difference.row_weights &&
         difference.width > 0) {
         row_weights =
             metric_row_weights(ctx, difference.metric, difference.width, count / difference.width);
         difference.row_weights = &row_weights;
     }
-    vk::Buffer scratch(ctx, scratch_bytes(count), vk::kStorageUsage, vk::MemoryUse::Device,
-                       "fird.reduce.scratch");
+    const FloatTable scratch =
+        make_float_table(ctx, scratch_floats(count), vk::MemoryUse::Device, "fird.reduce.scratch");
     vk::Buffer result(ctx, sizeof(float), vk::kStorageUsage, vk::MemoryUse::Readback,
                       "fird.reduce.result");
     ctx.submit_and_wait(
@@ -122,12 +121,12 @@ double ReducePass::run(const vk::Context& ctx, const vk::Buffer& a, const vk::Bu
     return result.download_as<float>(ctx, 1)[0];
 }
 
-double ReducePass::sum(const vk::Context& ctx, const vk::Buffer& a, std::uint32_t count) const {
+double ReducePass::sum(const vk::Context& ctx, const FloatTable& a, std::uint32_t count) const {
     return run(ctx, a, nullptr, count, {});
 }
 
-double ReducePass::sum_squared_difference(const vk::Context& ctx, const vk::Buffer& a,
-                                          const vk::Buffer& b, std::uint32_t count,
+double ReducePass::sum_squared_difference(const vk::Context& ctx, const FloatTable& a,
+                                          const FloatTable& b, std::uint32_t count,
                                           ReduceDifference difference) const {
     return run(ctx, a, &b, count, difference);
 }

@@ -7,13 +7,14 @@
 #include "fird_shared.h"
 
 layout(local_size_x = FIRD_REDUCE_WORKGROUP_SIZE) in;
-layout(std430, binding = kToLmBindCounts) readonly buffer Counts { uint counts[]; };
+// The counts through an R32UI texel view: CPU drivers load a storage buffer at a per-lane
+// index lane by lane, each value stored into a stack copy of the vector that is then read
+// back whole (a stalled store-to-load forward per value), where an image load is one
+// gather (docs/architecture.md, "Far fields as texels").
+layout(binding = kToLmBindCounts, r32ui) uniform readonly uimageBuffer counts;
 layout(std430, binding = kToLmBindLumens) writeonly buffer Lumens { float lm[]; };
-// The same buffers four cells at a time: CPU drivers load and store a storage buffer at a
-// per-lane index in a loop over the lanes, so a vec4 costs what a float did. Used where
-// every layer starts on a vec4 (count a multiple of 4); cells past the last whole vec4,
-// and every cell otherwise, go one at a time.
-layout(std430, binding = kToLmBindCounts) readonly buffer Counts4 { uvec4 counts4[]; };
+// The lumens four cells at a time where every layer starts on a vec4 (count a multiple of
+// 4): a store per lane each (a vec4 costs what a float did).
 layout(std430, binding = kToLmBindLumens) writeonly buffer Lumens4 { vec4 lm4[]; };
 layout(push_constant) uniform Push { ToLmPush pc; };
 
@@ -22,23 +23,21 @@ void main() {
     const uint q = gl_GlobalInvocationID.x;
     const uint i = 4u * q;
     if (i >= pc.count) return;
+    // Cells past the last are never stored; their loads stay inside the view (the last
+    // cell's, read again): a texel past a view's end is undefined without robustness.
+    const uvec4 cells = min(uvec4(i) + uvec4(0u, 1u, 2u, 3u), uvec4(pc.count - 1u));
+    vec4 sum = vec4(0.0);
+    float weight = pc.lm_per_ray;
+    for (uint k = 0u; k < pc.layers; ++k) { // bounded: layers <= FIRD_MAX_REFLECTIONS + 1
+        const ivec4 at = ivec4(uvec4(k * pc.count) + cells);
+        const uvec4 n = uvec4(imageLoad(counts, at.x).r, imageLoad(counts, at.y).r,
+                              imageLoad(counts, at.z).r, imageLoad(counts, at.w).r);
+        sum += vec4(n) * weight;
+        weight *= pc.reflectance;
+    }
     if (pc.count % 4u == 0u) {
-        vec4 sum = vec4(0.0);
-        float weight = pc.lm_per_ray;
-        for (uint k = 0u; k < pc.layers; ++k) { // bounded: layers <= FIRD_MAX_REFLECTIONS + 1
-            sum += vec4(counts4[k * (pc.count / 4u) + q]) * weight;
-            weight *= pc.reflectance;
-        }
         lm4[q] = sum;
         return;
     }
-    for (uint c = 0u; c < 4u && i + c < pc.count; ++c) {
-        float sum = 0.0;
-        float weight = pc.lm_per_ray;
-        for (uint k = 0u; k < pc.layers; ++k) {
-            sum += float(counts[k * pc.count + i + c]) * weight;
-            weight *= pc.reflectance;
-        }
-        lm[i + c] = sum;
-    }
+    for (uint c = 0u; c < 4u && i + c < pc.count; ++c) lm[i + c] = sum[c];
 }

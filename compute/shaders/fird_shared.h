@@ -22,7 +22,8 @@ using uint = std::uint32_t;
 // ---- reduce_sum.comp: sum of x, or of (a - b)^2 (the l2 distance's sum) ----
 FIRD_CONSTANT(uint, kReduceWorkgroupSize, FIRD_REDUCE_WORKGROUP_SIZE);
 FIRD_CONSTANT(uint, kReduceItemsPerThread, 8u);
-FIRD_CONSTANT(uint, kReduceBindingA, 0u);       // float[count]
+// The inputs are R32_SFLOAT texel views (passes/float_table.hpp); the partials a buffer.
+FIRD_CONSTANT(uint, kReduceBindingA, 0u);       // float[a_offset + count]
 FIRD_CONSTANT(uint, kReduceBindingB, 1u);       // float[count] (mode kReduceSquaredDifference)
 FIRD_CONSTANT(uint, kReduceBindingPartial, 2u); // float[groups]
 // float[height]: each row's metric weight, computed on the host in double (mode
@@ -41,7 +42,7 @@ struct ReducePush {
     uint count;
     uint width; // kReduceCandelaSquaredDifference: the far field's grid
     uint height;
-    uint unused;
+    uint a_offset; // where the level's inputs begin in a (a level past the first: the scratch)
 };
 
 // ---- bin_keys.comp: atomic histogram of integer keys ----

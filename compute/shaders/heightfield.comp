@@ -11,12 +11,14 @@
 layout(local_size_x = FIRD_HEIGHTFIELD_WORKGROUP_SIZE, local_size_y = FIRD_HEIGHTFIELD_WORKGROUP_SIZE) in;
 layout(std430, binding = kHeightfieldBindHeights) buffer Heights { float heights[]; };
 layout(std430, binding = kHeightfieldBindGradients) writeonly buffer Gradients { vec2 gradients[]; };
-layout(std430, binding = kHeightfieldBindControl) readonly buffer Control { float control[]; };
+// The control heights through an R32F texel view: read at per-lane indices, a storage
+// buffer's loads would run lane by lane on CPU drivers (16 a B-spline evaluation).
+layout(binding = kHeightfieldBindControl, r32f) uniform readonly imageBuffer control;
 layout(std430, binding = kHeightfieldBindCorners) writeonly buffer Corners { float corners[]; };
 
 layout(constant_id = FIRD_SPEC_REFINED_ONLY) const uint kRefinedOnly = 0u;
 
-float control_height(int k) { return control[k]; }
+float control_height(int k) { return imageLoad(control, k).r; }
 
 vec3 surface(vec2 xy) { return reflector_height_gradient(xy); }
 

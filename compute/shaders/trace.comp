@@ -47,7 +47,8 @@ layout(std430, binding = kTraceBindTexelHits) buffer TexelHits { uint texel_hits
 layout(std430, binding = kTraceBindWalk) buffer WalkSteps { vec4 walk[]; };
 layout(std430, binding = kTraceBindProfile) buffer Profile { uint profile[]; };
 layout(std430, binding = kTraceBindWalkStart) readonly buffer WalkStart { uint walk_start_level; };
-layout(std430, binding = kTraceBindControl) readonly buffer Control { float control[]; };
+// B-spline control heights (hit_gradient), as heightfield.comp reads them.
+layout(binding = kTraceBindControl, r32f) uniform readonly imageBuffer control;
 layout(std430, binding = kTraceBindLoop) readonly buffer Loop { uint loop_state[]; };
 layout(push_constant) uniform Push { TracePush pc; };
 
@@ -146,7 +147,7 @@ vec2 patch_gradient(vec2 q, ivec2 cell, vec2 texel_mm) {
     return vec2(mix(c.y - c.x, c.w - c.z, f.y), mix(c.z - c.x, c.w - c.y, f.x)) / texel_mm;
 }
 
-float control_height(int k) { return control[k]; }
+float control_height(int k) { return imageLoad(control, k).r; }
 
 // The gradient the refined mode reflects about at hit point p (texel-space q, texel
 // `cell`): the surface actually hit. An analytic family's own gradient there (zero where

@@ -5,6 +5,8 @@
 #include <stdexcept>
 #include <utility>
 
+#include <fmt/format.h>
+
 #include "check.hpp"
 
 namespace fird::vk {
@@ -118,8 +120,34 @@ void barrier_to_host(VkCommandBuffer cb) {
 
 namespace fird::vk {
 
+namespace {
+// The bytes of one texel of the formats FIRD's views use.
+VkDeviceSize texel_bytes(VkFormat format) {
+    switch (format) {
+    case VK_FORMAT_R32_SFLOAT:
+    case VK_FORMAT_R32_UINT:
+        return 4;
+    case VK_FORMAT_R32G32_SFLOAT:
+        return 8;
+    case VK_FORMAT_R32G32B32A32_SFLOAT:
+    case VK_FORMAT_R32G32B32A32_UINT:
+        return 16;
+    default:
+        throw std::logic_error(fmt::format("TexelView: format {} has no size here", int(format)));
+    }
+}
+} // namespace
+
+void require_texel_count(const Context& ctx, std::uint64_t texels, std::string_view what) {
+    const std::uint64_t limit = ctx.limits().max_texel_buffer_elements;
+    if (texels > limit)
+        throw std::invalid_argument(fmt::format(
+            "{} needs {} texels, past this device's texel buffer limit ({})", what, texels, limit));
+}
+
 TexelView::TexelView(const Context& ctx, const Buffer& buffer, VkFormat format,
                      std::string_view name) {
+    require_texel_count(ctx, buffer.size() / texel_bytes(format), name);
     const VkBufferViewCreateInfo info{.sType = VK_STRUCTURE_TYPE_BUFFER_VIEW_CREATE_INFO,
                                       .buffer = buffer.get(),
                                       .format = format,

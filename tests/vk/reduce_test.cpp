@@ -1,6 +1,8 @@
 // The device reduction against a double-precision CPU sum over random inputs.
 #include <cmath>
 #include <random>
+#include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "passes/reduce_pass.hpp"
@@ -22,11 +24,10 @@ std::vector<float> random_floats(std::uint32_t n, std::uint32_t seed) {
     return v;
 }
 
-vk::Buffer upload(const vk::Context& c, const std::vector<float>& v) {
-    vk::Buffer b(c, v.size() * sizeof(float), vk::kStorageUsage, vk::MemoryUse::Device,
-                 "test.reduce.input");
-    b.upload(c, std::span<const float>(v));
-    return b;
+FloatTable upload(const vk::Context& c, const std::vector<float>& v) {
+    FloatTable t = make_float_table(c, v.size(), vk::MemoryUse::Device, "test.reduce.input");
+    if (!v.empty()) t.values.upload(c, std::span<const float>(v));
+    return t;
 }
 
 TEST_P(ReduceTest, SumMatchesCpu) {
@@ -59,6 +60,28 @@ TEST_P(ReduceTest, SquaredDifferenceMatchesCpu) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Sizes, ReduceTest, ::testing::Values(0u, 1u, 17u, 2049u, 1000003u));
+
+// The reduction reads its inputs through texel views, which hold at most the device's
+// maxTexelBufferElements texels: a table past it is refused in one line naming the table and
+// the limit, before any allocation (the far fields stay below it: FastTracer checks their
+// cells against it); one within it is made, its view named.
+TEST_F(VulkanTest, AFloatTablePastTheTexelBufferLimitIsRefusedNamingIt) {
+    const std::uint64_t limit = ctx().limits().max_texel_buffer_elements;
+    ASSERT_GT(limit, 0u);
+    try {
+        (void)make_float_table(ctx(), limit + 1, vk::MemoryUse::Device, "fird.test.farfield");
+        FAIL() << "a table of " << limit + 1 << " floats was made";
+    } catch (const std::invalid_argument& e) {
+        const std::string what = e.what();
+        EXPECT_NE(what.find("fird.test.farfield"), std::string::npos) << what;
+        EXPECT_NE(what.find(std::to_string(limit)), std::string::npos) << what;
+        EXPECT_NE(what.find("texel buffer limit"), std::string::npos) << what;
+        EXPECT_EQ(what.find('\n'), std::string::npos) << what;
+    }
+    const FloatTable small = make_float_table(ctx(), 1000, vk::MemoryUse::Device, "fird.test.lm");
+    EXPECT_NE(small.texels.get(), VK_NULL_HANDLE);
+    EXPECT_GE(small.values.size(), 1000u * sizeof(float));
+}
 
 // The candela metric's weighting on the device (each cell's squared difference over 4 pi
 // times its solid angle, the weights computed per row in double on the host and read as
