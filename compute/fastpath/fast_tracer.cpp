@@ -187,14 +187,14 @@ FastTracer::FastTracer(const vk::Context& ctx, const Scene& scene, std::uint64_t
     const std::vector<float> no_table(1, 0.0f);
     const std::vector<float>& table =
         scene.source.table.floats ? *scene.source.table.floats : no_table;
-    emitter_table_ = vk::Buffer(ctx, table.size() * sizeof(float), storage, vk::MemoryUse::Device,
-                                "fird.rayset.emitter_table");
-    emitter_table_.upload(ctx, std::span<const float>(table));
+    emitter_table_ =
+        make_float_table(ctx, table.size(), vk::MemoryUse::Device, "fird.rayset.emitter_table");
+    emitter_table_.values.upload(ctx, std::span<const float>(table));
     if (scene.source.kind == SourceKind::RayFile)
         for (int k = 0; k < 2; ++k)
             ray_file_tables_[k] =
-                vk::Buffer(ctx, batch_capacity_ * gpu::kRayFileFloats * sizeof(float), storage,
-                           vk::MemoryUse::Upload, fmt::format("fird.rayset.ray_file.{}", k));
+                make_float_table(ctx, batch_capacity_ * gpu::kRayFileFloats, vk::MemoryUse::Upload,
+                                 fmt::format("fird.rayset.ray_file.{}", k));
     loop_ = vk::Buffer(ctx, gpu::kLoopWords * 4, storage | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT,
                        vk::MemoryUse::Device, "fird.bounce_loop");
     loop_readback_ = vk::Buffer(ctx, gpu::kLoopWords * 4 * kMaxBatchCandidates, storage,

@@ -218,7 +218,7 @@ class FastTracer {
     void read_ray_file_batch(std::uint64_t first, std::uint64_t n) const;
     // What the rayset pass over rays [first, ...) reads: a photometric source's table, or
     // the ray file table of that batch (two, used in turn: double-buffered).
-    const vk::Buffer& emitter_table_for(std::uint64_t first) const;
+    const FloatTable& emitter_table_for(std::uint64_t first) const;
     // Moves the rayset's effective rays from `from` to `to` ordered by direction.
     void record_rayset_order(VkCommandBuffer cb, const RayTable& from, const RayTable& to,
                              FastRun& run);
@@ -306,9 +306,9 @@ class FastTracer {
     vk::Buffer profile_;
     vk::Buffer order_buckets_;
     // A photometric source's table (fird_shared.h); one unused float for the others.
-    vk::Buffer emitter_table_;
+    FloatTable emitter_table_;
     // A ray file's rays, for even and odd batches: one is read while the other is traced.
-    vk::Buffer ray_file_tables_[2];
+    FloatTable ray_file_tables_[2];
     // The bounce loop's state on the device (fird_shared.h, kLoop*: counts and indirect
     // dispatch sizes) and its per-bounce counts as read back.
     vk::Buffer loop_, loop_readback_;

@@ -30,7 +30,8 @@ void FastTracer::record_rayset(VkCommandBuffer cb, std::uint64_t first, std::uin
                                        .rays = vk::storage_texel(rays.texels),
                                        .counters = vk::storage(counters_),
                                        .buckets = vk::storage(order_buckets_),
-                                       .emitter_table = vk::storage(emitter_table_for(first))};
+                                       .emitter_table =
+                                           vk::storage_texel(emitter_table_for(first).texels)};
         const gpu::RaysetPush push{
             .first_lo = std::uint32_t(first),
             .first_hi = std::uint32_t(first >> 32),
@@ -43,7 +44,7 @@ void FastTracer::record_rayset(VkCommandBuffer cb, std::uint64_t first, std::uin
     vk::barrier_all(cb);
 }
 
-const vk::Buffer& FastTracer::emitter_table_for(std::uint64_t first) const {
+const FloatTable& FastTracer::emitter_table_for(std::uint64_t first) const {
     if (scene_.source.kind != SourceKind::RayFile) return emitter_table_;
     return ray_file_tables_[(first / batch_capacity_) % 2];
 }
@@ -51,7 +52,7 @@ const vk::Buffer& FastTracer::emitter_table_for(std::uint64_t first) const {
 void FastTracer::read_ray_file_batch(std::uint64_t first, std::uint64_t n) const {
     const std::uint64_t seed =
         std::uint64_t(params_.seed_lo) | (std::uint64_t(params_.seed_hi) << 32);
-    auto* const table = static_cast<float*>(emitter_table_for(first).data());
+    auto* const table = static_cast<float*>(emitter_table_for(first).values.data());
     // Emissions [from, to), placed in double, then made relative to the frame's origin and
     // rounded to float, into their slots of the batch.
     const auto read = [&](std::uint64_t from, std::uint64_t to) {

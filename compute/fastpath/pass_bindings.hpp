@@ -25,7 +25,7 @@ struct RaysetBindings {
             {gpu::kRaysetBindRays, kStorageTexel, &B::rays},
             {gpu::kRaysetBindCounters, kStorage, &B::counters},
             {gpu::kRaysetBindBuckets, kStorage, &B::buckets},
-            {gpu::kRaysetBindEmitterTable, kStorage, &B::emitter_table},
+            {gpu::kRaysetBindEmitterTable, kStorageTexel, &B::emitter_table},
         }};
     }
 };

@@ -1,6 +1,6 @@
 // A table of floats on the device (a far field in lumens, a desired far field, a reduction's
-// partial sums, a metric's row weights): the buffer and the R32_SFLOAT storage texel view
-// through which the reduction reads it.
+// partial sums, a metric's row weights, a B-spline's control heights, an emitter's table):
+// the buffer and the R32_SFLOAT storage texel view through which the passes read it.
 #pragma once
 
 #include <cstdint>

@@ -10,7 +10,7 @@ namespace fird {
 
 namespace {
 constexpr std::uint32_t kSpan = gpu::kReduceWorkgroupSize * gpu::kReduceItemsPerThread;
-// reduce_sum.comp reads a thread's items as vec4s.
+// reduce_sum.comp sums a thread's items in runs of four.
 static_assert(gpu::kReduceItemsPerThread % 4 == 0);
 std::uint32_t groups_for(std::uint32_t count) {
     return (count + kSpan - 1) / kSpan;
@@ -54,9 +54,16 @@ void ReducePass::record(VkCommandBuffer cb, const FloatTable& a, const FloatTabl
     if (weighted && (!difference.row_weights || difference.row_weights->values.size() <
                                                     (count / difference.width) * sizeof(float)))
         throw std::invalid_argument("ReducePass: a weighted difference needs a weight per row");
-    // Level 0 reads a (and b); later levels read the previous level's partials, placed
-    // one after another in scratch (offsets keep every level's binding distinct), through
-    // the scratch's view from the level's first float (ReducePush::a_offset).
+    // The views are read without robustness: a short table would be read past its end.
+    if (a.values.size() < VkDeviceSize(count) * sizeof(float) ||
+        (b && b->values.size() < VkDeviceSize(count) * sizeof(float)))
+        throw std::invalid_argument("ReducePass: an input holds fewer values than the count");
+    if (scratch.values.size() < scratch_floats(count) * sizeof(float))
+        throw std::invalid_argument("ReducePass: the scratch is smaller than scratch_floats");
+    // Level 0 reads a (and b); later levels read the previous level's partials, placed one
+    // after another in scratch at aligned offsets, through the scratch's view from the
+    // level's first float (ReducePush::a_offset), while the level writes its own partials
+    // past them (the partials' binding at its offset).
     const FloatTable* input = &a;
     VkDeviceSize input_offset = 0;
     VkDeviceSize scratch_offset = 0;

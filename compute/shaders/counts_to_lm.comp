@@ -13,8 +13,9 @@ layout(local_size_x = FIRD_REDUCE_WORKGROUP_SIZE) in;
 // gather (docs/architecture.md, "Far fields as texels").
 layout(binding = kToLmBindCounts, r32ui) uniform readonly uimageBuffer counts;
 layout(std430, binding = kToLmBindLumens) writeonly buffer Lumens { float lm[]; };
-// The lumens four cells at a time where every layer starts on a vec4 (count a multiple of
-// 4): a store per lane each (a vec4 costs what a float did).
+// The lumens four cells at a time where the far field is a whole number of vec4s (count a
+// multiple of 4, so the last vec4 stays inside the buffer): CPU drivers store a storage
+// buffer lane by lane, a vec4 for what a float costs.
 layout(std430, binding = kToLmBindLumens) writeonly buffer Lumens4 { vec4 lm4[]; };
 layout(push_constant) uniform Push { ToLmPush pc; };
 

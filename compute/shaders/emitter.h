@@ -13,9 +13,11 @@
 #ifdef __cplusplus
 namespace fird::gpu::emission {
 // A photometric emitter's table (emission_table.hpp lays it out): a pointer in C++, the
-// rayset pass's buffer `emitter_table` in GLSL (source.glsl binds it).
+// rayset pass's texel view `emitter_table` in GLSL (source.glsl binds it and defines
+// FIRD_TABLE_AT, float k of the table, as its load).
 #define FIRD_TABLE_ARG , const float* emitter_table
 #define FIRD_TABLE_PASS , emitter_table
+#define FIRD_TABLE_AT(k) emitter_table[k]
 #else
 #define FIRD_TABLE_ARG
 #define FIRD_TABLE_PASS
@@ -91,29 +93,29 @@ FIRD_SHARED_INLINE vec3 photometric_direction(uint nc, uint ng, real_t ux,
     uint hi = cells - 1u;
     for (int step = 0; step < 32 && lo < hi; ++step) {
         const uint mid = (lo + hi) / 2u;
-        if (real_t(emitter_table[cdf_at + mid]) > ux)
+        if (real_t(FIRD_TABLE_AT(cdf_at + mid)) > ux)
             hi = mid;
         else
             lo = mid + 1u;
     }
     const uint j = lo / (ng - 1u);
     const uint i = lo - j * (ng - 1u);
-    const real_t before = lo > 0u ? real_t(emitter_table[cdf_at + lo - 1u]) : real_t(0.0);
-    const real_t share = real_t(emitter_table[cdf_at + lo]) - before;
+    const real_t before = lo > 0u ? real_t(FIRD_TABLE_AT(cdf_at + lo - 1u)) : real_t(0.0);
+    const real_t share = real_t(FIRD_TABLE_AT(cdf_at + lo)) - before;
     const real_t v =
         share > 0.0 ? min(max((ux - before) / share, real_t(0.0)), real_t(1.0)) : real_t(0.5);
     const uint cd_at = nc + ng;
-    const real_t i00 = real_t(emitter_table[cd_at + j * ng + i]);
-    const real_t i01 = real_t(emitter_table[cd_at + j * ng + i + 1u]);
-    const real_t i10 = real_t(emitter_table[cd_at + (j + 1u) * ng + i]);
-    const real_t i11 = real_t(emitter_table[cd_at + (j + 1u) * ng + i + 1u]);
+    const real_t i00 = real_t(FIRD_TABLE_AT(cd_at + j * ng + i));
+    const real_t i01 = real_t(FIRD_TABLE_AT(cd_at + j * ng + i + 1u));
+    const real_t i10 = real_t(FIRD_TABLE_AT(cd_at + (j + 1u) * ng + i));
+    const real_t i11 = real_t(FIRD_TABLE_AT(cd_at + (j + 1u) * ng + i + 1u));
     // cos gamma first (its marginal is linear), then C at that cos gamma (linear too).
     const real_t tg = linear_density_inverse(i00 + i10, i01 + i11, v);
     const real_t tc = linear_density_inverse(i00 + (i01 - i00) * tg, i10 + (i11 - i10) * tg, uy);
-    const real_t mu0 = real_t(emitter_table[nc + i]);
-    const real_t mu1 = real_t(emitter_table[nc + i + 1u]);
-    const real_t c0 = real_t(emitter_table[j]);
-    const real_t c1 = real_t(emitter_table[j + 1u]);
+    const real_t mu0 = real_t(FIRD_TABLE_AT(nc + i));
+    const real_t mu1 = real_t(FIRD_TABLE_AT(nc + i + 1u));
+    const real_t c0 = real_t(FIRD_TABLE_AT(j));
+    const real_t c1 = real_t(FIRD_TABLE_AT(j + 1u));
     const real_t mu = mu0 + (mu1 - mu0) * tg;
     const real_t c = c0 + (c1 - c0) * tc;
     const real_t sin_g = sqrt(max(real_t(0.0), real_t(1.0) - mu * mu));
@@ -175,6 +177,7 @@ FIRD_SHARED_INLINE Emission sample_emitter(Emitter e, vec4 u FIRD_TABLE_ARG) {
 #undef FIRD_TABLE_ARG
 #undef FIRD_TABLE_PASS
 #ifdef __cplusplus
+#undef FIRD_TABLE_AT
 } // namespace fird::gpu::emission
 #endif
 #endif

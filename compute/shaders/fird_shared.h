@@ -143,11 +143,12 @@ FIRD_CONSTANT(uint, kBindParams, 0u);
 FIRD_CONSTANT(uint, kRaysetBindRays, 1u);
 FIRD_CONSTANT(uint, kRaysetBindCounters, 2u);
 FIRD_CONSTANT(uint, kRaysetBindBuckets, 3u); // rays per direction bucket (rayset_order.comp)
-// float[]: a photometric emitter's table, or a ray file's rays for the batch (kRayFileFloats each)
+// R32F view: a photometric emitter's table, or a ray file's rays for the batch
+// (kRayFileFloats each)
 FIRD_CONSTANT(uint, kRaysetBindEmitterTable, 4u);
 FIRD_CONSTANT(uint, kHeightfieldBindHeights, 1u);
 FIRD_CONSTANT(uint, kHeightfieldBindGradients, 2u);
-FIRD_CONSTANT(uint, kHeightfieldBindControl, 3u);
+FIRD_CONSTANT(uint, kHeightfieldBindControl, 3u); // R32F view: a B-spline's control heights
 // The refined surface's heights, at the (W + 1) x (H + 1) texel corners (row-major).
 FIRD_CONSTANT(uint, kHeightfieldBindCorners, 4u);
 FIRD_CONSTANT(uint, kMaxMipBindPaper, 1u);
@@ -206,7 +207,7 @@ FIRD_CONSTANT(uint, kWalkNoRoot, 6u);          // a texel's leaf test found no r
 FIRD_CONSTANT(uint, kWalkOwnTexel, 7u);        // the texel a reflected ray starts from: across it
 FIRD_CONSTANT(uint, kTraceBindProfile, 12u);   // the walk's profile (FIRD_SPEC_PROFILE)
 FIRD_CONSTANT(uint, kTraceBindWalkStart, 13u); // uint: walk_start.comp's level
-// float[]: a B-spline's control heights (the refined mode reflects about its gradient).
+// R32F view: a B-spline's control heights (the refined mode reflects about its gradient).
 FIRD_CONSTANT(uint, kTraceBindControl, 14u);
 // uint[kLoopWords]: the bounce loop's state; the pass traces loop[kLoopActive] rays.
 FIRD_CONSTANT(uint, kTraceBindLoop, 15u);
@@ -348,7 +349,7 @@ struct BounceArgsPush {
 
 // counts_to_lm.comp: the far field's cells, each ray's lumens, and the layers of counts
 // per reflection order weighed by the reflectance's powers (SceneParams.farfield_layers).
-FIRD_CONSTANT(uint, kToLmBindCounts, 0u); // uint[count * layers]
+FIRD_CONSTANT(uint, kToLmBindCounts, 0u); // R32UI view: uint[count * layers]
 FIRD_CONSTANT(uint, kToLmBindLumens, 1u); // float[count]
 struct ToLmPush {
     uint count;

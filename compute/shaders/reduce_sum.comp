@@ -45,9 +45,10 @@ void main() {
     for (uint k = 0u; k < runs; ++k) {
         const uint i = 4u * (base + k * kReduceWorkgroupSize);
         // Past the last input a term is zero, its loads kept inside the views (the last
-        // input's, read again): a texel past a view's end is undefined without robustness.
-        for (uint c = 0u; c < 4u; ++c)
-            s4[c] += i + c < pc.count ? term(min(i + c, pc.count - 1u)) : 0.0;
+        // input's, read again; the first where there is none: a table holds one float at
+        // least): a texel past a view's end is undefined without robustness.
+        const uint last = max(pc.count, 1u) - 1u;
+        for (uint c = 0u; c < 4u; ++c) s4[c] += i + c < pc.count ? term(min(i + c, last)) : 0.0;
     }
     float s = (s4.x + s4.y) + (s4.z + s4.w);
     s = subgroupAdd(s);

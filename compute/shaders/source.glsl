@@ -5,9 +5,11 @@
 
 #include "common.glsl"
 
-layout(std430, binding = kRaysetBindEmitterTable) readonly buffer EmitterTable {
-    float emitter_table[];
-};
+// Through an R32F texel view: the sampling's binary search and a ray file's rays are loads
+// at per-lane indices, which CPU drivers run lane by lane from a storage buffer, where an
+// image load is one gather (docs/architecture.md, "Far fields as texels").
+layout(binding = kRaysetBindEmitterTable, r32f) uniform readonly imageBuffer emitter_table;
+#define FIRD_TABLE_AT(k) imageLoad(emitter_table, int(k)).r
 
 #include "emitter.h"
 
@@ -35,8 +37,8 @@ Ray sample_source(vec4 u) {
 Ray ray_file_ray(uint i) {
     const uint at = kRayFileFloats * i;
     Ray r;
-    r.origin = vec4(emitter_table[at], emitter_table[at + 1u], emitter_table[at + 2u], 0.0);
-    r.direction = vec4(emitter_table[at + 3u], emitter_table[at + 4u], emitter_table[at + 5u], 0.0);
+    r.origin = vec4(FIRD_TABLE_AT(at), FIRD_TABLE_AT(at + 1u), FIRD_TABLE_AT(at + 2u), 0.0);
+    r.direction = vec4(FIRD_TABLE_AT(at + 3u), FIRD_TABLE_AT(at + 4u), FIRD_TABLE_AT(at + 5u), 0.0);
     return r;
 }
 
