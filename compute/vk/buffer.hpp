@@ -63,12 +63,6 @@ class Buffer {
 // drivers its reads are a vectorized gather instead of one bounds-checked scalar load per
 // lane (the buffer needs VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT or
 // VK_BUFFER_USAGE_STORAGE_TEXEL_BUFFER_BIT, as it is bound).
-// A view of a whole buffer holds at most maxTexelBufferElements texels (Vulkan allows a
-// device as few as 65536): throws std::invalid_argument, one line naming `what` and the
-// limit, where `texels` would pass it. TexelView checks its own; owners check before they
-// allocate, naming what the user asked for.
-void require_texel_count(const Context& ctx, std::uint64_t texels, std::string_view what);
-
 class TexelView {
   public:
     TexelView() = default;
@@ -78,6 +72,12 @@ class TexelView {
   private:
     Owned<VkBufferView> view_;
 };
+
+// A view of a whole buffer holds at most maxTexelBufferElements texels (Vulkan allows a
+// device as few as 65536): throws std::invalid_argument, one line naming `what` and the
+// limit, where `texels` would pass it. TexelView checks its own; owners check before they
+// allocate, naming what the user asked for.
+void require_texel_count(const Context& ctx, std::uint64_t texels, std::string_view what);
 
 // Buffer usage for storage buffers that are also copied to and from.
 inline constexpr VkBufferUsageFlags kStorageUsage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
