@@ -9,7 +9,6 @@
 #include "commands.hpp"
 #include "parse.hpp"
 #include "version.hpp"
-#include "vk/cpu_driver_lanes.hpp"
 
 #if FIRD_HAVE_MPI
 #include "distributed/job.hpp"
@@ -158,9 +157,6 @@ int fird_main(int argc, char** argv, const fird::distributed::Job* job) {
 } // namespace
 
 int main(int argc, char** argv) {
-    // Before any thread starts (MPI's own read the environment): setenv is not safe
-    // beside a getenv on another thread. Context::create asks again, to no effect.
-    fird::vk::ask_cpu_driver_for_native_lanes();
 #if FIRD_HAVE_MPI
     fird::distributed::Job job(argc, argv);
     const int code = fird_main(argc, argv, &job);

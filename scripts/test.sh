@@ -7,7 +7,17 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 jobs="$(nproc)"
 
+# Each stage from an empty shader cache of its own: lavapipe's on-disk cache keys a
+# fragment shader without the vector width it was compiled for, so a variant cached by an
+# earlier run in another configuration could hide a compile that crashes in this one
+# (docs/architecture.md, "CPU vector width").
+fresh_shader_cache() {
+  rm -rf "$1/mesa_shader_cache"
+  export MESA_SHADER_CACHE_DIR="$PWD/$1/mesa_shader_cache"
+}
+
 scripts/setup.sh release
+fresh_shader_cache build/release
 (cd build/release && ctest --output-on-failure -j "$jobs")
 
 if [ "${1:-}" != "--no-sanitize" ]; then
@@ -15,6 +25,7 @@ if [ "${1:-}" != "--no-sanitize" ]; then
   # ASAN_OPTIONS is set per test by CTest (tests/CMakeLists.txt): leak detection is on
   # for CPU-only tests, off where Mesa's driver is loaded.
   export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
+  fresh_shader_cache build/sanitize
   (cd build/sanitize && ctest --output-on-failure -j "$jobs")
   scripts/setup.sh fuzz
   (cd build/fuzz && ctest -L fuzz --output-on-failure -j "$jobs")

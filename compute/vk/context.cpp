@@ -11,7 +11,6 @@
 #include <fmt/format.h>
 
 #include "check.hpp"
-#include "cpu_driver_lanes.hpp"
 
 namespace fird::vk {
 
@@ -166,7 +165,6 @@ VkBool32 VKAPI_PTR on_debug_message(VkDebugUtilsMessageSeverityFlagBitsEXT sever
 }
 
 VkInstance create_instance(const ContextOptions& options, bool& validation, bool& debug_utils) {
-    ask_cpu_driver_for_native_lanes(); // before the driver first reads it
     validation = options.validation && has_layer(kValidationLayer);
     debug_utils = has_instance_extension(VK_EXT_DEBUG_UTILS_EXTENSION_NAME);
     std::vector<const char*> extensions;
