@@ -122,9 +122,13 @@ TEST(Cli, TheFastPathGivesTheSameFarFieldAtEverySubgroupSize) {
     std::map<int, std::pair<nlohmann::json, std::string>> by_lanes;
     for (const int bits : {128, 256, 512}) {
         const std::string dir = ::testing::TempDir() + "/fird_lanes_" + std::to_string(bits);
-        const auto r = run_env("LP_NATIVE_VECTOR_WIDTH=" + std::to_string(bits),
-                               "--device llvmpipe trace " + std::string(FIRD_SOURCE_DIR) +
-                                   "/scenes/model_c.toml --rays 2e5 --json --out " + dir);
+        // Without the on-disk shader cache: it keys a shader without the width, so a pass
+        // compiled at one width could be found and run at another (docs/architecture.md,
+        // "CPU vector width").
+        const auto r =
+            run_env("MESA_SHADER_CACHE_DISABLE=true LP_NATIVE_VECTOR_WIDTH=" + std::to_string(bits),
+                    "--device llvmpipe trace " + std::string(FIRD_SOURCE_DIR) +
+                        "/scenes/model_c.toml --rays 2e5 --json --out " + dir);
         ASSERT_EQ(r.code, 0) << r.out;
         const auto j = nlohmann::json::parse(r.out);
         ASSERT_NE(j["device"].get<std::string>().find(std::to_string(bits) + " bits"),
