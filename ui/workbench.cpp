@@ -27,6 +27,7 @@
 #include "views.hpp"
 #include "vk/check.hpp"
 #include "vk/context.hpp"
+#include "vk/graphics_pipeline.hpp"
 #include "vk/submission.hpp"
 
 namespace fird::ui {
@@ -235,6 +236,7 @@ int run_workbench(const WorkbenchOptions& options) {
         ctx_options.device_extensions.emplace_back(VK_KHR_SWAPCHAIN_EXTENSION_NAME);
     }
     const auto ctx = vk::Context::create(ctx_options);
+    vk::require_fragment_shaders(ctx); // before Dear ImGui's pipelines, which are not ours
 
     int width = int(options.offscreen_w), height = int(options.offscreen_h);
     constexpr std::uint32_t kMinImages = 2;
@@ -513,6 +515,7 @@ std::vector<std::uint8_t> render_workbench_offscreen(const std::string& device_n
                                                      std::uint32_t w, std::uint32_t h,
                                                      std::uint64_t* validation_errors) {
     const auto ctx = vk::Context::create({.validation = validation, .device_name = device_name});
+    vk::require_fragment_shaders(ctx);
     const ImGuiScope imgui;
     ImGuiIO& io = ImGui::GetIO();
     io.IniFilename = nullptr;

@@ -1,13 +1,31 @@
 #include "graphics_pipeline.hpp"
 
+#include <cstdlib>
+#include <stdexcept>
 #include <vector>
+
+#include <fmt/format.h>
 
 #include "check.hpp"
 #include "shader_module.hpp"
 
 namespace fird::vk {
 
+void require_fragment_shaders(const Context& ctx) {
+    const DeviceSummary& d = ctx.summary();
+    const std::uint32_t lanes = ctx.limits().subgroup_size;
+    if (d.driver_name != "llvmpipe" || d.driver_info.rfind("Mesa 22.", 0) != 0 || lanes <= 8)
+        return;
+    const char* width = std::getenv("LP_NATIVE_VECTOR_WIDTH");
+    throw std::runtime_error(fmt::format(
+        "lavapipe at {} bits (LP_NATIVE_VECTOR_WIDTH={}) cannot compile fragment shaders: {} "
+        "crashes in LLVM there; unset LP_NATIVE_VECTOR_WIDTH (or set it to 256) to draw or to "
+        "raster a mesh reflector",
+        lanes * 32, width ? width : "?", d.driver_info));
+}
+
 GraphicsPipeline make_graphics_pipeline(const Context& ctx, const GraphicsPipelineDesc& desc) {
+    require_fragment_shaders(ctx);
     const VkDevice dev = ctx.device();
     GraphicsPipeline out;
     const VkPushConstantRange range{
@@ -60,7 +78,8 @@ GraphicsPipeline make_graphics_pipeline(const Context& ctx, const GraphicsPipeli
         .binding = 0, .stride = desc.vertex_stride, .inputRate = VK_VERTEX_INPUT_RATE_VERTEX};
     const VkPipelineVertexInputStateCreateInfo vertex_input{
         .sType = VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO,
-        .vertexBindingDescriptionCount = desc.bindings.empty() ? 1u : std::uint32_t(desc.bindings.size()),
+        .vertexBindingDescriptionCount =
+            desc.bindings.empty() ? 1u : std::uint32_t(desc.bindings.size()),
         .pVertexBindingDescriptions = desc.bindings.empty() ? &binding : desc.bindings.data(),
         .vertexAttributeDescriptionCount = std::uint32_t(desc.attributes.size()),
         .pVertexAttributeDescriptions = desc.attributes.data()};

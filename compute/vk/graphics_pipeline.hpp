@@ -33,6 +33,12 @@ struct GraphicsPipelineDesc {
     std::span<const VkDescriptorType> fragment_descriptors;
 };
 
+// Refuses, in one line naming LP_NATIVE_VECTOR_WIDTH, a device that crashes compiling
+// fragment shaders: Mesa 22's lavapipe at more than 256-bit vectors (more than 8 lanes a
+// subgroup), where LLVM crashes in the variant's compile (docs/architecture.md, "CPU vector
+// width"). make_graphics_pipeline calls it; so does the workbench, for Dear ImGui's own.
+void require_fragment_shaders(const Context& ctx);
+
 struct GraphicsPipeline {
     Owned<VkDescriptorSetLayout> set_layout; // when the desc has fragment_descriptors
     Owned<VkPipelineLayout> layout;

@@ -2,6 +2,7 @@
 // unreadable and missing files, a directory where a file belongs and an output it cannot
 // write, with one line naming the file, key or option and the exit code the README gives
 // (2 usage, 1 runtime), in bounded time, never a crash.
+#include <algorithm>
 #include <array>
 #include <cstdio>
 #include <filesystem>
@@ -217,3 +218,34 @@ TEST(BadInput, OutputsThatCannotBeWritten) {
 }
 
 } // namespace
+
+// lavapipe asked for 512-bit vectors (LP_NATIVE_VECTOR_WIDTH: the user's environment, which
+// lavapipe honours on any x86 CPU) compiles compute shaders but crashes LLVM on a fragment
+// shader (Mesa 22.3; docs/architecture.md, "CPU vector width"). A mesh reflector's raster
+// and a screenshot draw: each is refused in one line naming the variable, exit 1, before
+// any pipeline is compiled (from an empty shader cache, which would otherwise hold a variant
+// compiled at another width); an analytic reflector's trace runs.
+TEST(BadInput, LavapipeAt512BitsRefusesToDrawInOneLineAndStillTraces) {
+    const std::string src = FIRD_SOURCE_DIR;
+    const std::string cache = dir() + "/shader_cache_512";
+    fs::remove_all(cache);
+    fs::remove_all(dir() + "/lanes_512");
+    const std::string env =
+        "timeout 120 env MESA_SHADER_CACHE_DIR=" + cache + " LP_NATIVE_VECTOR_WIDTH=512";
+    for (const std::string& args :
+         {"--device llvmpipe trace " + src + "/scenes/test/mesh_dish.toml --rays 1e4",
+          "--device llvmpipe screenshot " + src + "/scenes/model_a.toml --out " + dir() +
+              "/lanes_512"}) {
+        const auto r = fird::test::run_fird(env, args);
+        EXPECT_EQ(r.code, 1) << args << "\n" << r.out;
+        EXPECT_NE(r.out.find("fird: error: lavapipe at 512 bits (LP_NATIVE_VECTOR_WIDTH=512) "
+                             "cannot compile fragment shaders"),
+                  std::string::npos)
+            << r.out;
+        EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << r.out;
+        EXPECT_TRUE(!fs::exists(dir() + "/lanes_512") || fs::is_empty(dir() + "/lanes_512"));
+    }
+    const auto analytic = fird::test::run_fird(env, "--device llvmpipe trace " + src +
+                                                        "/scenes/model_a.toml --rays 1e4");
+    EXPECT_EQ(analytic.code, 0) << analytic.out;
+}
