@@ -11,6 +11,7 @@
 #include "parse.hpp"
 #include "traced_scene.hpp"
 #include "vk/context.hpp"
+#include "vk/graphics_pipeline.hpp"
 
 #ifdef FIRD_HAVE_UI
 #include "workbench.hpp"
@@ -91,6 +92,8 @@ int run_screenshot(const GlobalOptions& global, const ScreenshotArgs& a) {
                                .curvature_colours = a.curvature_colours};
     if (!a.camera.empty()) vo.camera = parse_camera(a.camera, vo.camera);
     const auto ctx = vk::Context::create(context_options(global));
+    // The viewport is drawn by the device: a device that cannot is refused before the trace.
+    if (a.view == "all" || a.view == "viewport") vk::require_fragment_shaders(ctx);
     const render::TracedScene traced = render::trace_for_views(ctx, scene, t);
     create_output_directory(a.out);
     nlohmann::json files = nlohmann::json::array();

@@ -236,7 +236,9 @@ int run_workbench(const WorkbenchOptions& options) {
         ctx_options.device_extensions.emplace_back(VK_KHR_SWAPCHAIN_EXTENSION_NAME);
     }
     const auto ctx = vk::Context::create(ctx_options);
-    vk::require_fragment_shaders(ctx); // before Dear ImGui's pipelines, which are not ours
+    // Before the surface, the swapchain and Dear ImGui's GLFW backend, whose teardown the
+    // exception from the first pipeline (the session's viewport) would skip.
+    vk::require_fragment_shaders(ctx);
 
     int width = int(options.offscreen_w), height = int(options.offscreen_h);
     constexpr std::uint32_t kMinImages = 2;

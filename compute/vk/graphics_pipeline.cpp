@@ -21,7 +21,7 @@ void require_fragment_shaders(const Context& ctx) {
         "lavapipe at {} bits (LP_NATIVE_VECTOR_WIDTH={}) cannot compile fragment shaders: {} "
         "crashes in LLVM there; unset LP_NATIVE_VECTOR_WIDTH (or set it to 256) to draw or to "
         "raster a mesh reflector",
-        lanes * 32, width ? width : "?", d.driver_info));
+        lanes * 32, width ? width : "unset", d.driver_info));
 }
 
 GraphicsPipeline make_graphics_pipeline(const Context& ctx, const GraphicsPipelineDesc& desc) {

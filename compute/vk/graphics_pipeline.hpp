@@ -36,7 +36,8 @@ struct GraphicsPipelineDesc {
 // Refuses, in one line naming LP_NATIVE_VECTOR_WIDTH, a device that crashes compiling
 // fragment shaders: Mesa 22's lavapipe at more than 256-bit vectors (more than 8 lanes a
 // subgroup), where LLVM crashes in the variant's compile (docs/architecture.md, "CPU vector
-// width"). make_graphics_pipeline calls it; so does the workbench, for Dear ImGui's own.
+// width"). make_graphics_pipeline calls it; the workbench and the screenshot's viewport call
+// it first, before a window's set-up or a trace that would be wasted.
 void require_fragment_shaders(const Context& ctx);
 
 struct GraphicsPipeline {

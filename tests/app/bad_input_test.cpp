@@ -217,25 +217,28 @@ TEST(BadInput, OutputsThatCannotBeWritten) {
     });
 }
 
-} // namespace
-
 // lavapipe asked for 512-bit vectors (LP_NATIVE_VECTOR_WIDTH: the user's environment, which
 // lavapipe honours on any x86 CPU) compiles compute shaders but crashes LLVM on a fragment
 // shader (Mesa 22.3; docs/architecture.md, "CPU vector width"). A mesh reflector's raster
-// and a screenshot draw: each is refused in one line naming the variable, exit 1, before
-// any pipeline is compiled (from an empty shader cache, which would otherwise hold a variant
-// compiled at another width); an analytic reflector's trace runs.
+// and a screenshot's viewport draw, so does the workbench: each is refused in one line
+// naming the variable, exit 1, with nothing written (from an empty shader cache, which
+// could otherwise hold a variant compiled at another width); an analytic reflector's trace
+// runs.
 TEST(BadInput, LavapipeAt512BitsRefusesToDrawInOneLineAndStillTraces) {
     const std::string src = FIRD_SOURCE_DIR;
     const std::string cache = dir() + "/shader_cache_512";
     fs::remove_all(cache);
-    fs::remove_all(dir() + "/lanes_512");
+    fs::remove_all(dir() + "/bits_512");
     const std::string env =
         "timeout 120 env MESA_SHADER_CACHE_DIR=" + cache + " LP_NATIVE_VECTOR_WIDTH=512";
-    for (const std::string& args :
-         {"--device llvmpipe trace " + src + "/scenes/test/mesh_dish.toml --rays 1e4",
-          "--device llvmpipe screenshot " + src + "/scenes/model_a.toml --out " + dir() +
-              "/lanes_512"}) {
+    std::vector<std::string> drawing = {
+        "--device llvmpipe trace " + src + "/scenes/test/mesh_dish.toml --rays 1e4",
+        "--device llvmpipe screenshot " + src + "/scenes/model_a.toml --rays 1e4 --out " + dir() +
+            "/bits_512"};
+#if FIRD_HAS_UI
+    drawing.push_back("--device llvmpipe gui --offscreen 200x200 --frames 3");
+#endif
+    for (const std::string& args : drawing) {
         const auto r = fird::test::run_fird(env, args);
         EXPECT_EQ(r.code, 1) << args << "\n" << r.out;
         EXPECT_NE(r.out.find("fird: error: lavapipe at 512 bits (LP_NATIVE_VECTOR_WIDTH=512) "
@@ -243,9 +246,11 @@ TEST(BadInput, LavapipeAt512BitsRefusesToDrawInOneLineAndStillTraces) {
                   std::string::npos)
             << r.out;
         EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << r.out;
-        EXPECT_TRUE(!fs::exists(dir() + "/lanes_512") || fs::is_empty(dir() + "/lanes_512"));
+        EXPECT_FALSE(fs::exists(dir() + "/bits_512"));
     }
     const auto analytic = fird::test::run_fird(env, "--device llvmpipe trace " + src +
                                                         "/scenes/model_a.toml --rays 1e4");
     EXPECT_EQ(analytic.code, 0) << analytic.out;
 }
+
+} // namespace
