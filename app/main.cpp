@@ -9,6 +9,7 @@
 #include "commands.hpp"
 #include "parse.hpp"
 #include "version.hpp"
+#include "vk/cpu_driver_lanes.hpp"
 
 #if FIRD_HAVE_MPI
 #include "distributed/job.hpp"
@@ -61,25 +62,63 @@ bool runs_distributed(const std::string& subcommand) {
            subcommand == "bench";
 }
 
+// The global options, named once for fird_main's parser and for first_word.
+constexpr const char* kDeviceOption = "--device";
+constexpr const char* kMaxDeviceMemoryOption = "--max-device-memory";
+constexpr const char* kMaxBatchRaysOption = "--max-batch-rays";
+constexpr const char* kValidationFlag = "--validation";
+constexpr const char* kVersionFlag = "--version";
+
+// Whether `word` is `option`, alone (its value the next word) or as option=value.
+bool is_option(const std::string& word, const char* option, bool* value_follows) {
+    *value_follows = word == option;
+    return *value_follows || word.rfind(std::string(option) + "=", 0) == 0;
+}
+
+// The first word of the command line that is neither a global option nor its value: the
+// subcommand, if the line is well formed (read before CLI11 parses it, and before MPI); an
+// unknown option if that comes first.
+std::string first_word(int argc, char** argv) {
+    for (int i = 1; i < argc; ++i) {
+        const std::string word = argv[i];
+        bool value_follows = false;
+        if (is_option(word, kDeviceOption, &value_follows) ||
+            is_option(word, kMaxDeviceMemoryOption, &value_follows) ||
+            is_option(word, kMaxBatchRaysOption, &value_follows)) {
+            i += value_follows ? 1 : 0;
+            continue;
+        }
+        if (word != kValidationFlag && word != kVersionFlag && word != "--help" && word != "-h")
+            return word;
+    }
+    return "";
+}
+
+// The subcommands that draw (fragment shaders) on the device they compute on.
+fird::vk::DeviceWork device_work(const std::string& subcommand) {
+    return subcommand == "gui" || subcommand == "screenshot" ? fird::vk::DeviceWork::ComputeAndDraw
+                                                             : fird::vk::DeviceWork::Compute;
+}
+
 int fird_main(int argc, char** argv, const fird::distributed::Job* job) {
     CLI::App app{"FIRD: fast inverse reflector design workbench", "fird"};
     app.require_subcommand(1);
-    app.set_version_flag("--version", fird::app::program_version(),
+    app.set_version_flag(kVersionFlag, fird::app::program_version(),
                          "Print the program's version (and the git commit built) and exit");
     fird::app::GlobalOptions global;
     global.job = job;
     // Every rank parses the same command line: rank 0 alone reports what is wrong with it.
     const bool reports = rank(job) == 0;
-    app.add_option("--device", global.device_name,
+    app.add_option(kDeviceOption, global.device_name,
                    "Vulkan device to use (case-insensitive substring of its name)");
-    app.add_option("--max-device-memory", global.max_device_memory_mb,
+    app.add_option(kMaxDeviceMemoryOption, global.max_device_memory_mb,
                    "Refuse device allocations past this many MB in all")
         ->check(fird::app::finite_range(1e-3, 1e9));
-    app.add_option("--max-batch-rays", global.max_batch_rays,
+    app.add_option(kMaxBatchRaysOption, global.max_batch_rays,
                    "Trace at most this many rays per submission (default: as the device "
                    "allows; the workbench: 131072)")
         ->check(CLI::PositiveNumber);
-    app.add_flag("--validation", global.validation,
+    app.add_flag(kValidationFlag, global.validation,
                  "Enable the Vulkan validation layers (also FIRD_VALIDATION=1)");
     std::function<int()> run;
     fird::app::register_commands(app, global, run);
@@ -90,18 +129,11 @@ int fird_main(int argc, char** argv, const fird::distributed::Job* job) {
         if (e.get_exit_code() == 0) return app.exit(e); // --help
         std::string message = e.what();
         // CLI11 reports an unknown first word as a missing subcommand; name the word.
-        for (int i = 1; i < argc; ++i) {
-            const std::string word = argv[i];
-            if (word == "--device" || word == "--max-device-memory" || word == "--max-batch-rays") {
-                ++i;
-                continue;
-            }
-            const auto known =
-                app.get_subcommands([&](const CLI::App* sub) { return sub->get_name() == word; });
-            if (!word.empty() && word[0] != '-' && known.empty())
-                message = "unknown subcommand '" + word + "'";
-            break;
-        }
+        const std::string word = first_word(argc, argv);
+        const auto known =
+            app.get_subcommands([&](const CLI::App* sub) { return sub->get_name() == word; });
+        if (!word.empty() && word[0] != '-' && known.empty())
+            message = "unknown subcommand '" + word + "'";
         if (!reports) return 2;
         std::fprintf(stderr, "fird: error: %s\n", message.c_str());
         std::fprintf(stderr, "usage: fird [--device NAME] [--validation] SUBCOMMAND ... "
@@ -157,6 +189,9 @@ int fird_main(int argc, char** argv, const fird::distributed::Job* job) {
 } // namespace
 
 int main(int argc, char** argv) {
+    // Before any thread starts (MPI's own read the environment): setenv is not safe beside a
+    // getenv on another thread.
+    fird::vk::choose_cpu_driver_width(device_work(first_word(argc, argv)));
 #if FIRD_HAVE_MPI
     fird::distributed::Job job(argc, argv);
     const int code = fird_main(argc, argv, &job);

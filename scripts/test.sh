@@ -8,9 +8,10 @@ cd "$(dirname "$0")/.."
 jobs="$(nproc)"
 
 # Each stage from an empty shader cache of its own: lavapipe's on-disk cache keys a
-# fragment shader without the vector width it was compiled for, so a variant cached by an
-# earlier run in another configuration could hide a compile that crashes in this one
-# (docs/architecture.md, "CPU vector width").
+# shader without the vector width it was compiled for, so a variant cached by an earlier
+# run in another configuration could hide a compile that crashes in this one
+# (docs/architecture.md, "CPU vector width"; FIRD's 512-bit commands keep theirs in a
+# folder inside this one).
 fresh_shader_cache() {
   rm -rf "$1/mesa_shader_cache"
   export MESA_SHADER_CACHE_DIR="$PWD/$1/mesa_shader_cache"

@@ -194,8 +194,8 @@ class FastTracer {
     // given, to *bounce_ms (pointers into the run, stable while it records).
     void timed(VkCommandBuffer cb, double* stage_ms, double* bounce_ms,
                const std::function<void()>& record);
-    // The mesh reflector's raster (its own submissions: render passes) when the height
-    // field changed; returns its wall time.
+    // The mesh reflector's raster (its own submissions, once per mesh: the texel centres'
+    // grid and the corners') when the height field changed; returns its wall time.
     double rasterize_mesh();
     // The height field, quadtree and walk start when the reflector changed: what the trace
     // reads, and with `with_paper` also the paper's products where the trace does not.

@@ -30,7 +30,7 @@ std::vector<FastRun> FastTracer::run_batch(std::span<const ReflectorDesc> reflec
     // One submission holds every candidate's passes when the rays are one kept batch that
     // each candidate reads (and nothing accumulates over candidates: diagnostics, profile).
     const bool one_batch_of_rays = scene_.trace.rays <= batch_capacity_;
-    // A mesh's height field is rasterized in render passes of its own, one reflector at a
+    // A mesh's height field is rasterized in submissions of its own, one reflector at a
     // time (asked of the scene: a fresh tracer has not loaded the mesh yet).
     const bool batchable = one_batch_of_rays && cache_rayset_ && skips_.keep_rayset &&
                            scene_.reflector.family != Family::Mesh && !count_texel_hits_ &&

@@ -15,7 +15,7 @@ using namespace fast_tracer_detail;
 
 double FastTracer::rasterize_mesh() {
     if (!state().heightfield_dirty || !mesh_) return 0.0;
-    // The paper's z-buffer step for meshes (its own submissions: a render pass).
+    // The paper's z-buffer step for meshes (its own submissions, once per mesh).
     const auto t0 = std::chrono::steady_clock::now();
     mesh_rasterizer_->rasterize(*mesh_, origin_, scene_.holder, params_.hf_w, params_.hf_h,
                                 state().paper_tree, state().gradients);

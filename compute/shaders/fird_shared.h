@@ -377,13 +377,39 @@ struct TracePush {
                            // walk_start.comp's level
 };
 
+// ---- mesh_raster.comp: a triangle mesh's heights, the paper's z-buffer step (§4.2) ----
+#define FIRD_MESH_RASTER_WORKGROUP_SIZE 64
+FIRD_CONSTANT(uint, kMeshRasterWorkgroupSize, FIRD_MESH_RASTER_WORKGROUP_SIZE);
+// A work item's tile of a triangle's bounding box, texels on a side: a large triangle is
+// many items (no invocation loops over more than kMeshRasterTile^2 texels).
+FIRD_CONSTANT(uint, kMeshRasterTile, 8u);
+FIRD_CONSTANT(uint, kMeshRasterBindTriangles, 0u);  // vec4[3 per triangle]
+FIRD_CONSTANT(uint, kMeshRasterBindItems, 1u);      // uvec4 per tile of a triangle
+FIRD_CONSTANT(uint, kMeshRasterBindHeightKeys, 2u); // uint per texel: the highest height's key
+FIRD_CONSTANT(uint, kMeshRasterBindOwners, 3u);     // uint per texel: 1 + its triangle, or 0
+FIRD_CONSTANT(uint, kMeshRasterBindHeights, 4u);    // float per texel (the output)
+FIRD_CONSTANT(uint, kMeshRasterBindGradients, 5u);  // vec2 per texel (the output)
+// The phases, one dispatch each, in this order.
+FIRD_CONSTANT(uint, kMeshRasterHeights, 0u);
+FIRD_CONSTANT(uint, kMeshRasterOwners, 1u);
+FIRD_CONSTANT(uint, kMeshRasterResolve, 2u); // one invocation per texel
 struct MeshRasterPush {
-    float holder_min[4];
-    float holder_max[4];
-    float depth_z0_mm; // heights mapped to depth 0 .. 1
-    float depth_z1_mm;
-    float pad0;
-    float pad1;
+    float raster_min[2]; // the rectangle the width x height texels tile (mm, the fast path's
+    float raster_max[2]; // frame: scene_params.hpp)
+    float floor_mm;      // the holder's z range, which heights are clamped to
+    float ceiling_mm;
+    uint width;
+    uint height;
+    uint item_count; // work items (phases 0 and 1)
+    uint phase;
+    uint row_stride; // invocations per row of the dispatch's grid (x groups * workgroup size)
+    // The first and last texel centres, computed on the host in double: the shader's float
+    // centres are clamped to them, so that the corners' raster (a grid half a texel wider
+    // than the holder) puts its outermost centres exactly on the rim of a mesh flush with
+    // the holder, where a float sum could land an ulp outside and read the floor.
+    float centre_min[2];
+    float centre_max[2];
+    uint pad0;
 };
 
 struct MaxMipPush {

@@ -19,8 +19,7 @@ void require_fragment_shaders(const Context& ctx) {
     const char* width = std::getenv("LP_NATIVE_VECTOR_WIDTH");
     throw std::runtime_error(fmt::format(
         "lavapipe at {} bits (LP_NATIVE_VECTOR_WIDTH={}) cannot compile fragment shaders: {} "
-        "crashes in LLVM there; unset LP_NATIVE_VECTOR_WIDTH (or set it to 256) to draw or to "
-        "raster a mesh reflector",
+        "crashes in LLVM there; unset LP_NATIVE_VECTOR_WIDTH (or set it to 256) to draw",
         lanes * 32, width ? width : "unset", d.driver_info));
 }
 

@@ -68,25 +68,31 @@ TEST(Cli, InfoJsonHasTheLimitsThatMatter) {
     EXPECT_TRUE(queue == "own" || queue == "shared") << queue;
 }
 
-// The CPU's own flags (the kernel's /proc/cpuinfo): the vector width Mesa 22.3's llvmpipe
-// compiles for by default, 256 bits with AVX (also with AVX-512: Mesa keeps 256 there),
-// 128 without.
-int mesa_default_llvmpipe_bits() {
+// The CPU's own flags, read from the kernel's /proc/cpuinfo.
+std::vector<std::string> cpu_flags() {
     std::ifstream in("/proc/cpuinfo");
     for (std::string line; std::getline(in, line);) {
         if (line.rfind("flags", 0) != 0) continue;
         std::istringstream words(line.substr(line.find(':') + 1));
-        std::vector<std::string> flags{std::istream_iterator<std::string>(words), {}};
-        return std::find(flags.begin(), flags.end(), "avx") != flags.end() ? 256 : 128;
+        return {std::istream_iterator<std::string>(words), {}};
     }
-    return 128;
+    return {};
 }
 
-// FIRD leaves lavapipe's vector width to Mesa and the user: at 512 bits (which FIRD chose
-// for itself on CPUs with AVX-512 from 2026-12-05 to 12-07) Mesa 22.3 crashes LLVM while
-// compiling the fragment shaders of the mesh raster, the views and the workbench's frames
-// (docs/architecture.md, "CPU vector width").
-TEST(Cli, LavapipeCompilesForMesasDefaultWidthUnlessTheUserChoseOne) {
+bool has_flags(const std::vector<std::string>& flags, std::initializer_list<const char*> wanted) {
+    return std::all_of(wanted.begin(), wanted.end(), [&](const char* f) {
+        return std::find(flags.begin(), flags.end(), f) != flags.end();
+    });
+}
+
+// FIRD asks lavapipe for the CPU's widest vectors in a process that only computes: 512
+// bits where the CPU has AVX-512 (its f, bw, dq and vl subsets, which llvmpipe's 512-bit
+// code uses), else Mesa 22.3's default, 256 bits with AVX (Mesa keeps 256 on AVX-512 too)
+// and 128 without. A process that draws keeps Mesa's default (Mesa 22.3 crashes in LLVM
+// compiling a fragment shader at 512). The user's LP_NATIVE_VECTOR_WIDTH wins. Wherever a
+// width is set, the shader cache moves to a folder of that width's own, since lavapipe's
+// cache keys a shader without it (docs/architecture.md, "CPU vector width").
+TEST(Cli, LavapipeComputesAtTheCpusWidestVectorsUnlessItDrawsOrTheUserChose) {
     // llvmpipe names its width ("llvmpipe (LLVM 15.0.6, 256 bits)") and runs a subgroup
     // per vector of 32-bit lanes.
     const auto bits_and_lanes = [](const Result& r) {
@@ -96,15 +102,41 @@ TEST(Cli, LavapipeCompilesForMesasDefaultWidthUnlessTheUserChoseOne) {
         return std::pair{name.substr(comma + 2, name.find(' ', comma + 2) - comma - 2),
                          j["limits"]["subgroup_size"].get<int>()};
     };
-    const auto unset = run_env("env -u LP_NATIVE_VECTOR_WIDTH", "--device llvmpipe info --json");
+    const std::vector<std::string> flags = cpu_flags();
+#if defined(__x86_64__)
+    const int mesa_bits = has_flags(flags, {"avx"}) ? 256 : 128;
+    const int compute_bits =
+        has_flags(flags, {"avx512f", "avx512bw", "avx512dq", "avx512vl"}) ? 512 : mesa_bits;
+#endif
+    const std::string cache = ::testing::TempDir() + "/fird_width_cache";
+    std::filesystem::remove_all(cache);
+    const std::string env = "env -u LP_NATIVE_VECTOR_WIDTH MESA_SHADER_CACHE_DIR=" + cache;
+    const auto unset = run_env(env, "--device llvmpipe info --json");
     ASSERT_EQ(unset.code, 0) << unset.out;
 #if defined(__x86_64__)
-    const int bits = mesa_default_llvmpipe_bits();
-    EXPECT_EQ(bits_and_lanes(unset), std::pair(std::to_string(bits), bits / 32)) << unset.out;
+    EXPECT_EQ(bits_and_lanes(unset), std::pair(std::to_string(compute_bits), compute_bits / 32))
+        << unset.out;
+    EXPECT_EQ(std::filesystem::exists(cache + "/lavapipe-512bit/mesa_shader_cache"),
+              compute_bits == 512);
 #endif
-    const auto chosen = run_env("LP_NATIVE_VECTOR_WIDTH=128", "--device llvmpipe info --json");
+    const auto chosen = run_env("MESA_SHADER_CACHE_DIR=" + cache + " LP_NATIVE_VECTOR_WIDTH=128",
+                                "--device llvmpipe info --json");
     ASSERT_EQ(chosen.code, 0) << chosen.out;
     EXPECT_EQ(bits_and_lanes(chosen), std::pair(std::string("128"), 4)) << chosen.out;
+    EXPECT_TRUE(std::filesystem::exists(cache + "/lavapipe-128bit/mesa_shader_cache"));
+#if FIRD_HAS_UI && defined(__x86_64__)
+    // The workbench offscreen draws: Mesa's width, Mesa's cache folder.
+    std::filesystem::remove_all(cache);
+    const auto drawn =
+        run_env(env + " XDG_CONFIG_HOME=" + ::testing::TempDir() + "/fird_width_config timeout 120",
+                "--device llvmpipe gui --offscreen 200x200 --frames 2 --stats");
+    ASSERT_EQ(drawn.code, 0) << drawn.out;
+    const std::string device =
+        nlohmann::json::parse(drawn.out.substr(drawn.out.find('{')))["device"];
+    EXPECT_NE(device.find(", " + std::to_string(mesa_bits) + " bits"), std::string::npos) << device;
+    EXPECT_TRUE(std::filesystem::exists(cache + "/mesa_shader_cache"));
+    EXPECT_FALSE(std::filesystem::exists(cache + "/lavapipe-512bit"));
+#endif
 }
 
 // The fast path's results may not depend on the subgroup size (a real GPU's is 32 or 64,

@@ -108,7 +108,8 @@ TEST_P(HitPoints, PaperModeWithinATexelRefinedModeFarCloser) {
 
 INSTANTIATE_TEST_SUITE_P(Scenes, HitPoints,
                          ::testing::Values("test/flat_mirror.toml", "model_a.toml", "model_b.toml",
-                                           "model_c.toml", "test/mesh_dish.toml"));
+                                           "model_c.toml", "test/mesh_dish.toml",
+                                           "test/mesh_raised_holder.toml"));
 
 // The refined surface interpolates the heights at the texel corners bilinearly, which
 // reproduces a plane exactly (up to the border texels): a tilted plane's hits are the
@@ -189,7 +190,8 @@ TEST_P(FarFieldAccuracy, L2ToAFourTimesLargerReferenceIsWithinTheMonteCarloNoise
 INSTANTIATE_TEST_SUITE_P(Scenes, FarFieldAccuracy,
                          ::testing::Values("model_a.toml", "model_b.toml", "model_c.toml",
                                            "test/mesh_dish.toml", "model_b_aluminium.toml",
-                                           "test/profile_dish.toml"));
+                                           "test/profile_dish.toml",
+                                           "test/mesh_raised_holder.toml"));
 
 TEST_F(VulkanTest, FastPathBalancesEnergyForBothPoliciesAndIgnoresBatching) {
     for (BouncePolicy policy : {BouncePolicy::Paper, BouncePolicy::Strict}) {

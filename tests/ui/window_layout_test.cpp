@@ -263,9 +263,10 @@ std::vector<std::vector<std::string>> csv_rows(const std::string& path) {
 // tests/ui/tolerance_session.fird: the calibrate panel's tolerance form, filled as fird
 // tolerance's options are given, traces the realisations the command traces. Each row's
 // draws come from the counter-based generator on (seed, realisation), so they must be the
-// same text; the measures come from the same rays traced on the same device, where the
-// window submits at most 131072 rays at a time (docs/workbench.md): the far field's counts
-// do not depend on it, so the measures agree to the 9 digits written.
+// same text; the measures come from the same rays traced on the same device at one vector
+// width (tests/CMakeLists.txt sets it for both), where the window submits at most 131072
+// rays at a time (docs/workbench.md): the far field's counts do not depend on it, so the
+// measures agree to the 9 digits written.
 TEST(ToleranceInTheWindow, TracesTheRealisationsTheCommandTraces) {
     const auto stats = read_stats("tolerance_stats.json");
     const auto& t = stats.at("tolerance");
