@@ -1,8 +1,9 @@
 // The stratified sampler: Philox4x32-10 with its first two uniforms stratified along a Morton
 // curve over a 2^b x 2^b grid (b = kStratumBits), so that consecutive rays fall in the same
 // or a neighbouring cell. A source whose direction depends on those two uniforms alone
-// (sphere, point) then emits its rayset already ordered by direction, as the trace wants
-// it (fird_shared.h, rayset_ordered_at_birth). The GPU's twin is common.glsl ray_uniforms.
+// (sphere, cylinder, point, disk, rectangle) then emits its rayset already ordered by
+// direction, as the trace wants it (fird_shared.h, rayset_ordered_at_birth). The GPU's twin
+// is common.glsl ray_uniforms.
 #pragma once
 
 #include <array>

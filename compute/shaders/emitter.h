@@ -67,6 +67,20 @@ FIRD_SHARED_INLINE vec3 uniform_sphere(real_t u1, real_t u2) {
     return vec3(r * cos(phi), r * sin(phi), z);
 }
 
+// A point uniform on the unit disk from two uniforms (Shirley and Chiu's concentric map):
+// continuous and area-preserving, and a stratum's image is compact wherever it lies (the
+// polar map's strata near the centre are thin wedges).
+FIRD_SHARED_INLINE vec2 concentric_disk(real_t u1, real_t u2) {
+    const real_t a = 2.0 * u1 - 1.0;
+    const real_t b = 2.0 * u2 - 1.0;
+    if (a == 0.0 && b == 0.0) return vec2(0.0, 0.0);
+    const real_t quarter_pi = 0.25 * kSharedPi;
+    const bool wide = abs(a) > abs(b);
+    const real_t r = wide ? a : b;
+    const real_t angle = wide ? quarter_pi * (b / a) : 2.0 * quarter_pi - quarter_pi * (a / b);
+    return vec2(r * cos(angle), r * sin(angle));
+}
+
 // t in [0, 1) under the density proportional to a (1 - t) + b t, for the uniform u:
 // the root of (a t + (b - a) t^2 / 2) / ((a + b) / 2) = u, in the form without
 // cancellation (and t = u where a = b).
@@ -123,11 +137,18 @@ FIRD_SHARED_INLINE vec3 photometric_direction(uint nc, uint ng, real_t ux,
 }
 
 // cylinder: uniform on the lateral surface (the caps dark), Lambertian about the outward
-// normal. sphere: uniform on the surface, Lambertian about the outward normal, the
-// direction sampled first: the joint density of the normal n (uniform) and the direction
-// d (Lambertian about n) is max(0, n.d) / (4 pi^2), symmetric in n and d, so d uniform
-// and n Lambertian about d is the same distribution, and the direction comes from the
-// stratified first two uniforms. point: isotropic, or Lambertian about `axis`. disk and
+// normal, the direction sampled first: a point's normal n = (cos phi, sin phi) across the
+// axis (phi uniform) and a direction d at cosine c to the axis and azimuth psi have the joint
+// density max(0, n.d) ~ max(0, sqrt(1 - c^2) cos(phi - psi)), so d has the density
+// sqrt(1 - c^2) / pi^2 per steradian (uniform in psi, a cylinder's projected area), and
+// given d the normal is at phi - psi = asin(w) for w uniform in [-1, 1]. A point uniform
+// on the unit disk has x under that semicircle law and y uniform in [-sqrt(1 - x^2),
+// sqrt(1 - x^2)] given x: the disk from the first two uniforms (concentric_disk) gives c
+// and psi, so a stratified rayset comes ordered by direction. sphere: uniform on the surface,
+// Lambertian about the outward normal, the direction sampled first: the joint density of the normal
+// n (uniform) and the direction d (Lambertian about n) is max(0, n.d) / (4 pi^2), symmetric in n
+// and d, so d uniform and n Lambertian about d is the same distribution, and the direction comes
+// from the stratified first two uniforms. point: isotropic, or Lambertian about `axis`. disk and
 // rectangle: one-sided Lambertian about `axis`, uniform over the area; the direction from
 // the first two uniforms for the same reason (a stratified rayset then comes ordered by
 // direction, fird_shared.h's rayset_ordered_at_birth).
@@ -138,10 +159,21 @@ FIRD_SHARED_INLINE Emission sample_emitter(Emitter e, vec4 u FIRD_TABLE_ARG) {
     Emission r;
     if (e.kind == kSourceCylinder) {
         const Basis f = basis_about(e.axis);
-        const real_t phi = 2.0 * kSharedPi * u.y;
-        const vec3 n = cos(phi) * f.t + sin(phi) * f.b;
-        r.origin = e.center + (u.x - 0.5) * e.length_mm * e.axis + e.radius_mm * n;
-        r.direction = cosine_direction(n, u.z, u.w);
+        const vec2 p = concentric_disk(u.x, u.y);
+        const real_t c = p.x;
+        const real_t s = sqrt(max(real_t(0.0), real_t(1.0) - c * c));
+        const real_t v = s > 0.0 ? min(max(p.y / s, real_t(-1.0)), real_t(1.0)) : real_t(0.0);
+        // psi = pi v, in [-pi, pi] (where Vulkan bounds sin's and cos's error): v = -1 and
+        // v = 1 are the same azimuth, so the map from the square to the directions is
+        // continuous (neighbouring strata, nearby directions).
+        const real_t psi = kSharedPi * v;
+        const vec3 across = cos(psi) * f.t + sin(psi) * f.b; // d's heading across the axis
+        const vec3 beside = cross(e.axis, across);
+        r.direction = c * e.axis + s * across;
+        // The normal at phi = psi + asin(w): cos and sin of asin(w) without the inverse.
+        const real_t w = 2.0 * u.z - 1.0;
+        const vec3 n = sqrt(max(real_t(0.0), real_t(1.0) - w * w)) * across + w * beside;
+        r.origin = e.center + (u.w - 0.5) * e.length_mm * e.axis + e.radius_mm * n;
     } else if (e.kind == kSourceSphere) {
         r.direction = uniform_sphere(u.x, u.y);
         r.origin = e.center + e.radius_mm * cosine_direction(r.direction, u.z, u.w);

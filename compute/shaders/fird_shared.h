@@ -102,15 +102,15 @@ FIRD_CONSTANT(uint, kStrata, 1u << kStrataBits);
 // in float.
 FIRD_CONSTANT(uint, kStratumOffsetBits, 23u - kStratumBits);
 
-// A sphere's or a point's direction is a function of the first two uniforms alone, so with
-// the stratified sampler its rayset is emitted already ordered by direction: rayset.comp
-// writes it in place and no sort follows. A cylinder's direction also depends on the last
-// two, a photometric source's cells come in C-major order (a turn of gamma per C), a ray
-// file's rays come in the file's order, and the other samplers' rays come in no order:
-// those raysets are sorted.
+// A sphere's, a cylinder's, a point's, a disk's or a rectangle's direction is a continuous
+// function of the first two uniforms alone (emitter.h), so with the stratified sampler its
+// rayset is emitted already ordered by direction: rayset.comp writes it in place and no
+// sort follows. A photometric source's cells come in C-major order (a turn of gamma per
+// C), a ray file's rays come in the file's order, and the other samplers' rays come in no
+// order: those raysets are sorted.
 FIRD_FUNCTION bool rayset_ordered_at_birth(uint sampler_kind, uint source_kind) {
-    return sampler_kind == kSamplerStratified && source_kind != kSourceCylinder &&
-           source_kind != kSourcePhotometric && source_kind != kSourceRayFile;
+    return sampler_kind == kSamplerStratified && source_kind != kSourcePhotometric &&
+           source_kind != kSourceRayFile;
 }
 
 FIRD_CONSTANT(uint, kHitModePaper, 0u);

@@ -27,6 +27,7 @@ using vec4 = glm::dvec4;
 using glm::cross;
 using glm::dot;
 using glm::normalize;
+using std::abs;
 using std::cos;
 using std::log;
 using std::max;

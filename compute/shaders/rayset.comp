@@ -1,9 +1,10 @@
 #version 450
 // The rayset (§4.1): sample the source, keep the rays whose forward half-line meets the
 // holder box, count the others as discarded. The kept rays are appended in emission
-// order within a workgroup (a stratified sampler's sphere or point rays are thereby in
-// direction order already: fird_shared.h); other rays (a cylinder's; independent or Sobol
-// ones) are also counted per direction bucket for rayset_order.comp to sort.
+// order within a workgroup (a stratified sampler's rays of a sphere, cylinder, point, disk
+// or rectangle are thereby in direction order already: fird_shared.h); other rays (a
+// photometric source's or a ray file's; independent or Sobol ones) are also counted per
+// direction bucket for rayset_order.comp to sort.
 #extension GL_GOOGLE_include_directive : require
 #include "common.glsl"
 #include "source.glsl"

@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <fmt/format.h>
@@ -87,11 +88,16 @@ std::vector<CandidateResult> one_at_a_time(Evaluator& e, const FarField& want,
 }
 
 // 18 candidates: 16 in one submission (FastTracer::kMaxBatchCandidates), 2 in a second,
-// on each model (a sphere source whose rays are born ordered, and a cylinder's sorted).
+// on each model (a cylinder's and spheres' rays, born ordered by the stratified sampler),
+// and on Model A's independent rays (sorted).
 TEST_F(VulkanTest, ABatchOfCandidatesEqualsSingleEvaluationsCountForCount) {
-    for (const char* name : {"model_a.toml", "model_b.toml", "model_c.toml"}) {
-        SCOPED_TRACE(name);
-        const Scene s = small_scene(name);
+    for (const auto& [name, sampler] : {std::pair{"model_a.toml", SamplerKind::Stratified},
+                                        std::pair{"model_a.toml", SamplerKind::Random},
+                                        std::pair{"model_b.toml", SamplerKind::Stratified},
+                                        std::pair{"model_c.toml", SamplerKind::Stratified}}) {
+        SCOPED_TRACE(fmt::format("{}, {}", name, sampler_name(sampler)));
+        Scene s = small_scene(name);
+        s.trace.sampler = sampler;
         const std::vector<ReflectorDesc> list = candidates(s, 18);
         const FarField want = desired(ctx(), s);
         Evaluator single(ctx(), s, scene_fidelity(s));

@@ -20,6 +20,7 @@
 #include "fastpath/scene_params.hpp"
 #include "io/scene_file.hpp"
 #include "model/energy_balance.hpp"
+#include "model/source.hpp"
 #include "model/surface.hpp"
 #include "reference/reference_tracer.hpp"
 #include "reference/surface_hit.hpp"
@@ -386,13 +387,16 @@ TEST_F(VulkanTest, ThePaperQuadtreeReadAfterRefinedRunsIsTheCurrentReflectors) {
 
 // A rayset not kept (one evaluation, fird trace) is generated into the ping-pong buffers
 // and traced to the same far field, count for count, as a kept one: in one batch or
-// several, emitted in order (sphere) or sorted (cylinder).
+// several, emitted in order (stratified: cylinder, sphere) or sorted (independent rays).
 TEST_F(VulkanTest, RaysetNotKeptTracesTheKeptRaysetsFarField) {
-    for (const char* name : {"model_a.toml", "model_c.toml"})
+    for (const auto& [name, sampler] : {std::pair{"model_a.toml", SamplerKind::Stratified},
+                                        std::pair{"model_a.toml", SamplerKind::Random},
+                                        std::pair{"model_c.toml", SamplerKind::Stratified}})
         for (std::uint64_t batch : {std::uint64_t(0), std::uint64_t(7000)}) {
-            SCOPED_TRACE(fmt::format("{}, batch {}", name, batch));
+            SCOPED_TRACE(fmt::format("{}, {}, batch {}", name, sampler_name(sampler), batch));
             Scene s = scene(name);
             s.trace.rays = 30000;
+            s.trace.sampler = sampler;
             FastTracer kept(ctx(), s, 3, batch);
             kept.set_reflector(s.reflector);
             const FastRun k = kept.run();
@@ -489,19 +493,22 @@ void expect_walks_match_tally(const FastRun& r, const Scene& s) {
 // A run records each batch's passes (rayset, every bounce with the orderings between them,
 // histogram) into one command buffer and waits on it once, and the per-bounce rays it
 // reads back agree with the tally: in one batch or several, for a rayset emitted in order
-// (Model C's sphere) or sorted (Model A's cylinder, whose first run generates it in a
-// submission of its own: its kept buffer is sized by the count of effective rays), both
-// policies, and with or without the skip of empty bounces (the same result; without it
-// every bounce is listed).
+// (the stratified sampler's cylinder and spheres) or sorted (independent rays, whose first
+// run generates them in a submission of their own: the kept buffer is sized by the count
+// of effective rays), both policies, and with or without the skip of empty bounces (the
+// same result; without it every bounce is listed).
 TEST_F(VulkanTest, BounceRaysAgreeWithTheTallyAndEachBatchIsOneSubmission) {
-    for (const char* name : {"model_a.toml", "model_b.toml", "model_c.toml"})
+    for (const auto& [name, sampler] : {std::pair{"model_a.toml", SamplerKind::Stratified},
+                                        std::pair{"model_a.toml", SamplerKind::Random},
+                                        std::pair{"model_b.toml", SamplerKind::Stratified},
+                                        std::pair{"model_c.toml", SamplerKind::Stratified}})
         for (std::uint64_t batch : {std::uint64_t(0), std::uint64_t(7000)}) {
-            SCOPED_TRACE(fmt::format("{}, batch {}", name, batch));
+            SCOPED_TRACE(fmt::format("{}, {}, batch {}", name, sampler_name(sampler), batch));
             Scene s = scene(name);
             s.trace.rays = 30000;
+            s.trace.sampler = sampler;
             const std::uint64_t batches = batch ? (s.trace.rays + batch - 1) / batch : 1;
-            const bool sorted =
-                s.source.kind == SourceKind::Cylinder; // stratified: spheres come ordered
+            const bool sorted = sampler != SamplerKind::Stratified;
             FastTracer t(ctx(), s, 2, batch);
             t.set_reflector(s.reflector);
             std::uint64_t before = ctx().submissions();
@@ -620,27 +627,56 @@ std::uint32_t direction_bucket(const glm::dvec3& d, int bits) {
     return key;
 }
 
-// The stratified sampler's stratum of a sphere's or point's direction: the cell of
-// (u0, u1) = ((1 - z) / 2, azimuth / 2 pi) on the Morton curve (source.cpp's uniform_sphere
-// inverted), written independently of strata.hpp.
-std::uint32_t direction_stratum(const glm::dvec3& d) {
+// The stratified sampler's stratum of its first two uniforms (u0, u1): their cell on the
+// Morton curve, written independently of strata.hpp.
+std::uint32_t stratum_of(double u0, double u1) {
     const double cells = double(1u << gpu::kStratumBits);
-    double azimuth = std::atan2(d.y, d.x) / (2.0 * std::numbers::pi);
-    if (azimuth < 0.0) azimuth += 1.0;
-    const auto qx = std::uint32_t(std::clamp((1.0 - d.z) * 0.5 * cells, 0.0, cells - 1.0));
-    const auto qy = std::uint32_t(std::clamp(azimuth * cells, 0.0, cells - 1.0));
+    const auto qx = std::uint32_t(std::clamp(u0 * cells, 0.0, cells - 1.0));
+    const auto qy = std::uint32_t(std::clamp(u1 * cells, 0.0, cells - 1.0));
     std::uint32_t key = 0;
     for (std::uint32_t b = 0; b < gpu::kStratumBits; ++b)
         key |= (((qx >> b) & 1u) << (2 * b)) | (((qy >> b) & 1u) << (2 * b + 1));
     return key;
 }
 
+// The stratum of a sphere's or point's direction: (u0, u1) = ((1 - z) / 2, azimuth / 2 pi)
+// (emitter.h's uniform_sphere inverted).
+std::uint32_t direction_stratum(const glm::dvec3& d) {
+    double azimuth = std::atan2(d.y, d.x) / (2.0 * std::numbers::pi);
+    if (azimuth < 0.0) azimuth += 1.0;
+    return stratum_of((1.0 - d.z) * 0.5, azimuth);
+}
+
+// The stratum of a cylinder's direction (emitter.h samples it first): its cosine c to the
+// axis and its azimuth pi v about it (in the frame basis_about gives the axis) are the
+// concentric disk's point (c, v sqrt(1 - c^2)), which Shirley and Chiu's map, inverted
+// here, takes back to the square's (a, b) = (2 u0 - 1, 2 u1 - 1). In the wedges |x| >= |y|
+// the map is radius a at the angle (pi / 4) (b / a); in the others radius b at the angle
+// pi / 2 - (pi / 4) (a / b).
+std::uint32_t cylinder_direction_stratum(const glm::dvec3& d, const glm::dvec3& axis) {
+    const gpu::emission::Basis f = gpu::emission::basis_about(axis);
+    const double c = glm::dot(d, axis);
+    const double v = std::atan2(glm::dot(d, f.b), glm::dot(d, f.t)) / std::numbers::pi;
+    const double x = c, y = v * std::sqrt(std::max(0.0, 1.0 - c * c));
+    const double r = std::hypot(x, y), quarter_pi = std::numbers::pi / 4;
+    double a = 0.0, b = 0.0;
+    if (r > 0.0 && std::abs(x) >= std::abs(y)) {
+        a = x >= 0.0 ? r : -r;
+        b = a * std::atan(y / x) / quarter_pi;
+    } else if (r > 0.0) {
+        b = y >= 0.0 ? r : -r;
+        a = b * (2.0 * quarter_pi - std::atan2(y / b, x / b)) / quarter_pi;
+    }
+    return stratum_of(0.5 * (a + 1.0), 0.5 * (b + 1.0));
+}
+
 // The rayset holds the CPU's rays, ordered by direction: sorted into octahedral buckets
-// (a cylinder, Model A; or independent rays), or emitted in the order of the stratified
-// sampler's strata (a sphere, Model C). Either way neighbours leave in nearly the same
+// (independent rays), or emitted in the order of the stratified sampler's strata (a
+// cylinder, Model A; a sphere, Model C). Either way neighbours leave in nearly the same
 // direction.
 TEST_F(VulkanTest, RaysetHoldsTheSourcesEffectiveRaysOrderedByDirection) {
     for (const auto& [name, sampler] : {std::pair{"model_a.toml", SamplerKind::Stratified},
+                                        std::pair{"model_a.toml", SamplerKind::Random},
                                         std::pair{"model_c.toml", SamplerKind::Stratified},
                                         std::pair{"model_c.toml", SamplerKind::Random}}) {
         SCOPED_TRACE(fmt::format("{}, {}", name, sampler_name(sampler)));
@@ -681,13 +717,17 @@ TEST_F(VulkanTest, RaysetHoldsTheSourcesEffectiveRaysOrderedByDirection) {
         // Ordered: the direction's cell never decreases along the rayset, apart from
         // rounding at cell borders and, for rays emitted in order, where the device appended
         // the groups of two workgroups in the other order.
-        const bool emitted_in_order =
-            s.source.kind == SourceKind::Sphere && sampler == SamplerKind::Stratified;
+        const bool emitted_in_order = sampler == SamplerKind::Stratified;
+        const auto stratum = [&](const glm::dvec3& d) {
+            return s.source.kind == SourceKind::Cylinder
+                       ? cylinder_direction_stratum(d, glm::normalize(s.source.axis))
+                       : direction_stratum(d);
+        };
         std::size_t inversions = 0;
         double angle_sum = 0.0;
         for (std::size_t i = 1; i < gpu.size(); ++i) {
             const glm::dvec3 a = gpu[i - 1].direction, b = gpu[i].direction;
-            inversions += emitted_in_order ? direction_stratum(b) < direction_stratum(a)
+            inversions += emitted_in_order ? stratum(b) < stratum(a)
                                            : direction_bucket(b, gpu::kRaysetOrderBits) <
                                                  direction_bucket(a, gpu::kRaysetOrderBits);
             angle_sum += std::acos(std::clamp(glm::dot(a, b), -1.0, 1.0));

@@ -47,6 +47,16 @@ heightfield = [64, 64]
     return s;
 }
 
+// The flux of each row of a w x h far field (lm).
+inline std::vector<double> far_field_rows_lm(const std::vector<double>& lm, std::uint32_t w,
+                                             std::uint32_t h) {
+    std::vector<double> rows(h, 0.0);
+    for (std::uint32_t row = 0; row < h; ++row)
+        for (std::uint32_t c = 0; c < w; ++c)
+            rows[row] += lm[std::size_t(row) * w + c];
+    return rows;
+}
+
 // The fraction of a Lambertian emitter's flux, mirrored to leave about the zenith, that
 // falls in far-field row `row`: (1/pi) times the integral of cos(gamma) dOmega over the
 // row, with gamma the angle from the zenith and e = pi/2 - gamma the elevation:

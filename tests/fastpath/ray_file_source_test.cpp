@@ -9,7 +9,6 @@
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
-#include <numbers>
 #include <string>
 #include <tuple>
 #include <vector>
@@ -64,23 +63,6 @@ heightfield = [64, 64]
                        ray_files()("mirror.toml"));
 }
 
-std::vector<double> row_lm(const std::vector<double>& lm, std::uint32_t w, std::uint32_t h) {
-    std::vector<double> rows(h, 0.0);
-    for (std::uint32_t row = 0; row < h; ++row)
-        for (std::uint32_t c = 0; c < w; ++c)
-            rows[row] += lm[std::size_t(row) * w + c];
-    return rows;
-}
-
-// As VulkanTest.ALambertianDiskOverAFlatMirrorGivesTheMirroredCosineLaw (emitter_test.cpp):
-// the share of the flux in far-field row `row` is sin^2 e_top - sin^2 e_bottom.
-double cosine_law_row_fraction(std::uint32_t row, std::uint32_t rows) {
-    const double top = std::numbers::pi / 2 - std::numbers::pi * row / rows;
-    const double bottom = std::numbers::pi / 2 - std::numbers::pi * (row + 1) / rows;
-    const auto sin2 = [](double e) { return e > 0 ? std::sin(e) * std::sin(e) : 0.0; };
-    return sin2(top) - sin2(bottom);
-}
-
 // The file's 200 000 rays (a Lambertian disk of radius 1.5 mm, sampled by the writer),
 // placed facing down 10 mm over the flat mirror. On the fast path and the CPU reference,
 // whole and subsampled to a quarter, each far-field row within 80 degrees of the zenith
@@ -114,7 +96,7 @@ TEST_F(VulkanTest, ARayFileOfALambertianDiskTracesToTheAnalyticDisksFarField) {
                                 .farfield_h = h})
             .farfield.lm;
     };
-    const std::vector<double> disk_rows = row_lm(fast(disk), w, h);
+    const std::vector<double> disk_rows = far_field_rows_lm(fast(disk), w, h);
     const struct {
         const char* name;
         const Scene& scene;
@@ -127,7 +109,7 @@ TEST_F(VulkanTest, ARayFileOfALambertianDiskTracesToTheAnalyticDisksFarField) {
         SCOPED_TRACE(t.name);
         const double rays = double(t.scene.trace.rays);
         const double lm_per_ray = t.scene.source.flux_lm / rays;
-        const std::vector<double> rows = row_lm(t.lm, w, h);
+        const std::vector<double> rows = far_field_rows_lm(t.lm, w, h);
         for (std::uint32_t row = h / 2; row < h; ++row)
             EXPECT_EQ(rows[row], 0.0) << "a reflection off z = -10 rises; row " << row;
         for (std::uint32_t row = 0; row < h / 2 - 2; ++row) { // gamma < 80 degrees
