@@ -14,11 +14,13 @@
 #include "export/scene_export.hpp"
 #include "interrupt.hpp"
 #include "io/atomic_file.hpp"
+#include "io/program_files.hpp"
 #include "io/scene_file.hpp"
 #include "optimize/cluster_job.hpp"
 #include "optimize/history_csv.hpp"
 #include "optimize/parameter_space.hpp"
 #include "optimize/press_constraints.hpp"
+#include "optimize/search.hpp"
 #include "optimize/search_report.hpp"
 #include "optimize/search_start.hpp"
 #include "parse.hpp"
@@ -265,15 +267,20 @@ int run_optimize(const GlobalOptions& global, const OptimizeArgs& a, const CLI::
         }
         request.replay = read_history((std::filesystem::path(out) / "history.csv").string(),
                                       parameter_space(scene).names, scene.optimize);
-        // The end of the run it continues is no longer the search's end: a follower
-        // (fird follow, the workbench) must not read it as such.
-        std::filesystem::remove(std::filesystem::path(out) / "search.json");
     } else {
         settings = requested_settings(scene, a, cmd);
     }
 
+    // A population method's module (pagmo) before the device, a trace or a file (a refined
+    // search is refused as a usage error first, by run_search).
+    if (searches_with_population(scene, settings) && !settings.refine) require_population_module();
     const auto ctx = vk::Context::create(context_options(global));
-    if (!a.resume.empty()) check_device(a.resume, depends_on, ctx.summary());
+    if (!a.resume.empty()) {
+        check_device(a.resume, depends_on, ctx.summary());
+        // The end of the run it continues is no longer the search's end: a follower
+        // (fird follow, the workbench) must not read it as such.
+        std::filesystem::remove(std::filesystem::path(out) / "search.json");
+    }
     request.settings = settings;
     // The profile that makes the desired far field from the source's centre
     // (optimize/search_start.hpp).

@@ -3,8 +3,9 @@
 # machines lent to a session here are bare, reach nothing, and take at most 64 MiB of files
 # a call): fird and the Vulkan test binaries, every shared library they load but glibc's own
 # (VTK, OpenCASCADE, ... and libstdc++), the Vulkan loader, the Khronos validation layer
-# with its manifest (the tests run with validation on), and the DejaVu fonts with a
-# fontconfig file (the plots' labels), as one fird_bundle.tar.xz in DIR. On the GPU machine,
+# with its manifest (the tests run with validation on), FIRD's own modules (libfird_*.so)
+# and the DejaVu fonts with a fontconfig file (the plots' labels), as one
+# fird_bundle.tar.xz in DIR. On the GPU machine,
 # from the repository root: scripts/gpu_bundle_run.sh DIR OUTDIR (the tests, then
 # scripts/gpu_check.sh's table, into OUTDIR).
 #
@@ -18,7 +19,10 @@ build="$(cd "${2:-$root/build/release}" && pwd)"
 tests=(test_vk test_render test_fastpath test_optimize test_calibration test_export)
 bins=("$build/app/fird")
 for t in "${tests[@]}"; do bins+=("$build/tests/$t"); done
-for b in "${bins[@]}"; do
+# FIRD's own modules (io/program_files.hpp: libfird_pagmo.so, loaded by a population search),
+# which the programs look for in the lib folder beside their own: the bundle's lib.
+modules=("$build"/lib/libfird_*.so)
+for b in "${bins[@]}" "${modules[@]}"; do
   [ -x "$b" ] || { echo "gpu_bundle.sh: no $b (build build/release first: scripts/setup.sh release)" >&2; exit 1; }
 done
 layer_so=/usr/lib/x86_64-linux-gnu/libVkLayer_khronos_validation.so
@@ -37,7 +41,8 @@ mkdir -p "$stage/bin" "$stage/lib" "$stage/layers" "$stage/fonts"
 cp "${bins[@]}" "$stage/bin/"
 # Every library the binaries and the layer load, but the C library's own (the machine's
 # must match its kernel and loader; every other one travels, libstdc++ included).
-ldd "${bins[@]}" "$layer_so" | awk '/=> \//{print $3}' | sort -u |
+cp "${modules[@]}" "$stage/lib/"
+ldd "${bins[@]}" "${modules[@]}" "$layer_so" | awk '/=> \//{print $3}' | sort -u |
   grep -Ev "$glibc" |
   while read -r lib; do cp -L "$lib" "$stage/lib/"; done
 cp -L "$loader" "$stage/lib/"
@@ -62,7 +67,7 @@ cat >"$stage/fonts/fonts.conf" <<'EOF'
 EOF
 # Every library must now resolve inside the bundle (but glibc's): a machine without Debian's
 # packages has none of them to fall back on.
-outside="$(LD_LIBRARY_PATH="$stage/lib" ldd "$stage"/bin/* "$stage/layers/libVkLayer_khronos_validation.so" |
+outside="$(LD_LIBRARY_PATH="$stage/lib" ldd "$stage"/bin/* "$stage"/lib/libfird_*.so "$stage/layers/libVkLayer_khronos_validation.so" |
   awk '/=> \//{print $3} /not found/{print $1 " (not found)"}' | grep -v "^$stage/lib/" |
   grep -Ev "$glibc" | sort -u || true)"
 [ -z "$outside" ] || { echo "gpu_bundle.sh: libraries resolved outside the bundle: $outside" >&2; exit 1; }

@@ -9,6 +9,7 @@
 #include <imgui_stdlib.h>
 
 #include "folder_follow.hpp"
+#include "io/program_files.hpp"
 #include "panels.hpp"
 
 namespace fird::ui {

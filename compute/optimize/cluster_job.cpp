@@ -141,13 +141,6 @@ void write_script(const std::string& path, const std::string& text) {
 
 } // namespace
 
-std::string this_program() {
-    std::error_code ec;
-    const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
-    if (ec) throw std::runtime_error(fmt::format("/proc/self/exe: {}", ec.message()));
-    return exe.string();
-}
-
 std::string shell_quoted(const std::string& word) {
     std::string q(1, '\'');
     for (char c : word) {

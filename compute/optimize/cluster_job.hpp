@@ -51,9 +51,6 @@ std::optional<std::string> cluster_shape_error(const ClusterShape& shape);
 // begun in it already or a file cannot be written.
 WrittenJob write_cluster_job(const ClusterJob& job);
 
-// The running program's absolute path (/proc/self/exe): the fird a job written by it runs.
-std::string this_program();
-
 // `word` quoted for bash (single quotes; a quote inside as '\''), as the scripts hold it.
 std::string shell_quoted(const std::string& word);
 

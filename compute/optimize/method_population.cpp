@@ -1,6 +1,7 @@
 // Population search on pagmo2 (2.18): its CMA-ES (Hansen) and xNES (Glasmachers et al.),
-// not written here. Each generation is traced as one batch through Objective::evaluate_all,
-// with the stage's rays (common random numbers within the stage).
+// not written here, through FIRD's module libfird_pagmo.so (pagmo_generations.hpp), loaded
+// the first time a population search runs. Each generation is traced as one batch through
+// Objective::evaluate_all, with the stage's rays (common random numbers within the stage).
 //
 // pagmo 2.18's cmaes and xnes take no batch evaluator (pagmo::bfe: only gaco, maco, nsga2,
 // nspso and pso_gen do); they ask the problem for one fitness after another inside
@@ -16,17 +17,13 @@
 #include <memory>
 #include <optional>
 #include <set>
-#include <variant>
 
 #include <fmt/format.h>
-#include <pagmo/algorithms/cmaes.hpp>
-#include <pagmo/algorithms/xnes.hpp>
-#include <pagmo/population.hpp>
-#include <pagmo/problem.hpp>
-#include <pagmo/types.hpp>
 
+#include "io/program_files.hpp"
 #include "methods.hpp"
 #include "optimize/height_modes.hpp"
+#include "optimize/pagmo_generations.hpp"
 #include "optimize/search.hpp"
 
 namespace fird {
@@ -47,46 +44,52 @@ constexpr std::uint64_t kRestartRayStreams = 1200;
 // many in a row and the search has converged onto lattice points it knows.
 constexpr unsigned kIdleGenerations = 10;
 
-// Shared by the problem's copies inside pagmo: what a fitness call does right now.
+// What a fitness call does right now (the module's problem calls lattice_fitness).
 struct Generation {
     enum class Mode { Ask, Answer } mode = Mode::Ask;
     Objective* objective = nullptr;
     std::vector<std::vector<double>> asked; // Ask: the snapped points, in pagmo's order
 };
 
-// The pagmo problem (a user-defined problem: fitness and bounds). pagmo works in the sample
-// coordinates (height_modes.hpp: a freed height grid's cosine modes, or the parameters
-// themselves); a point it proposes is mapped to parameters and judged at their nearest
-// lattice point inside the box, as the lattice methods judge theirs.
+// The fitness pagmo asks for. pagmo works in the sample coordinates (height_modes.hpp: a
+// freed height grid's cosine modes, or the parameters themselves); a point it proposes is
+// mapped to parameters and judged at their nearest lattice point inside the box, as the
+// lattice methods judge theirs.
 // CMA-ES and xNES sample outside the box (pagmo's own clamping, force_bounds, would bias
 // the covariance): such a point scores its lattice point's value grown by its squared
 // distance outside, in box widths, so that the search is drawn back rather than left to
 // drift where every point scores alike.
-struct LatticeProblem {
-    Generation* generation = nullptr;
-    std::shared_ptr<const SampleCoordinates> coordinates;
+double lattice_fitness(Generation& generation, const SampleCoordinates& coordinates,
+                       const std::vector<double>& c) {
+    const std::vector<double> x = coordinates.parameters(c);
+    Objective& f = *generation.objective;
+    const ParameterSpace& space = f.space();
+    const std::vector<double> snapped = space.snap(x);
+    if (generation.mode == Generation::Mode::Ask) {
+        generation.asked.push_back(snapped);
+        return 0.0;
+    }
+    double outside = 0.0;
+    for (std::size_t k = 0; k < x.size(); ++k) {
+        const double width = std::max(space.hi[k] - space.lo[k], space.step[k]);
+        const double d = (x[k] - std::clamp(x[k], space.lo[k], space.hi[k])) / width;
+        outside += d * d;
+    }
+    return f(snapped) * (1.0 + outside);
+}
 
-    pagmo::vector_double fitness(const pagmo::vector_double& c) const {
-        const std::vector<double> x = coordinates->parameters(c);
-        Objective& f = *generation->objective;
-        const ParameterSpace& space = f.space();
-        const std::vector<double> snapped = space.snap(x);
-        if (generation->mode == Generation::Mode::Ask) {
-            generation->asked.push_back(snapped);
-            return {0.0};
-        }
-        double outside = 0.0;
-        for (std::size_t k = 0; k < x.size(); ++k) {
-            const double width = std::max(space.hi[k] - space.lo[k], space.step[k]);
-            const double d = (x[k] - std::clamp(x[k], space.lo[k], space.hi[k])) / width;
-            outside += d * d;
-        }
-        return {f(snapped) * (1.0 + outside)};
-    }
-    std::pair<pagmo::vector_double, pagmo::vector_double> get_bounds() const {
-        return {coordinates->lo, coordinates->hi};
-    }
-};
+// The module's table, loaded on first use.
+const PagmoGenerations& pagmo_generations() {
+    using Entry = const PagmoGenerations* (*)();
+    const auto* table =
+        reinterpret_cast<Entry>(program_module_symbol(kPagmoModuleFile, kPagmoModuleSymbol))();
+    if (table->abi != kPagmoGenerationsAbi)
+        throw std::runtime_error(
+            fmt::format("FIRD's module {} is from another build (interface {}, "
+                        "this program's {})",
+                        kPagmoModuleFile, table->abi, kPagmoGenerationsAbi));
+    return *table;
+}
 
 // Hansen's default population size, 4 + floor(3 ln n): 6 for two parameters, 14 for 36
 // (one submission of the fast path's batch, FastTracer::kMaxBatchCandidates = 16). pagmo's
@@ -101,8 +104,9 @@ struct PopulationSearch::State {
     Objective* objective;
     PopulationReport* report;
     Generation generation;
-    std::variant<pagmo::cmaes, pagmo::xnes> algorithm;
-    pagmo::population population;
+    const PagmoGenerations* pagmo;
+    // The module's run (algorithm and population), destroyed by the module.
+    std::unique_ptr<void, void (*)(void*)> run{nullptr, nullptr};
     unsigned idle = 0;
 };
 
@@ -112,25 +116,23 @@ PopulationSearch::PopulationSearch(Objective& f, SearchMethod method, const std:
     const std::uint64_t avoid = streams_avoid(f.scene());
     const auto seed = std::uint32_t(stream_seed(
         f.settings().seed, run == 0 ? kPopulationStream : kRestartStreams + run, avoid));
-    // One generation per evolve(), the memory kept between them; pagmo's own stops (ftol,
-    // xtol) off, since with gen = 1 they would end a call before its generation is
-    // evaluated, unseen: the convergence rule is run_stage's.
-    auto algorithm = method == SearchMethod::Xnes
-                         ? std::variant<pagmo::cmaes, pagmo::xnes>(
-                               pagmo::xnes(1, -1, -1, -1, sigma0, 0.0, 0.0, true, false, seed))
-                         : std::variant<pagmo::cmaes, pagmo::xnes>(pagmo::cmaes(
-                               1, -1, -1, -1, -1, sigma0, 0.0, 0.0, true, false, seed));
-    state_ = std::unique_ptr<State>(new State{.objective = &f,
-                                              .report = &report,
-                                              .generation = {},
-                                              .algorithm = std::move(algorithm),
-                                              .population = {}});
+    state_ = std::unique_ptr<State>(new State{
+        .objective = &f, .report = &report, .generation = {}, .pagmo = &pagmo_generations()});
     state_->generation.objective = &f;
     const std::vector<double> start = space.snap(x0);
     auto coordinates = std::make_shared<const SampleCoordinates>(
         sample_coordinates(f.scene().reflector, space, start, f.scene().optimize.height_sampling));
-    LatticeProblem problem{.generation = &state_->generation, .coordinates = coordinates};
-    state_->population = pagmo::population(pagmo::problem(std::move(problem)), 0u, seed);
+    PagmoRunSpec spec{.xnes = method == SearchMethod::Xnes,
+                      .sigma0 = sigma0,
+                      .seed = seed,
+                      .lo = coordinates->lo,
+                      .hi = coordinates->hi};
+    Generation* generation = &state_->generation;
+    state_->run = {state_->pagmo->create(spec,
+                                         [generation, coordinates](const std::vector<double>& c) {
+                                             return lattice_fitness(*generation, *coordinates, c);
+                                         }),
+                   state_->pagmo->destroy};
     const std::uint64_t size = population_size(space.size());
     std::vector<PopulationReport::Run> runs = std::move(report.runs); // the runs before
     report = {.algorithm = method_name(method == SearchMethod::Xnes ? SearchMethod::Xnes
@@ -148,17 +150,20 @@ PopulationSearch::PopulationSearch(Objective& f, SearchMethod method, const std:
     const std::vector<double> at_start =
         coordinates->transform.empty() ? start : std::vector<double>(start.size(), 0.0);
     for (std::uint64_t i = 0; i < size; ++i)
-        state_->population.push_back(at_start, {l2});
+        state_->pagmo->push_back(state_->run.get(), at_start, l2);
 }
 
 PopulationSearch::~PopulationSearch() = default;
+
+void require_population_module() {
+    (void)pagmo_generations();
+}
 
 StopReason PopulationSearch::run_stage(std::uint64_t max_evaluations) {
     State& s = *state_;
     Objective& f = *s.objective;
     const ParameterSpace& space = f.space();
     const std::uint64_t first = f.evaluations();
-    const auto evolve = [&](auto& algorithm) { return algorithm.evolve(s.population); };
     while (true) {
         if (max_evaluations && f.evaluations() - first >= max_evaluations) {
             s.report->verdict =
@@ -168,10 +173,7 @@ StopReason PopulationSearch::run_stage(std::uint64_t max_evaluations) {
         // The generation's points: the same generation on copies, only noted.
         s.generation.mode = Generation::Mode::Ask;
         s.generation.asked.clear();
-        {
-            auto ask = s.algorithm;
-            (void)std::visit(evolve, ask);
-        }
+        s.pagmo->evolve_copy(s.run.get());
         const std::vector<std::vector<double>> points = std::move(s.generation.asked);
         // One batch (Objective::evaluate_all: FastTracer::kMaxBatchCandidates a submission),
         // each point recorded in pagmo's order; a stop (budget, threshold, interruption)
@@ -194,7 +196,7 @@ StopReason PopulationSearch::run_stage(std::uint64_t max_evaluations) {
         f.set_generation(std::nullopt);
         // The generation itself, every point answered from the stage's memo.
         s.generation.mode = Generation::Mode::Answer;
-        s.population = std::visit(evolve, s.algorithm);
+        s.pagmo->evolve(s.run.get());
         ++s.report->generations;
         s.report->spread.assign(space.size(), 0.0);
         bool within_a_step = !points.empty();

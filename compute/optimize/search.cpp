@@ -267,6 +267,12 @@ std::vector<Fidelity> search_stages(const Scene& scene, const SearchSettings& se
     return stages;
 }
 
+bool searches_with_population(const Scene& scene, const SearchSettings& settings) {
+    return settings.method == SearchMethod::Cmaes || settings.method == SearchMethod::Xnes ||
+           (settings.method == SearchMethod::Auto &&
+            parameter_space(scene).size() > kPopulationAbove);
+}
+
 SearchOutcome run_search(const vk::Context& ctx, const Scene& scene, const SearchRequest& req) {
     const auto t0 = std::chrono::steady_clock::now();
     if (scene.target.kind == TargetDesc::Kind::None && !req.desired)
@@ -298,7 +304,7 @@ SearchOutcome run_search(const vk::Context& ctx, const Scene& scene, const Searc
     refuse_unmeetable_constraints(scene, space);
     // Beyond a handful of free parameters auto searches with a population, not the lattice.
     const bool auto_population =
-        settings.method == SearchMethod::Auto && space.size() > kPopulationAbove;
+        settings.method == SearchMethod::Auto && searches_with_population(scene, settings);
     if (settings.refine && auto_population)
         throw std::invalid_argument(fmt::format(
             "refining below the step follows the lattice, and with {} free parameters (more "

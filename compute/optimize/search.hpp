@@ -46,6 +46,14 @@ DesiredFarField search_desired(const vk::Context& ctx, const Scene& scene,
 
 SearchOutcome run_search(const vk::Context& ctx, const Scene& scene, const SearchRequest& request);
 
+// Whether a search of the scene runs a population (pagmo's CMA-ES or xNES): --method cmaes
+// or xnes, or auto beyond a handful of free parameters (methods.hpp, kPopulationAbove).
+bool searches_with_population(const Scene& scene, const SearchSettings& settings);
+
+// Loads the population searches' module (libfird_pagmo.so) now, so that a program without
+// it fails before anything is traced or written: std::runtime_error in one line naming it.
+void require_population_module();
+
 // The stages' fidelities: `auto` one per ray count (coarser far fields for all but the
 // last, which is the scene's grid), the other methods one at the last count.
 std::vector<Fidelity> search_stages(const Scene& scene, const SearchSettings& settings);

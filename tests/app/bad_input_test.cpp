@@ -256,4 +256,43 @@ TEST(BadInput, LavapipeAt512BitsRefusesToDrawInOneLineAndStillTraces) {
     }
 }
 
+// A copy of fird without its lib folder beside it (a program moved without its modules):
+// a population search, which needs FIRD's pagmo module, is refused in one line naming the
+// module and where it was looked for, exit 1, before anything is written; every other
+// command runs, pagmo never being loaded at start (a trace and an NLopt search here).
+TEST(BadInput, APopulationSearchWithoutItsModuleFailsInOneLineAndOtherCommandsRun) {
+    const std::string src = FIRD_SOURCE_DIR;
+    const fs::path lone = fs::path(dir()) / "lone_fird";
+    fs::remove_all(lone);
+    fs::create_directories(lone / "bin");
+    fs::copy_file(FIRD_BINARY, lone / "bin" / "fird");
+    // As the program sees itself (/proc/self/exe: no symbolic link in the path).
+    const fs::path real = fs::canonical(lone);
+    const std::string fird = (lone / "bin" / "fird").string();
+    const std::string scene = src + "/scenes/model_b.toml";
+    for (const char* method : {"cmaes", "xnes"}) {
+        const std::string out = (lone / method).string();
+        const auto r = fird::test::run_shell(fmt::format(
+            "timeout 120 {} --validation optimize {} --method {} --rays 1e4 --max-evals 8 --out {}",
+            fird, scene, method, out));
+        EXPECT_EQ(r.code, 1) << r.out;
+        EXPECT_NE(r.out.find(fmt::format("fird: error: cannot load FIRD's module libfird_pagmo.so "
+                                         "(looked for {}, {}): not found",
+                                         (real / "lib" / "libfird_pagmo.so").string(),
+                                         (real / "bin" / "libfird_pagmo.so").string())),
+                  std::string::npos)
+            << r.out;
+        EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << r.out;
+        EXPECT_FALSE(fs::exists(out)) << method;
+    }
+    const auto traced = fird::test::run_shell(
+        fmt::format("timeout 120 {} --validation trace {} --rays 1e4 --json", fird, scene));
+    EXPECT_EQ(traced.code, 0) << traced.out;
+    const auto lattice_free = fird::test::run_shell(fmt::format(
+        "timeout 120 {} --validation optimize {} --method bobyqa --rays 1e4 --max-evals 3 --out {}",
+        fird, scene, (lone / "bobyqa").string()));
+    EXPECT_EQ(lattice_free.code, 0) << lattice_free.out;
+    EXPECT_TRUE(fs::exists(lone / "bobyqa" / "search.json"));
+}
+
 } // namespace

@@ -6,8 +6,10 @@
 // parameters, CMA-ES's first up to sixteen and Levenberg-Marquardt's first beyond.
 #include <algorithm>
 #include <cmath>
+#include <fstream>
 #include <optional>
 #include <set>
+#include <string>
 
 #include "evaluation/evaluator.hpp"
 #include "io/scene_file.hpp"
@@ -24,11 +26,32 @@ namespace {
 
 class Population : public VulkanTest, public ::testing::WithParamInterface<SearchMethod> {};
 
+// Whether a shared library whose file name contains `name` is mapped into this process.
+bool mapped(const std::string& name) {
+    std::ifstream maps("/proc/self/maps");
+    for (std::string line; std::getline(maps, line);)
+        if (line.find(name) != std::string::npos) return true;
+    return false;
+}
+
 // The mirror's l2 falls smoothly towards the target's slopes (on the lattice) from anywhere
 // in the box: the population ends within one step of them in every parameter, at the noise.
+// pagmo is loaded by the search itself, through FIRD's module (io/program_files.hpp), and
+// not before: checked where this test is the process's first (as ctest runs each test in a
+// process of its own; a binary run whole may have searched before), after it has created
+// its device and parsed its scene.
 TEST_P(Population, RecoversTheMirrorsSlopesWithinOneStep) {
     const Scene s = scene("mirror_search.toml");
+    (void)ctx();
+    const ::testing::UnitTest& tests = *::testing::UnitTest::GetInstance();
+    if (tests.successful_test_count() + tests.failed_test_count() + tests.skipped_test_count() ==
+        0) {
+        EXPECT_FALSE(mapped("libpagmo.so"));
+        EXPECT_FALSE(mapped("libfird_pagmo.so"));
+    }
     const SearchResult r = search(ctx(), s, GetParam()).result;
+    EXPECT_TRUE(mapped("libfird_pagmo.so"));
+    EXPECT_TRUE(mapped("libpagmo.so"));
     ASSERT_TRUE(r.best);
     ASSERT_TRUE(r.population);
     EXPECT_EQ(r.population->algorithm, method_name(GetParam()));
