@@ -8,11 +8,11 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.hpp"
-#include "export/cad_export.hpp"
 #include "export/cad_option_error.hpp"
-#include "export/scene_export.hpp"
+#include "export/export_modules.hpp"
 #include "io/atomic_file.hpp"
 #include "io/scene_file.hpp"
+#include "optimize/parameter_space.hpp"
 #include "parse.hpp"
 #include "report/manufacturability.hpp"
 #include "vk/context.hpp"
@@ -170,8 +170,13 @@ void register_export(CLI::App& app, const GlobalOptions& global, std::function<i
             ExportOptions o{.paths = a->paths, .levels = a->levels};
             if (!a->parameters.empty())
                 o.parameters = parse_assignments("--parameters", a->parameters);
+            if (!a->rays.empty()) o.rays = parse_count("--rays", a->rays, 4e9);
             nlohmann::json j{
                 {"cad", nullptr}, {"manufacturability", nullptr}, {"vtk_files", nullptr}};
+            // The modules this export loads, after the options' usage errors and before the
+            // scene, the device or a file.
+            if (!a->cad.empty()) (void)cad_exports();
+            if (vtk) (void)vtk_exports();
             if (!a->cad.empty() || !a->press.empty()) {
                 const Scene scene = load_scene(a->scene);
                 const ReflectorDesc reflector = overridden(scene, o.parameters);
@@ -179,7 +184,7 @@ void register_export(CLI::App& app, const GlobalOptions& global, std::function<i
                 if (!a->cad.empty()) {
                     CadReport r;
                     try {
-                        r = export_cad(surface, a->cad_options, a->cad);
+                        r = cad_exports().cad(surface, a->cad_options, a->cad);
                     } catch (const CadOptionError& e) {
                         throw UsageError(e.what());
                     }
@@ -201,10 +206,9 @@ void register_export(CLI::App& app, const GlobalOptions& global, std::function<i
                     return 0;
                 }
             }
-            if (!a->rays.empty()) o.rays = parse_count("--rays", a->rays, 4e9);
             const Scene scene = load_scene(a->scene);
             const auto ctx = vk::Context::create(context_options(global));
-            const ExportReport report = export_scene(ctx, scene, o, a->out);
+            const ExportReport report = vtk_exports().scene(ctx, scene, o, a->out);
             if (ctx.validation_errors() > 0)
                 throw std::runtime_error("Vulkan validation errors were reported (see above)");
             for (const std::string& note : report.notes)

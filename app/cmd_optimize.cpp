@@ -10,8 +10,7 @@
 #include <unistd.h>
 
 #include "commands.hpp"
-#include "export/cad_export.hpp"
-#include "export/scene_export.hpp"
+#include "export/export_modules.hpp"
 #include "interrupt.hpp"
 #include "io/atomic_file.hpp"
 #include "io/program_files.hpp"
@@ -108,7 +107,7 @@ void write_best_part(const std::string& out, const Scene& scene, const SearchRes
     const Surface surface = Surface::make(best, scene.holder);
     (void)write_manufacturability(out, surface, best.constraints);
     try {
-        (void)export_cad(surface, CadOptions{}, out);
+        (void)cad_exports().cad(surface, CadOptions{}, out);
     } catch (const std::exception& e) {
         std::fprintf(stderr, "fird: note: %s: the best reflector's CAD was not written: %s\n",
                      out.c_str(), e.what());
@@ -274,6 +273,11 @@ int run_optimize(const GlobalOptions& global, const OptimizeArgs& a, const CLI::
     // A population method's module (pagmo) before the device, a trace or a file (a refined
     // search is refused as a usage error first, by run_search).
     if (searches_with_population(scene, settings) && !settings.refine) require_population_module();
+    // And the exports' modules, for the folder's reflectors.pvd and the best part's CAD.
+    if (!out.empty()) {
+        (void)vtk_exports();
+        (void)cad_exports();
+    }
     const auto ctx = vk::Context::create(context_options(global));
     if (!a.resume.empty()) {
         check_device(a.resume, depends_on, ctx.summary());
@@ -351,7 +355,7 @@ int run_optimize(const GlobalOptions& global, const OptimizeArgs& a, const CLI::
         std::fprintf(stderr, "fird: note: %s: %s\n", scene.path.c_str(), describe(d).c_str());
     if (!out.empty()) {
         write_search_outputs(out, scene, outcome);
-        (void)export_search_reflectors(scene, r, out); // reflectors.pvd for ParaView
+        (void)vtk_exports().search_reflectors(scene, r, out); // reflectors.pvd for ParaView
         write_best_part(out, scene, r);
     }
     if (ctx.validation_errors() > 0)

@@ -19,8 +19,10 @@ build="$(cd "${2:-$root/build/release}" && pwd)"
 tests=(test_vk test_render test_fastpath test_optimize test_calibration test_export)
 bins=("$build/app/fird")
 for t in "${tests[@]}"; do bins+=("$build/tests/$t"); done
-# FIRD's own modules (io/program_files.hpp: libfird_pagmo.so, loaded by a population search),
-# which the programs look for in the lib folder beside their own: the bundle's lib.
+# FIRD's own modules (io/program_files.hpp: libfird_pagmo.so, loaded by a population search;
+# libfird_vtk.so and libfird_cad.so, by an export), which the programs look for in the lib
+# folder beside their own: the bundle's lib. Their libraries (pagmo, VTK, OpenCASCADE) travel
+# with them.
 modules=("$build"/lib/libfird_*.so)
 for b in "${bins[@]}" "${modules[@]}"; do
   [ -x "$b" ] || { echo "gpu_bundle.sh: no $b (build build/release first: scripts/setup.sh release)" >&2; exit 1; }

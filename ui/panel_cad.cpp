@@ -10,6 +10,7 @@
 #include <imgui_stdlib.h>
 
 #include "export/cad_option_error.hpp"
+#include "export/export_modules.hpp"
 #include "model/surface.hpp"
 #include "panels.hpp"
 
@@ -44,13 +45,15 @@ bool start_cad_export(WorkbenchState& s) {
         c.error = "a CAD export is being written";
         return false;
     }
-    // The surface is made here, so that a parameter the family refuses is this frame's
-    // error (before a run folder is made for it); the thread gets its own copy.
+    // The surface is made here, and the CAD module loaded (once, ~60 ms), so that a parameter
+    // the family refuses or a missing module is this frame's error (before a run folder is
+    // made for it); the thread gets its own copy of the surface.
     const Scene scene = edited_scene(s);
     std::string dir;
     try {
         auto surface =
             std::make_shared<const Surface>(Surface::make(scene.reflector, scene.holder));
+        const auto export_cad = cad_exports().cad;
         dir = c.dir.empty() ? new_run_folder(s, "cad") : c.dir;
         if (dir.empty()) {
             c.error = s.log.empty() ? "no run folder" : s.log.back();
@@ -59,7 +62,7 @@ bool start_cad_export(WorkbenchState& s) {
         const CadOptions options{.tolerance_mm = c.tolerance_mm,
                                  .thickness_mm = c.thickness_mm,
                                  .bend_radius_mm = c.bend_radius_mm};
-        c.writing = std::async(std::launch::async, [surface, options, dir] {
+        c.writing = std::async(std::launch::async, [export_cad, surface, options, dir] {
             return export_cad(*surface, options, dir);
         });
     } catch (const std::exception& e) {

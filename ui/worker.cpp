@@ -6,7 +6,7 @@
 #include <fmt/format.h>
 
 #include "calibrate/calibration_report.hpp"
-#include "export/scene_export.hpp"
+#include "export/export_modules.hpp"
 #include "io/atomic_file.hpp"
 #include "optimize/history_csv.hpp"
 #include "optimize/parameter_space.hpp"
@@ -198,6 +198,10 @@ void Worker::run(const PickJob& job) {
 
 void Worker::run(const SearchJob& job) {
     const ParameterSpace space = parameter_space(job.scene);
+    // The VTK module for the folder's reflectors.pvd, before the search (a missing one is
+    // this job's error now, not after the search).
+    const auto export_search_reflectors =
+        job.out_dir.empty() ? nullptr : vtk_exports().search_reflectors;
     {
         const std::lock_guard lock(mutex_);
         search_ = {.running = true,

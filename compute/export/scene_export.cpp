@@ -20,21 +20,6 @@
 
 namespace fird {
 
-ReflectorDesc overridden(const Scene& scene, const std::map<std::string, double>& params) {
-    ReflectorDesc r = scene.reflector;
-    const auto names = family_parameters(r.family);
-    for (const auto& [k, v] : params) {
-        if (std::find(names.begin(), names.end(), k) == names.end() && !r.bspline.groups.count(k))
-            throw std::invalid_argument(fmt::format("--parameters {}: not a parameter of the {} "
-                                                    "family",
-                                                    k, family_name(r.family)));
-        r.parameters[k] = v;
-    }
-    const Feasibility f = traceable(scene, r);
-    if (!f.feasible) throw std::invalid_argument("--parameters: " + f.reason);
-    return r;
-}
-
 namespace {
 
 // The coarsest levels that stay within `budget` boxes.

@@ -41,10 +41,6 @@ struct ExportReport {
     std::uint32_t quadtree_levels = 0;
 };
 
-// The scene's reflector with --parameters overrides; throws std::invalid_argument naming
-// --parameters for a parameter the family lacks or values that make no feasible reflector.
-ReflectorDesc overridden(const Scene& scene, const std::map<std::string, double>& params);
-
 // Throws std::invalid_argument for a bad override (a parameter the family lacks, a
 // value that makes no surface or cuts the source) or a request past the limits.
 ExportReport export_scene(const vk::Context& ctx, const Scene& scene, const ExportOptions& options,

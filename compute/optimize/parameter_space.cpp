@@ -212,4 +212,19 @@ Feasibility candidate_feasibility(const Scene& scene, const ReflectorDesc& refle
     return f;
 }
 
+ReflectorDesc overridden(const Scene& scene, const std::map<std::string, double>& params) {
+    ReflectorDesc r = scene.reflector;
+    const auto names = family_parameters(r.family);
+    for (const auto& [k, v] : params) {
+        if (std::find(names.begin(), names.end(), k) == names.end() && !r.bspline.groups.count(k))
+            throw std::invalid_argument(fmt::format("--parameters {}: not a parameter of the {} "
+                                                    "family",
+                                                    k, family_name(r.family)));
+        r.parameters[k] = v;
+    }
+    const Feasibility f = traceable(scene, r);
+    if (!f.feasible) throw std::invalid_argument("--parameters: " + f.reason);
+    return r;
+}
+
 } // namespace fird

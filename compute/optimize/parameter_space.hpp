@@ -68,4 +68,9 @@ Feasibility candidate_feasibility(const Scene& scene, const ReflectorDesc& refle
 // reflector that breaks a constraint; only the search refuses it as a candidate.
 Feasibility traceable(const Scene& scene, const ReflectorDesc& reflector);
 
+// The scene's reflector with --parameters overrides (fird export); throws
+// std::invalid_argument naming --parameters for a parameter the family lacks or values that
+// make no traceable reflector.
+ReflectorDesc overridden(const Scene& scene, const std::map<std::string, double>& params);
+
 } // namespace fird

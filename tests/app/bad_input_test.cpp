@@ -7,6 +7,8 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <initializer_list>
+#include <iterator>
 #include <string>
 #include <sys/wait.h>
 #include <vector>
@@ -256,18 +258,30 @@ TEST(BadInput, LavapipeAt512BitsRefusesToDrawInOneLineAndStillTraces) {
     }
 }
 
-// A copy of fird without its lib folder beside it (a program moved without its modules):
-// a population search, which needs FIRD's pagmo module, is refused in one line naming the
+// A copy of fird in DIR/lone/bin with the given modules of this build in DIR/lone/lib (a
+// program moved with some of its modules or none); returns the folder as the program sees
+// itself (/proc/self/exe: no symbolic link in the path).
+fs::path lone_fird(const std::string& name, std::initializer_list<const char*> modules) {
+    const fs::path lone = fs::path(dir()) / name;
+    fs::remove_all(lone);
+    fs::create_directories(lone / "bin");
+    fs::create_directories(lone / "lib");
+    fs::copy_file(FIRD_BINARY, lone / "bin" / "fird");
+    const fs::path built_lib = fs::path(FIRD_BINARY).parent_path().parent_path() / "lib";
+    for (const char* module : modules)
+        fs::copy_file(built_lib / module, lone / "lib" / module);
+    return fs::canonical(lone);
+}
+
+// A copy of fird without pagmo's module beside it (a program moved without it): a population
+// search, which needs FIRD's pagmo module, is refused in one line naming the
 // module and where it was looked for, exit 1, before anything is written; every other
 // command runs, pagmo never being loaded at start (a trace and an NLopt search here).
 TEST(BadInput, APopulationSearchWithoutItsModuleFailsInOneLineAndOtherCommandsRun) {
     const std::string src = FIRD_SOURCE_DIR;
-    const fs::path lone = fs::path(dir()) / "lone_fird";
-    fs::remove_all(lone);
-    fs::create_directories(lone / "bin");
-    fs::copy_file(FIRD_BINARY, lone / "bin" / "fird");
-    // As the program sees itself (/proc/self/exe: no symbolic link in the path).
-    const fs::path real = fs::canonical(lone);
+    // The exports' modules beside it (a search's --out folder needs them), pagmo's not: each
+    // module is found or missed on its own.
+    const fs::path lone = lone_fird("lone_fird", {"libfird_vtk.so", "libfird_cad.so"});
     const std::string fird = (lone / "bin" / "fird").string();
     const std::string scene = src + "/scenes/model_b.toml";
     for (const char* method : {"cmaes", "xnes"}) {
@@ -278,8 +292,8 @@ TEST(BadInput, APopulationSearchWithoutItsModuleFailsInOneLineAndOtherCommandsRu
         EXPECT_EQ(r.code, 1) << r.out;
         EXPECT_NE(r.out.find(fmt::format("fird: error: cannot load FIRD's module libfird_pagmo.so "
                                          "(looked for {}, {}): not found",
-                                         (real / "lib" / "libfird_pagmo.so").string(),
-                                         (real / "bin" / "libfird_pagmo.so").string())),
+                                         (lone / "lib" / "libfird_pagmo.so").string(),
+                                         (lone / "bin" / "libfird_pagmo.so").string())),
                   std::string::npos)
             << r.out;
         EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << r.out;
@@ -293,6 +307,82 @@ TEST(BadInput, APopulationSearchWithoutItsModuleFailsInOneLineAndOtherCommandsRu
         fird, scene, (lone / "bobyqa").string()));
     EXPECT_EQ(lattice_free.code, 0) << lattice_free.out;
     EXPECT_TRUE(fs::exists(lone / "bobyqa" / "search.json"));
+}
+
+// A copy of fird with no modules beside it: an export (VTK's files, the CAD part) and a
+// search that writes a folder (its reflectors.pvd and the best part's CAD) are refused in
+// one line naming the module and where it was looked for, exit 1, before any file; a trace
+// and a search without a folder run, neither VTK nor OpenCASCADE being loaded at start.
+TEST(BadInput, AnExportWithoutItsModuleFailsInOneLineAndOtherCommandsRun) {
+    const std::string src = FIRD_SOURCE_DIR;
+    const fs::path lone = lone_fird("lone_fird_exports", {});
+    const std::string fird = (lone / "bin" / "fird").string();
+    const std::string scene = src + "/scenes/test/mirror_search.toml";
+    const auto missing = [&](const char* module) {
+        return fmt::format("fird: error: cannot load FIRD's module {} (looked for {}, {}): not "
+                           "found",
+                           module, (lone / "lib" / module).string(),
+                           (lone / "bin" / module).string());
+    };
+    struct Refused {
+        std::string args, module, out;
+    };
+    const std::string vtk_out = (lone / "vtk").string(), cad_out = (lone / "cad").string(),
+                      search_out = (lone / "search").string();
+    for (const Refused& c :
+         {Refused{fmt::format("export {} --rays 1e4 --out {}", scene, vtk_out), "libfird_vtk.so",
+                  vtk_out},
+          Refused{fmt::format("export {} --cad {}", scene, cad_out), "libfird_cad.so", cad_out},
+          Refused{fmt::format("optimize {} --method bobyqa --rays 1e4 --max-evals 3 --out {}",
+                              scene, search_out),
+                  "libfird_vtk.so", search_out}}) {
+        const auto r =
+            fird::test::run_shell(fmt::format("timeout 120 {} --validation {}", fird, c.args));
+        EXPECT_EQ(r.code, 1) << c.args << "\n" << r.out;
+        EXPECT_NE(r.out.find(missing(c.module.c_str())), std::string::npos) << r.out;
+        EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << r.out;
+        EXPECT_FALSE(fs::exists(c.out)) << c.args;
+    }
+    const auto traced = fird::test::run_shell(
+        fmt::format("timeout 120 {} --validation trace {} --rays 1e4 --json", fird, scene));
+    EXPECT_EQ(traced.code, 0) << traced.out;
+    const auto searched = fird::test::run_shell(fmt::format(
+        "timeout 120 {} --validation optimize {} --method bobyqa --rays 1e4 --max-evals 3 --json",
+        fird, scene));
+    EXPECT_EQ(searched.code, 0) << searched.out;
+}
+
+// A module from another build (its engine headers' SHA-256, the table's stamp, not the
+// program's: here this build's module with one digit of the stamp changed) is refused in one
+// line naming it, exit 1, before the export writes anything.
+TEST(BadInput, AModuleFromAnotherBuildIsRefusedInOneLine) {
+    const fs::path lone = lone_fird("lone_fird_other_build", {"libfird_cad.so"});
+    const fs::path module = lone / "lib" / "libfird_cad.so";
+    std::string bytes;
+    {
+        std::ifstream in(module, std::ios::binary);
+        bytes.assign(std::istreambuf_iterator<char>(in), {});
+    }
+    // The stamp: the module's one run of 64 lowercase hexadecimal digits.
+    const auto hex = [](char c) { return (c >= '0' && c <= '9') || (c >= 'a' && c <= 'f'); };
+    std::size_t at = std::string::npos, run = 0;
+    for (std::size_t i = 0; i < bytes.size() && at == std::string::npos; ++i) {
+        run = hex(bytes[i]) ? run + 1 : 0;
+        if (run == 64 && (i + 1 == bytes.size() || bytes[i + 1] == '\0')) at = i - 63;
+    }
+    ASSERT_NE(at, std::string::npos) << "no stamp in " << module;
+    bytes[at] = bytes[at] == '0' ? '1' : '0';
+    std::ofstream(module, std::ios::binary | std::ios::trunc) << bytes;
+    const std::string out = (lone / "cad").string();
+    const auto r = fird::test::run_shell(
+        fmt::format("timeout 120 {} export {}/scenes/test/mirror_search.toml --cad {}",
+                    (lone / "bin" / "fird").string(), FIRD_SOURCE_DIR, out));
+    EXPECT_EQ(r.code, 1) << r.out;
+    EXPECT_NE(r.out.find("fird: error: FIRD's module libfird_cad.so is from another build"),
+              std::string::npos)
+        << r.out;
+    EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << r.out;
+    EXPECT_FALSE(fs::exists(out));
 }
 
 } // namespace

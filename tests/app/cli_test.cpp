@@ -1222,6 +1222,49 @@ TEST(CliExport, WritesEveryFileAndRefusesBadValues) {
     EXPECT_NE(cuts.out.find("cuts the light source"), std::string::npos) << cuts.out;
 }
 
+// What a process loads (docs/architecture.md "Start-up"), from the dynamic loader's own
+// account of the files it opens (glibc's LD_DEBUG=files): a trace opens neither VTK nor
+// OpenCASCADE nor pagmo, nor FIRD's modules for them; an export opens its own module and
+// the library behind it, and not the other's.
+TEST(CliExport, EachExportLoadsItsOwnLibraryAndATraceNeither) {
+    const std::string scene = std::string(FIRD_SOURCE_DIR) + "/scenes/test/mirror_search.toml";
+    const std::string dir = ::testing::TempDir() + "/fird_export_loads";
+    std::filesystem::remove_all(dir);
+    // Whether a "file=PATH" of the account names a file whose name begins with `file`.
+    const auto opened = [](const fird::test::Result& r, const std::string& file) {
+        std::istringstream lines(r.out);
+        for (std::string line; std::getline(lines, line);) {
+            const auto at = line.find("file=");
+            if (at == std::string::npos) continue;
+            const std::string path = line.substr(at + 5, line.find(' ', at) - at - 5);
+            if (path.substr(path.rfind('/') + 1).starts_with(file)) return true;
+        }
+        return false;
+    };
+    const auto trace =
+        fird::test::run_fird("LD_DEBUG=files timeout 120", "trace " + scene + " --rays 1e4");
+    ASSERT_EQ(trace.code, 0) << trace.out;
+    ASSERT_TRUE(opened(trace, "libvulkan.so")) << trace.out; // the account is there
+    for (const char* file : {"libfird_vtk.so", "libvtkCommonCore", "libfird_cad.so", "libTKernel",
+                             "libfird_pagmo.so", "libpagmo"})
+        EXPECT_FALSE(opened(trace, file)) << file;
+    struct Export {
+        std::string args, module, library, other_module, other_library, file;
+    };
+    for (const Export& e :
+         {Export{"--rays 1e4 --out " + dir + "/vtk", "libfird_vtk.so", "libvtkCommonCore",
+                 "libfird_cad.so", "libTKernel", dir + "/vtk/scene.pvd"},
+          Export{"--cad " + dir + "/cad", "libfird_cad.so", "libTKernel", "libfird_vtk.so",
+                 "libvtkCommonCore", dir + "/cad/reflector.step"}}) {
+        const auto r =
+            fird::test::run_fird("LD_DEBUG=files timeout 120", "export " + scene + " " + e.args);
+        ASSERT_EQ(r.code, 0) << r.out;
+        EXPECT_TRUE(opened(r, e.module) && opened(r, e.library)) << e.args;
+        EXPECT_FALSE(opened(r, e.other_module) || opened(r, e.other_library)) << e.args;
+        EXPECT_TRUE(std::filesystem::is_regular_file(e.file)) << e.file;
+    }
+}
+
 TEST(CliScreenshot, WritesTheViewsAndRefusesBadValues) {
     const std::string scene = std::string(FIRD_SOURCE_DIR) + "/scenes/test/focused_paraboloid.toml";
     const std::string dir = ::testing::TempDir() + "/fird_screenshot";
