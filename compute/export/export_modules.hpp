@@ -9,7 +9,8 @@
 // for them (cmake/fird_module_exports.list). FIRD's own types cross (Scene, Surface,
 // SearchResult, the reports), so a module is accepted only from a build of the same engine
 // headers: each table begins with the SHA-256 of those headers it was compiled with
-// (cmake/FirdModuleStamp.cmake), which the program compares with its own.
+// (cmake/FirdModuleStamp.cmake), which the program compares with its own
+// (io/program_files.hpp, as for every module).
 #pragma once
 
 #include <string>

@@ -4,9 +4,12 @@
 
 #include <filesystem>
 #include <stdexcept>
+#include <string_view>
 #include <vector>
 
 #include <fmt/format.h>
+
+#include "fird_module_stamp.h"
 
 namespace fird {
 
@@ -60,6 +63,13 @@ void* program_module_symbol(const std::string& file, const char* symbol) {
         throw std::runtime_error(fmt::format("FIRD's module {} has no {}: it is from another build",
                                              module.path, symbol));
     return address;
+}
+
+void check_module_stamp(const std::string& file, const char* stamp) {
+    if (!stamp || std::string_view(stamp) != FIRD_MODULE_STAMP)
+        throw std::runtime_error(fmt::format("FIRD's module {} is from another build (engine "
+                                             "headers {:.12}, this program's {:.12})",
+                                             file, stamp ? stamp : "unknown", FIRD_MODULE_STAMP));
 }
 
 } // namespace fird

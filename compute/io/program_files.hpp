@@ -19,4 +19,21 @@ std::string this_program();
 // was looked for and the loader's reason) or lacks the symbol (naming the file and symbol).
 void* program_module_symbol(const std::string& file, const char* symbol);
 
+// Throws std::runtime_error in one line unless `stamp` is this program's: the SHA-256 of the
+// engine's headers it was built with (cmake/FirdModuleStamp.cmake), which every module is
+// compiled with too. FIRD's own types cross between a module and the program, so only a
+// module built from the same headers is accepted.
+void check_module_stamp(const std::string& file, const char* stamp);
+
+// The table of functions that FIRD's module `file` returns from its entry point `symbol`
+// (an extern "C" function without arguments), the module loaded on the first call. Every
+// table begins with `const char* stamp`, checked as above.
+template <typename Table>
+const Table& program_module_table(const std::string& file, const char* symbol) {
+    using Entry = const Table* (*)();
+    const Table* table = reinterpret_cast<Entry>(program_module_symbol(file, symbol))();
+    check_module_stamp(file, table->stamp);
+    return *table;
+}
+
 } // namespace fird

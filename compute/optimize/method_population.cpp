@@ -80,15 +80,7 @@ double lattice_fitness(Generation& generation, const SampleCoordinates& coordina
 
 // The module's table, loaded on first use.
 const PagmoGenerations& pagmo_generations() {
-    using Entry = const PagmoGenerations* (*)();
-    const auto* table =
-        reinterpret_cast<Entry>(program_module_symbol(kPagmoModuleFile, kPagmoModuleSymbol))();
-    if (table->abi != kPagmoGenerationsAbi)
-        throw std::runtime_error(
-            fmt::format("FIRD's module {} is from another build (interface {}, "
-                        "this program's {})",
-                        kPagmoModuleFile, table->abi, kPagmoGenerationsAbi));
-    return *table;
+    return program_module_table<PagmoGenerations>(kPagmoModuleFile, kPagmoModuleSymbol);
 }
 
 // Hansen's default population size, 4 + floor(3 ln n): 6 for two parameters, 14 for 36

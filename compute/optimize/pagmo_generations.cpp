@@ -11,6 +11,7 @@
 #include <pagmo/problem.hpp>
 #include <pagmo/types.hpp>
 
+#include "fird_module_stamp.h"
 #include "optimize/pagmo_generations.hpp"
 
 namespace fird {
@@ -75,7 +76,7 @@ void destroy(void* run) {
     delete static_cast<Run*>(run);
 }
 
-constexpr PagmoGenerations kGenerations{.abi = kPagmoGenerationsAbi,
+constexpr PagmoGenerations kGenerations{.stamp = FIRD_MODULE_STAMP,
                                         .create = create,
                                         .push_back = push_back,
                                         .evolve_copy = evolve_copy,

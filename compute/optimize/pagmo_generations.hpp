@@ -4,7 +4,8 @@
 // starts without loading pagmo: its static initialization alone took 60-70 ms of each
 // process's start on the AMD EPYC of docs/benchmarks.md ("Start-up: pagmo loaded only by a
 // population search"). Only standard types cross: the module is built with the program, in
-// the same build, and the program checks the table's kPagmoGenerationsAbi against its own.
+// the same build, and the program checks the table's stamp against its own (the engine
+// headers' SHA-256: io/program_files.hpp's program_module_table).
 #pragma once
 
 #include <cstdint>
@@ -12,9 +13,6 @@
 #include <vector>
 
 namespace fird {
-
-// Raised whenever the table or the types below change: a module from another build is refused.
-constexpr std::uint32_t kPagmoGenerationsAbi = 1;
 
 // The file the module is built as, and the symbol that returns its table.
 inline constexpr const char* kPagmoModuleFile = "libfird_pagmo.so";
@@ -38,7 +36,7 @@ using PagmoFitness = std::function<double(const std::vector<double>& c)>;
 // was (FIRD's first pass over a generation, which only notes the points asked for).
 // Exceptions (pagmo's, or the fitness callback's own) propagate to the caller.
 struct PagmoGenerations {
-    std::uint32_t abi = kPagmoGenerationsAbi;
+    const char* stamp = nullptr; // FIRD_MODULE_STAMP of the module's build: first, always
     void* (*create)(const PagmoRunSpec& spec, PagmoFitness fitness) = nullptr;
     // Adds an individual with its known fitness (the first generation's members).
     void (*push_back)(void* run, const std::vector<double>& c, double fitness) = nullptr;
